@@ -1,0 +1,76 @@
+#pragma once
+// What every stage shares on the command line (DESIGN.md, "Command-line
+// conventions"): --out/--force, --threads, --quiet/--verbose, --help with
+// defaults and units, and one place that turns typed errors into the line
+//   <tool>: error[<category>]: <what> (<where>)
+// on stderr and the category's exit code.
+#include <functional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "core/error.h"
+
+namespace gp {
+
+struct CommonOptions {
+  std::string out_dir;   // --out: output folder (created; replaced only with --force)
+  bool force = false;    // --force: replace an existing output folder
+  int threads = 1;       // --threads: worker threads for BLAS and Eigen
+  bool quiet = false;    // --quiet: errors only
+  bool verbose = false;  // --verbose: extra detail on stderr
+};
+
+// Messages on stderr, prefixed with the tool's name. Library code never prints;
+// tools report through this.
+class Logger {
+ public:
+  explicit Logger(std::string tool) : tool_(std::move(tool)) {}
+  void set_level(bool quiet, bool verbose) {
+    quiet_ = quiet;
+    verbose_ = verbose;
+  }
+  void info(const std::string& msg) const;     // hidden by --quiet
+  void warning(const std::string& msg) const;  // hidden by --quiet
+  void detail(const std::string& msg) const;   // shown only with --verbose
+  // A progress line rewritten in place ("\r"); finished by progress_done().
+  void progress(const std::string& msg) const;
+  void progress_done() const;
+  bool verbose() const { return verbose_; }
+
+ private:
+  std::string tool_;
+  bool quiet_ = false;
+  bool verbose_ = false;
+};
+
+class Tool {
+ public:
+  Tool(std::string name, std::string description);
+
+  CLI::App& app() { return app_; }
+  CommonOptions& common() { return common_; }
+  Logger& log() { return log_; }
+  const std::string& name() const { return name_; }
+
+  // Adds --out (required unless `out_required` is false), --force, --threads,
+  // --quiet and --verbose.
+  void add_common_options(bool out_required = true);
+
+  // Parses the command line and runs `body`, whose return value is the exit
+  // code. Maps CLI11 errors to usage (2), gp::Error to its category, and any
+  // other exception to internal (1).
+  int run(int argc, char** argv, const std::function<int()>& body);
+
+ private:
+  std::string name_;
+  CLI::App app_;
+  CommonOptions common_;
+  Logger log_;
+};
+
+// Sets the number of threads for Eigen and, where the BLAS is OpenBLAS, for
+// the BLAS calls inside CHOLMOD's supernodal factorization.
+void set_thread_count(int threads);
+
+}  // namespace gp

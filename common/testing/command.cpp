@@ -1,0 +1,58 @@
+#include "testing/command.h"
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace gp::testing {
+namespace {
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+CommandResult run_command(const std::string& command_line) {
+  static int counter = 0;
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::string tag = std::to_string(::getpid()) + "_" + std::to_string(counter++);
+  const auto out = dir / ("gp_cmd_out_" + tag), err = dir / ("gp_cmd_err_" + tag);
+  const std::string full = command_line + " >'" + out.string() + "' 2>'" + err.string() + "' </dev/null";
+  const int status = std::system(full.c_str());
+  CommandResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(out);
+  r.err = slurp(err);
+  std::filesystem::remove(out);
+  std::filesystem::remove(err);
+  return r;
+}
+
+std::string tool_path(const std::string& tool) {
+  return "'" + std::string(GP_TOOLS_DIR) + "/" + tool + "'";
+}
+
+std::filesystem::path fresh_temp_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("gp_test_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::filesystem::path shared_avatars_dir() {
+  const std::filesystem::path p = GP_SHARED_AVATARS;
+  std::error_code ec;
+  if (std::filesystem::is_directory(p, ec)) return std::filesystem::canonical(p);
+  return {};
+}
+
+std::filesystem::path source_dir() { return GP_SOURCE_DIR; }
+
+}  // namespace gp::testing

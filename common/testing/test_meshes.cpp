@@ -1,0 +1,138 @@
+#include "testing/test_meshes.h"
+
+#include <cmath>
+#include <map>
+#include <vector>
+
+namespace gp::testing {
+namespace {
+
+Mesh from_lists(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F) {
+  Mesh m;
+  m.V.resize(static_cast<Eigen::Index>(V.size()), 3);
+  for (size_t i = 0; i < V.size(); ++i) m.V.row(static_cast<Eigen::Index>(i)) = V[i].transpose();
+  m.F.resize(static_cast<Eigen::Index>(F.size()), 3);
+  for (size_t i = 0; i < F.size(); ++i) m.F.row(static_cast<Eigen::Index>(i)) = F[i].transpose();
+  return m;
+}
+
+}  // namespace
+
+Mesh make_icosphere(int levels, double radius) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Eigen::Vector3d> V = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                                    {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                                    {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<Eigen::Vector3i> F = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                    {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                    {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                    {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (auto& v : V) v.normalize();
+  for (int level = 0; level < levels; ++level) {
+    std::map<std::pair<int, int>, int> midpoint;
+    auto mid = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto it = midpoint.find(key);
+      if (it != midpoint.end()) return it->second;
+      V.push_back((V[a] + V[b]).normalized());
+      const int id = static_cast<int>(V.size()) - 1;
+      midpoint[key] = id;
+      return id;
+    };
+    std::vector<Eigen::Vector3i> next;
+    for (const auto& f : F) {
+      const int a = mid(f[0], f[1]), b = mid(f[1], f[2]), c = mid(f[2], f[0]);
+      next.push_back({f[0], a, c});
+      next.push_back({f[1], b, a});
+      next.push_back({f[2], c, b});
+      next.push_back({a, b, c});
+    }
+    F = std::move(next);
+  }
+  for (auto& v : V) v *= radius;
+  return from_lists(V, F);
+}
+
+Mesh make_uv_sphere(int rings, int segments, double radius) {
+  std::vector<Eigen::Vector3d> V;
+  std::vector<Eigen::Vector3i> F;
+  V.push_back({0, radius, 0});
+  for (int r = 1; r < rings; ++r) {
+    const double theta = M_PI * r / rings;
+    for (int s = 0; s < segments; ++s) {
+      const double phi = 2 * M_PI * s / segments;
+      V.push_back({radius * std::sin(theta) * std::sin(phi), radius * std::cos(theta),
+                   radius * std::sin(theta) * std::cos(phi)});
+    }
+  }
+  V.push_back({0, -radius, 0});
+  const int south = static_cast<int>(V.size()) - 1;
+  auto ring_vertex = [&](int r, int s) { return 1 + (r - 1) * segments + (s % segments); };
+  for (int s = 0; s < segments; ++s) F.push_back({0, ring_vertex(1, s), ring_vertex(1, s + 1)});
+  for (int r = 1; r + 1 < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const int a = ring_vertex(r, s), b = ring_vertex(r, s + 1);
+      const int c = ring_vertex(r + 1, s), d = ring_vertex(r + 1, s + 1);
+      F.push_back({a, c, d});
+      F.push_back({a, d, b});
+    }
+  for (int s = 0; s < segments; ++s)
+    F.push_back({south, ring_vertex(rings - 1, s + 1), ring_vertex(rings - 1, s)});
+  return from_lists(V, F);
+}
+
+Mesh make_torus(int nu, int nv, double ring_radius, double tube_radius) {
+  std::vector<Eigen::Vector3d> V;
+  std::vector<Eigen::Vector3i> F;
+  for (int i = 0; i < nu; ++i) {
+    const double u = 2 * M_PI * i / nu;
+    for (int j = 0; j < nv; ++j) {
+      const double v = 2 * M_PI * j / nv;
+      const double rr = ring_radius + tube_radius * std::cos(v);
+      V.push_back({rr * std::cos(u), tube_radius * std::sin(v), rr * std::sin(u)});
+    }
+  }
+  auto id = [&](int i, int j) { return (i % nu) * nv + (j % nv); };
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const int a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      F.push_back({a, c, b});
+      F.push_back({a, d, c});
+    }
+  return from_lists(V, F);
+}
+
+Mesh make_open_cylinder(int nu, int nv, double radius, double height) {
+  std::vector<Eigen::Vector3d> V;
+  std::vector<Eigen::Vector3i> F;
+  for (int j = 0; j <= nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      const double u = 2 * M_PI * i / nu;
+      V.push_back({radius * std::sin(u), height * j / nv, radius * std::cos(u)});
+    }
+  auto id = [&](int i, int j) { return j * nu + (i % nu); };
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      const int a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      F.push_back({a, b, c});
+      F.push_back({a, c, d});
+    }
+  return from_lists(V, F);
+}
+
+Mesh make_grid(int nx, int nz, double sx, double sz) {
+  std::vector<Eigen::Vector3d> V;
+  std::vector<Eigen::Vector3i> F;
+  for (int j = 0; j <= nz; ++j)
+    for (int i = 0; i <= nx; ++i) V.push_back({sx * i / nx, 0.0, sz * j / nz});
+  auto id = [&](int i, int j) { return j * (nx + 1) + i; };
+  for (int j = 0; j < nz; ++j)
+    for (int i = 0; i < nx; ++i) {
+      // Normals point to +y.
+      F.push_back({id(i, j), id(i, j + 1), id(i + 1, j + 1)});
+      F.push_back({id(i, j), id(i + 1, j + 1), id(i + 1, j)});
+    }
+  return from_lists(V, F);
+}
+
+}  // namespace gp::testing

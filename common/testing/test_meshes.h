@@ -1,0 +1,27 @@
+#pragma once
+// Small procedural meshes for tests (named families, as in libigl's and pmp's
+// test helpers), each closed or open as its name says and consistently
+// oriented with normals pointing outward.
+#include "io/mesh.h"
+
+namespace gp::testing {
+
+// Icosahedron subdivided `levels` times and projected to the sphere:
+// 10*4^levels + 2 vertices, closed, genus 0, near-equilateral triangles.
+Mesh make_icosphere(int levels, double radius = 1.0);
+
+// Latitude-longitude sphere with poles: (rings-1)*segments + 2 vertices.
+Mesh make_uv_sphere(int rings, int segments, double radius = 1.0);
+
+// Torus around the y axis: `nu` segments around the ring, `nv` around the tube.
+Mesh make_torus(int nu, int nv, double ring_radius = 1.0, double tube_radius = 0.3);
+
+// Open cylinder along +y from y=0 to y=height: `nu` around, `nv` rows of quads
+// split into triangles. Two boundary loops.
+Mesh make_open_cylinder(int nu, int nv, double radius = 1.0, double height = 2.0);
+
+// A box-shaped grid patch in the xz-plane (open, one boundary loop),
+// (nx+1)*(nz+1) vertices, spanning [0,sx] x [0,sz].
+Mesh make_grid(int nx, int nz, double sx = 1.0, double sz = 1.0);
+
+}  // namespace gp::testing
