@@ -1,0 +1,61 @@
+#include "mesh/measures.h"
+
+#include <Eigen/Geometry>
+
+namespace gp {
+
+Eigen::VectorXd face_areas(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  Eigen::VectorXd A(F.rows());
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    A(f) = 0.5 * (b - a).cross(c - a).norm();
+  }
+  return A;
+}
+
+Eigen::MatrixXd face_normals(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  Eigen::MatrixXd N(F.rows(), 3);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double len = n.norm();
+    N.row(f) = len > 0 ? Eigen::RowVector3d(n.transpose() / len) : Eigen::RowVector3d::Zero();
+  }
+  return N;
+}
+
+Eigen::MatrixXd vertex_normals(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  Eigen::MatrixXd N = Eigen::MatrixXd::Zero(V.rows(), 3);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    const Eigen::RowVector3d n = (b - a).cross(c - a).transpose();  // length = 2 * area
+    for (int k = 0; k < 3; ++k) N.row(F(f, k)) += n;
+  }
+  for (Eigen::Index i = 0; i < N.rows(); ++i) {
+    const double len = N.row(i).norm();
+    if (len > 0) N.row(i) /= len;
+  }
+  return N;
+}
+
+double signed_volume(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  double vol = 0;
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    vol += a.dot(b.cross(c));
+  }
+  return vol / 6.0;
+}
+
+double bounding_box_diagonal(const Eigen::MatrixXd& V) {
+  if (V.rows() == 0) return 0;
+  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+}
+
+Eigen::VectorXd edge_lengths(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E) {
+  Eigen::VectorXd L(E.rows());
+  for (Eigen::Index e = 0; e < E.rows(); ++e) L(e) = (V.row(E(e, 0)) - V.row(E(e, 1))).norm();
+  return L;
+}
+
+}  // namespace gp

@@ -1,0 +1,27 @@
+#pragma once
+// Basic measures of a triangle mesh. V is #V by 3, F is #F by 3.
+#include <Eigen/Core>
+
+namespace gp {
+
+// Triangle areas, #F.
+Eigen::VectorXd face_areas(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+
+// Unit face normals (right-hand rule over the corner order), #F by 3; zero rows
+// for degenerate triangles.
+Eigen::MatrixXd face_normals(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+
+// Area-weighted vertex normals, normalized, #V by 3.
+Eigen::MatrixXd vertex_normals(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+
+// Signed enclosed volume by the divergence theorem (positive for a closed mesh
+// with outward normals).
+double signed_volume(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+
+// Length of the bounding box diagonal.
+double bounding_box_diagonal(const Eigen::MatrixXd& V);
+
+// Edge lengths for the unique edges E (#E by 2).
+Eigen::VectorXd edge_lengths(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E);
+
+}  // namespace gp
