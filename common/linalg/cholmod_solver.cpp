@@ -1,0 +1,190 @@
+#include "linalg/cholmod_solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include <cholmod.h>
+
+#include "core/error.h"
+
+namespace gp {
+
+// CHOLMOD state: the common block (settings, workspace), the factor and the
+// dense workspaces cholmod_solve2 reuses from one solve to the next.
+struct CholmodSolver::Impl {
+  cholmod_common common;
+  cholmod_factor* L = nullptr;
+  cholmod_dense* X = nullptr;
+  cholmod_dense* Y = nullptr;
+  cholmod_dense* E = nullptr;
+
+  explicit Impl(const CholmodOptions& options) {
+    cholmod_start(&common);
+    // Library code never prints (errors are thrown from the status instead).
+    common.print = 0;
+    common.error_handler = nullptr;
+    common.supernodal =
+        options.method == CholmodOptions::Method::supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
+    // Keep an LL^T factor in either method, so that a non-positive pivot is
+    // always reported as CHOLMOD_NOT_POSDEF rather than hidden in an LDL^T.
+    common.final_ll = 1;
+    common.quick_return_if_not_posdef = 1;
+  }
+  ~Impl() {
+    free_workspace();
+    if (L) cholmod_free_factor(&L, &common);
+    cholmod_finish(&common);
+  }
+  void free_workspace() {
+    if (X) cholmod_free_dense(&X, &common);
+    if (Y) cholmod_free_dense(&Y, &common);
+    if (E) cholmod_free_dense(&E, &common);
+  }
+};
+
+namespace {
+
+// Lower triangle of A in compressed column form (what CHOLMOD reads with stype -1).
+Eigen::SparseMatrix<double> lower_triangle(const Eigen::SparseMatrix<double>& A) {
+  Eigen::SparseMatrix<double> lower = A.triangularView<Eigen::Lower>();
+  lower.makeCompressed();
+  return lower;
+}
+
+// A view of `A` (not a copy) for CHOLMOD; A must stay alive and compressed.
+cholmod_sparse view_of(Eigen::SparseMatrix<double>& A) {
+  cholmod_sparse s;
+  std::memset(&s, 0, sizeof(s));
+  s.nrow = static_cast<size_t>(A.rows());
+  s.ncol = static_cast<size_t>(A.cols());
+  s.nzmax = static_cast<size_t>(A.nonZeros());
+  s.p = A.outerIndexPtr();
+  s.i = A.innerIndexPtr();
+  s.nz = nullptr;
+  s.x = A.valuePtr();
+  s.z = nullptr;
+  s.stype = -1;
+  s.itype = CHOLMOD_INT;
+  s.xtype = CHOLMOD_REAL;
+  s.dtype = CHOLMOD_DOUBLE;
+  s.sorted = 1;
+  s.packed = 1;
+  return s;
+}
+
+void check_square(const Eigen::SparseMatrix<double>& A) {
+  if (A.rows() != A.cols() || A.rows() == 0)
+    throw UsageError("CholmodSolver needs a non-empty square matrix, got " + std::to_string(A.rows()) +
+                     " by " + std::to_string(A.cols()));
+}
+
+}  // namespace
+
+CholmodSolver::CholmodSolver(CholmodOptions options)
+    : impl_(std::make_unique<Impl>(options)), options_(options) {}
+CholmodSolver::~CholmodSolver() = default;
+CholmodSolver::CholmodSolver(CholmodSolver&&) noexcept = default;
+CholmodSolver& CholmodSolver::operator=(CholmodSolver&&) noexcept = default;
+
+bool CholmodSolver::analyzed() const { return impl_ && impl_->L != nullptr; }
+
+void CholmodSolver::analyze(const Eigen::SparseMatrix<double>& A) {
+  check_square(A);
+  Eigen::SparseMatrix<double> lower = lower_triangle(A);
+  cholmod_sparse s = view_of(lower);
+  impl_->free_workspace();
+  if (impl_->L) cholmod_free_factor(&impl_->L, &impl_->common);
+  factorized_ = false;
+  impl_->L = cholmod_analyze(&s, &impl_->common);
+  if (!impl_->L || impl_->common.status < CHOLMOD_OK)
+    throw NumericalError("CHOLMOD symbolic analysis failed (status " +
+                         std::to_string(impl_->common.status) + ", out of memory?)");
+  n_ = static_cast<int>(A.rows());
+  pattern_outer_.assign(lower.outerIndexPtr(), lower.outerIndexPtr() + lower.outerSize() + 1);
+  pattern_inner_.assign(lower.innerIndexPtr(), lower.innerIndexPtr() + lower.nonZeros());
+  ++analyze_count_;
+}
+
+void CholmodSolver::factorize(const Eigen::SparseMatrix<double>& A) {
+  check_square(A);
+  Eigen::SparseMatrix<double> lower = lower_triangle(A);
+  for (Eigen::Index k = 0; k < lower.nonZeros(); ++k)
+    if (!std::isfinite(lower.valuePtr()[k])) {
+      int col = 0;
+      while (lower.outerIndexPtr()[col + 1] <= k) ++col;
+      throw NumericalError("matrix entry (" + std::to_string(lower.innerIndexPtr()[k]) + ", " +
+                           std::to_string(col) + ") is not finite");
+    }
+  const bool same_pattern =
+      analyzed() && A.rows() == n_ &&
+      static_cast<size_t>(lower.nonZeros()) == pattern_inner_.size() &&
+      std::equal(pattern_outer_.begin(), pattern_outer_.end(), lower.outerIndexPtr()) &&
+      std::equal(pattern_inner_.begin(), pattern_inner_.end(), lower.innerIndexPtr());
+  if (!same_pattern) analyze(A);
+  cholmod_sparse s = view_of(lower);
+  factorized_ = false;
+  const int ok = cholmod_factorize(&s, impl_->L, &impl_->common);
+  if (impl_->common.status == CHOLMOD_NOT_POSDEF) {
+    const size_t k = impl_->L->minor;
+    const int* perm = static_cast<const int*>(impl_->L->Perm);
+    const long original = perm && k < impl_->L->n ? perm[k] : static_cast<long>(k);
+    throw NumericalError("matrix is not positive definite (Cholesky pivot " + std::to_string(k) +
+                         " of " + std::to_string(n_) + " fails, at original row " +
+                         std::to_string(original) + ")");
+  }
+  if (!ok || impl_->common.status < CHOLMOD_OK)
+    throw NumericalError("CHOLMOD numeric factorization failed (status " +
+                         std::to_string(impl_->common.status) + ")");
+  factorized_ = true;
+}
+
+void CholmodSolver::compute(const Eigen::SparseMatrix<double>& A) {
+  analyze(A);
+  factorize(A);
+}
+
+Eigen::MatrixXd CholmodSolver::solve(const Eigen::MatrixXd& B) const {
+  Eigen::MatrixXd X;
+  solve(B, X);
+  return X;
+}
+
+void CholmodSolver::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const {
+  if (!factorized_) throw UsageError("CholmodSolver::solve called before a successful factorize()");
+  if (B.rows() != n_ || B.cols() < 1)
+    throw UsageError("right-hand side has " + std::to_string(B.rows()) + " rows and " +
+                     std::to_string(B.cols()) + " columns; the matrix has " + std::to_string(n_) +
+                     " rows");
+  cholmod_dense b;
+  std::memset(&b, 0, sizeof(b));
+  b.nrow = static_cast<size_t>(B.rows());
+  b.ncol = static_cast<size_t>(B.cols());
+  b.nzmax = b.nrow * b.ncol;
+  b.d = b.nrow;
+  b.x = const_cast<double*>(B.data());
+  b.xtype = CHOLMOD_REAL;
+  b.dtype = CHOLMOD_DOUBLE;
+  const int ok = cholmod_solve2(CHOLMOD_A, impl_->L, &b, nullptr, &impl_->X, nullptr, &impl_->Y,
+                                &impl_->E, &impl_->common);
+  if (!ok || !impl_->X)
+    throw NumericalError("CHOLMOD solve failed (status " + std::to_string(impl_->common.status) + ")");
+  X.resize(B.rows(), B.cols());
+  std::memcpy(X.data(), impl_->X->x, sizeof(double) * static_cast<size_t>(X.size()));
+  if (!X.allFinite()) throw NumericalError("solution of the linear system is not finite");
+}
+
+double CholmodSolver::factor_nonzeros() const {
+  if (!analyzed()) return 0.0;
+  const cholmod_factor* L = impl_->L;
+  if (L->is_super) {
+    // Supernodal storage holds dense column blocks; count their entries.
+    return static_cast<double>(L->xsize);
+  }
+  return static_cast<double>(L->nzmax);
+}
+
+bool CholmodSolver::is_supernodal() const { return analyzed() && impl_->L->is_super; }
+
+}  // namespace gp
