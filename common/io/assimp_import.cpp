@@ -16,8 +16,16 @@ MeshReadResult read_with_assimp(const std::filesystem::path& path, const MeshRea
   Assimp::Importer importer;
   // Points and lines carry no surface: drop them instead of failing.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  unsigned flags = aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices |
-                   aiProcess_SortByPType;
+  // Only positions matter here. Dropping normals, texture coordinates and
+  // colours first lets JoinIdenticalVertices weld corners that differ only in
+  // those (an STL file repeats every corner with its facet's normal).
+  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
+                              aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+                                  aiComponent_COLORS | aiComponent_TEXCOORDS | aiComponent_BONEWEIGHTS |
+                                  aiComponent_ANIMATIONS | aiComponent_TEXTURES | aiComponent_LIGHTS |
+                                  aiComponent_CAMERAS | aiComponent_MATERIALS);
+  const unsigned flags = aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices |
+                         aiProcess_PreTransformVertices | aiProcess_SortByPType;
   const aiScene* scene = importer.ReadFile(file, flags);
   if (!scene || !scene->mRootNode)
     throw InputError(std::string("cannot read mesh: ") + importer.GetErrorString(), file);
