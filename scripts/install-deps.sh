@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Installs the Debian packages the project needs, only those missing, and
+# says exactly what it runs. Used by `make deps` (and so by `make test` and
+# `make demo`) so that a fresh machine needs nothing installed by hand.
+set -euo pipefail
+
+packages=(
+  cmake g++ make pkg-config
+  libeigen3-dev            # dense and sparse linear algebra
+  libsuitesparse-dev       # CHOLMOD
+  libopenblas-dev          # BLAS for CHOLMOD's supernodal factorization (reference BLAS is ~70 % slower)
+  libcgal-dev libgmp-dev libmpfr-dev libboost-dev  # CGAL and what its headers need
+  libassimp-dev            # mesh formats besides OBJ and PLY
+  nlohmann-json3-dev       # JSON specs and reports
+  libcli11-dev             # command-line parsing
+  catch2                   # unit tests (v2)
+  python3 python3-numpy python3-scipy python3-meshio  # scripts/meshdiff.py
+  python3-matplotlib       # benchmark plots
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "deps: all ${#packages[@]} Debian packages are installed"
+else
+  sudo=""
+  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+  echo "deps: missing: ${missing[*]}"
+  echo "deps: running: $sudo apt-get update"
+  $sudo apt-get update -qq
+  echo "deps: running: $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends ${missing[*]}"
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# CHOLMOD links the generic libblas.so.3; make sure it resolves to OpenBLAS.
+blas=$(readlink -f /usr/lib/x86_64-linux-gnu/libblas.so.3 2>/dev/null || true)
+case "$blas" in
+  *openblas*) ;;
+  *) echo "deps: warning: libblas.so.3 resolves to '${blas:-nothing}', not OpenBLAS; CHOLMOD will be slower" ;;
+esac

@@ -1,0 +1,138 @@
+#!/usr/bin/python3
+"""Compare two meshes within tolerances, for golden-mesh tests.
+
+Same topology (same vertex count and identical triangle list): per-vertex
+distances, max and RMS. Different topology: a symmetric Hausdorff distance
+between the two surfaces, measured from dense point samples of each surface
+(vertices, edge midpoints, face centroids) to the nearest such sample of the
+other; it overestimates the true Hausdorff distance by at most half the
+sample spacing, which is reported.
+
+Tolerances are in metres, or fractions of the first mesh's bounding-box
+diagonal with --relative. Prints one summary line; exit 0 equal within
+tolerance, 1 different, 2 usage or unreadable input.
+"""
+import argparse
+import json
+import sys
+
+import numpy as np
+
+try:
+    import meshio
+except ImportError:  # pragma: no cover - reported as a usage problem
+    print("meshdiff: error: python3-meshio is not installed (run: make deps)", file=sys.stderr)
+    sys.exit(2)
+
+
+def load(path):
+    import contextlib
+    import io
+    import os
+
+    if not os.path.isfile(path):
+        raise SystemExit(f"meshdiff: error[input]: no such file ({path})")
+    # meshio prints its own complaints and may even call sys.exit on a file it
+    # cannot parse; catch both and report one clear line.
+    chatter = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(chatter), contextlib.redirect_stderr(chatter):
+            mesh = meshio.read(path)
+    except (Exception, SystemExit) as e:
+        detail = str(e) if str(e) not in ("", "1") else chatter.getvalue().strip().replace("\n", "; ")
+        raise SystemExit(f"meshdiff: error[input]: cannot read mesh: {detail} ({path})")
+    tris = [c.data for c in mesh.cells if c.type == "triangle"]
+    faces = np.concatenate(tris).astype(np.int64) if tris else np.zeros((0, 3), np.int64)
+    points = np.asarray(mesh.points, dtype=np.float64)[:, :3]
+    if not np.all(np.isfinite(points)):
+        raise SystemExit(f"meshdiff: error[input]: non-finite coordinates ({path})")
+    return points, faces
+
+
+def surface_samples(points, faces):
+    if len(faces) == 0:
+        return points, 0.0
+    a, b, c = points[faces[:, 0]], points[faces[:, 1]], points[faces[:, 2]]
+    edges = np.concatenate([(a + b) / 2, (b + c) / 2, (c + a) / 2])
+    samples = np.concatenate([points, edges, (a + b + c) / 3])
+    spacing = float(np.max(np.linalg.norm(np.concatenate([b - a, c - b, a - c]), axis=1))) / 2
+    return samples, spacing
+
+
+def one_sided(from_pts, to_pts):
+    from scipy.spatial import cKDTree
+
+    dist, _ = cKDTree(to_pts).query(from_pts)
+    return dist
+
+
+def compare(a_path, b_path, tol, rms_tol, relative):
+    va, fa = load(a_path)
+    vb, fb = load(b_path)
+    diag = float(np.linalg.norm(va.max(axis=0) - va.min(axis=0))) if len(va) else 0.0
+    scale = diag if relative else 1.0
+    max_tol, rms_limit = tol * scale, rms_tol * scale
+    result = {"a": a_path, "b": b_path, "bbox_diagonal": diag, "max_tolerance": max_tol,
+              "rms_tolerance": rms_limit}
+    if va.shape == vb.shape and fa.shape == fb.shape and np.array_equal(fa, fb):
+        d = np.linalg.norm(va - vb, axis=1)
+        result.update(topology="same", max=float(d.max(initial=0.0)),
+                      rms=float(np.sqrt(np.mean(d ** 2))) if len(d) else 0.0,
+                      worst_vertex=int(d.argmax()) if len(d) else -1)
+        equal = result["max"] <= max_tol and result["rms"] <= rms_limit
+    else:
+        sa, spacing_a = surface_samples(va, fa)
+        sb, spacing_b = surface_samples(vb, fb)
+        da, db = one_sided(sa, sb), one_sided(sb, sa)
+        result.update(topology="different", vertices=[len(va), len(vb)], faces=[len(fa), len(fb)],
+                      hausdorff=float(max(da.max(initial=0), db.max(initial=0))),
+                      rms=float(np.sqrt(np.mean(np.concatenate([da, db]) ** 2))),
+                      sample_spacing=max(spacing_a, spacing_b))
+        equal = result["hausdorff"] <= max_tol and result["rms"] <= rms_limit
+    result["equal"] = bool(equal)
+    return result
+
+
+def summary(r):
+    unit = "m"
+    if r["topology"] == "same":
+        body = f"same topology, max {r['max']:.3g} {unit} (vertex {r['worst_vertex']}), rms {r['rms']:.3g} {unit}"
+    else:
+        body = (f"different topology ({r['vertices'][0]} vs {r['vertices'][1]} vertices), Hausdorff "
+                f"{r['hausdorff']:.3g} {unit} (samples {r['sample_spacing']:.3g} {unit} apart), rms {r['rms']:.3g} {unit}")
+    verdict = "equal within tolerance" if r["equal"] else "DIFFERENT"
+    return (f"meshdiff: {verdict}: {body}; tolerance max {r['max_tolerance']:.3g} {unit}, "
+            f"rms {r['rms_tolerance']:.3g} {unit} ({r['a']} vs {r['b']})")
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("a", help="reference mesh (golden), OBJ or PLY")
+    p.add_argument("b", help="mesh to check")
+    p.add_argument("--tol", type=float, default=1e-6,
+                   help="largest allowed distance (vertex or Hausdorff) [m, or fraction with --relative] (default 1e-6)")
+    p.add_argument("--rms-tol", type=float, default=None,
+                   help="largest allowed RMS distance [m, or fraction] (default: same as --tol)")
+    p.add_argument("--relative", action="store_true",
+                   help="tolerances are fractions of the first mesh's bounding-box diagonal")
+    p.add_argument("--json", action="store_true", help="print the full comparison as JSON on stdout")
+    try:
+        args = p.parse_args(argv)
+    except SystemExit as e:
+        return 2 if e.code else 0
+    if args.tol < 0 or (args.rms_tol is not None and args.rms_tol < 0):
+        print("meshdiff: error[usage]: tolerances must not be negative", file=sys.stderr)
+        return 2
+    try:
+        r = compare(args.a, args.b, args.tol, args.tol if args.rms_tol is None else args.rms_tol, args.relative)
+    except SystemExit as e:
+        print(e.code, file=sys.stderr)
+        return 2
+    if args.json:
+        print(json.dumps(r, indent=2))
+    print(summary(r), file=sys.stderr if args.json else sys.stdout)
+    return 0 if r["equal"] else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
