@@ -1,0 +1,112 @@
+#pragma once
+// Per-element cloth energies with analytic gradients and Hessians.
+//
+// Membrane (Baraff & Witkin 1998, "Large steps in cloth simulation", sec. 4.2-4.3):
+// each triangle carries a rest (u,v) frame. With Ds = [x1-x0, x2-x0] (3x2) and the
+// rest edge matrix Dm (2x2, rest edges in the triangle's (u,v) frame),
+// W = Ds Dm^-1 = [w_u w_v]. Written per unit rest area A (so that the energy does
+// not depend on the mesh resolution, unlike BW's C = a(...) whose energy scales
+// with a^2):
+//   stretch_energy = k_stretch * A / 2 * ((|w_u| - 1)^2 + (|w_v| - 1)^2)
+//   shear_energy   = k_shear   * A / 2 * (w_u . w_v)^2
+// Units: positions in m, A in m^2, the strains are dimensionless, so k_stretch and
+// k_shear are energies per unit rest area: J/m^2 = N/m.
+//
+// Bending (Bergou, Wardetzky, Harmon, Zorin, Grinspun 2006, "A quadratic bending
+// model for inextensible surfaces"): per interior edge with stencil (x0,x1 the
+// edge; x2, x3 the opposite vertices) K = [c1+d1, c0+d0, -c0-c1, -d0-d1] with
+// c_k, d_k the cotangents of the rest angles at edge vertex k in the two triangles,
+// and Q_e = 3 / (A_0 + A_1) K K^T. bending_energy = k_bend / 2 * sum_e x^T Q_e x.
+// The model assumes a flat rest state (fabric is flat before it is sewn), so its
+// Hessian k_bend * Q is constant and kept apart from the membrane terms.
+// k_bend is in J = N m.
+//
+// Damping (BW sec. 4.5): for each term with condition C, force -k_d A J^T J v,
+// J = dC/dx; the damping matrix k_d A J^T J is PSD by construction. Stretch and shear
+// damping in N s/m, bending damping in N m s (acting through Q).
+//
+// Positions of one triangle are the columns of a 3x3 matrix X = [x0 x1 x2];
+// gradients are 9-vectors (x0, x1, x2 stacked), Hessians 9x9 in the same order.
+#include <Eigen/Core>
+
+namespace gp::cloth {
+
+using Vector9d = Eigen::Matrix<double, 9, 1>;
+using Matrix9d = Eigen::Matrix<double, 9, 9>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Vector12d = Eigen::Matrix<double, 12, 1>;
+using Matrix12d = Eigen::Matrix<double, 12, 12>;
+
+// Rest data of one triangle: w_u = sum_i a(i) x_i, w_v = sum_i b(i) x_i.
+struct TriangleRest {
+  double area = 0.0;           // rest area [m^2]
+  Eigen::Vector3d a = Eigen::Vector3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+};
+
+// Rest data from the rest triangle X_rest = [x0 x1 x2]. The u axis is
+// `material_direction` projected into the triangle's plane (the warp direction);
+// where it is nearly normal to the triangle, the first edge is used instead.
+// Throws GeometryError for a zero-area (or non-finite) rest triangle, where
+// 2A / (longest edge)^2 < 1e-8.
+TriangleRest triangle_rest(const Eigen::Matrix3d& X_rest,
+                           const Eigen::Vector3d& material_direction = Eigen::Vector3d::UnitY());
+
+// W = [w_u w_v] of triangle X.
+Eigen::Matrix<double, 3, 2> triangle_w(const Eigen::Matrix3d& X, const TriangleRest& rest);
+
+// Stretch (k in N/m). project_psd clamps the negative curvature across w under
+// compression (|w| < 1), which is the exact eigen-projection of the 9x9 block.
+double stretch_energy(const Eigen::Matrix3d& X, const TriangleRest& rest, double k);
+Vector9d stretch_gradient(const Eigen::Matrix3d& X, const TriangleRest& rest, double k);
+Matrix9d stretch_hessian(const Eigen::Matrix3d& X, const TriangleRest& rest, double k,
+                         bool project_psd = false);
+
+// Shear (k in N/m). project_psd is the exact eigen-projection of the 6x6 Hessian in
+// (w_u, w_v) space (closed form, see cloth_energy.cpp), mapped to 9x9.
+double shear_energy(const Eigen::Matrix3d& X, const TriangleRest& rest, double k);
+Vector9d shear_gradient(const Eigen::Matrix3d& X, const TriangleRest& rest, double k);
+Matrix9d shear_hessian(const Eigen::Matrix3d& X, const TriangleRest& rest, double k,
+                       bool project_psd = false);
+
+// Damping matrices k_d A J^T J (PSD) of the stretch and shear conditions.
+Matrix9d stretch_damping(const Eigen::Matrix3d& X, const TriangleRest& rest, double k_d);
+Matrix9d shear_damping(const Eigen::Matrix3d& X, const TriangleRest& rest, double k_d);
+
+// Bending stencil of one interior edge: weights K and coefficient 3/(A0+A1).
+struct BendingStencil {
+  Eigen::Vector4i vertex_ids = Eigen::Vector4i::Constant(-1);  // x0, x1 (edge), x2, x3
+  Eigen::Vector4d K = Eigen::Vector4d::Zero();
+  double coefficient = 0.0;  // 3 / (A0 + A1) [1/m^2]
+};
+
+// Stencil from the rest positions X_rest = [x0 x1 x2 x3] (columns).
+// Throws GeometryError when either rest triangle is degenerate.
+BendingStencil bending_stencil(const Eigen::Matrix<double, 3, 4>& X_rest);
+
+// Bending energy of one stencil at X = [x0 x1 x2 x3] (k in J).
+double bending_energy(const Eigen::Matrix<double, 3, 4>& X, const BendingStencil& s, double k);
+Vector12d bending_gradient(const Eigen::Matrix<double, 3, 4>& X, const BendingStencil& s, double k);
+Matrix12d bending_hessian(const BendingStencil& s, double k);
+
+// Gravity on lumped masses m (#V, kg) with acceleration g (m/s^2): E = -sum m_i g.x_i.
+double gravity_energy(const Eigen::MatrixXd& V, const Eigen::VectorXd& m, const Eigen::Vector3d& g);
+Eigen::MatrixXd gravity_gradient(const Eigen::MatrixXd& V, const Eigen::VectorXd& m,
+                                 const Eigen::Vector3d& g);
+
+// The membrane system block of one triangle for an implicit Euler step of size h,
+//   K = h^2 (H_stretch + H_shear)_projected + h (D_stretch + D_shear),
+// together with the membrane energy gradient; this is what the simulator
+// assembles (sum of the per-term functions above, computed once in (w_u, w_v)
+// space). Returns the membrane energy.
+struct MembraneCoefficients {
+  double k_stretch = 800.0;
+  double k_shear = 200.0;
+  double damping_stretch = 100.0;
+  double damping_shear = 1.0;
+};
+double membrane_system_block(const Eigen::Matrix3d& X, const TriangleRest& rest,
+                             const MembraneCoefficients& c, double h, Vector9d& gradient,
+                             Matrix9d& K);
+
+}  // namespace gp::cloth

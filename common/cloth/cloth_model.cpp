@@ -1,0 +1,113 @@
+#include "cloth/cloth_model.h"
+
+#include <map>
+#include <string>
+#include <utility>
+
+#include "core/error.h"
+
+namespace gp::cloth {
+namespace {
+
+Eigen::Matrix3d triangle_positions(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int f) {
+  Eigen::Matrix3d X;
+  for (int k = 0; k < 3; ++k) X.col(k) = V.row(F(f, k)).transpose();
+  return X;
+}
+
+Eigen::Matrix<double, 3, 4> stencil_positions(const Eigen::MatrixXd& V, const Eigen::Vector4i& ids) {
+  Eigen::Matrix<double, 3, 4> X;
+  for (int k = 0; k < 4; ++k) X.col(k) = V.row(ids(k)).transpose();
+  return X;
+}
+
+}  // namespace
+
+ClothRestState build_rest_state(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
+                                const ClothParameters& params) {
+  const int n = static_cast<int>(V_rest.rows());
+  if (V_rest.cols() != 3 || F.cols() != 3) throw InputError("cloth mesh must be #V by 3 and #F by 3");
+  for (int f = 0; f < F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      if (F(f, k) < 0 || F(f, k) >= n) {
+        throw InputError("vertex id out of range", "face " + std::to_string(f));
+      }
+    }
+  }
+  ClothRestState rest;
+  rest.triangles.resize(F.rows());
+  rest.masses = Eigen::VectorXd::Zero(n);
+  for (int f = 0; f < F.rows(); ++f) {
+    try {
+      rest.triangles[f] = triangle_rest(triangle_positions(V_rest, F, f), params.material_direction);
+    } catch (const GeometryError& e) {
+      throw GeometryError(e.what(), "face " + std::to_string(f));
+    }
+    const double A = rest.triangles[f].area;
+    rest.total_area += A;
+    for (int k = 0; k < 3; ++k) rest.masses(F(f, k)) += params.density * A / 3.0;
+  }
+
+  // Interior edges: exactly two faces; (a, b) in the first face's order.
+  std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> edge_faces;  // -> (face, corner opposite)
+  for (int f = 0; f < F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(f, (k + 1) % 3), b = F(f, (k + 2) % 3);
+      edge_faces[{std::min(a, b), std::max(a, b)}].push_back({f, k});
+    }
+  }
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (const auto& [edge, faces] : edge_faces) {
+    if (faces.size() != 2) continue;
+    const int f0 = faces[0].first, k0 = faces[0].second;
+    const int f1 = faces[1].first, k1 = faces[1].second;
+    BendingStencil s;
+    s.vertex_ids = Eigen::Vector4i(F(f0, (k0 + 1) % 3), F(f0, (k0 + 2) % 3), F(f0, k0), F(f1, k1));
+    try {
+      const BendingStencil w = bending_stencil(stencil_positions(V_rest, s.vertex_ids));
+      s.K = w.K;
+      s.coefficient = w.coefficient;
+    } catch (const GeometryError& e) {
+      throw GeometryError(e.what(), "faces " + std::to_string(f0) + " and " + std::to_string(f1));
+    }
+    rest.stencils.push_back(s);
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 4; ++j) {
+        triplets.emplace_back(s.vertex_ids(i), s.vertex_ids(j), s.coefficient * s.K(i) * s.K(j));
+      }
+    }
+  }
+  rest.Q.resize(n, n);
+  rest.Q.setFromTriplets(triplets.begin(), triplets.end());
+  return rest;
+}
+
+ClothEnergies cloth_energies(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                             const ClothRestState& rest, const ClothParameters& params) {
+  ClothEnergies e;
+  for (int f = 0; f < F.rows(); ++f) {
+    const Eigen::Matrix3d X = triangle_positions(V, F, f);
+    e.stretch += stretch_energy(X, rest.triangles[f], params.k_stretch);
+    e.shear += shear_energy(X, rest.triangles[f], params.k_shear);
+  }
+  for (const BendingStencil& s : rest.stencils) {
+    e.bend += bending_energy(stencil_positions(V, s.vertex_ids), s, params.k_bend);
+  }
+  e.gravity = gravity_energy(V, rest.masses, params.gravity);
+  return e;
+}
+
+Eigen::MatrixXd cloth_gradient(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                               const ClothRestState& rest, const ClothParameters& params) {
+  Eigen::MatrixXd G = gravity_gradient(V, rest.masses, params.gravity);
+  for (int f = 0; f < F.rows(); ++f) {
+    const Eigen::Matrix3d X = triangle_positions(V, F, f);
+    const Vector9d g = stretch_gradient(X, rest.triangles[f], params.k_stretch) +
+                       shear_gradient(X, rest.triangles[f], params.k_shear);
+    for (int k = 0; k < 3; ++k) G.row(F(f, k)) += g.segment<3>(3 * k).transpose();
+  }
+  G += params.k_bend * (rest.Q * V);
+  return G;
+}
+
+}  // namespace gp::cloth

@@ -1,0 +1,58 @@
+#pragma once
+// The cloth model of a whole garment mesh: material parameters, the rest-state
+// data every step needs (per-triangle (u,v) frames, bending stencils, lumped
+// masses), and the total energy and its gradient (used by tests, checks and
+// reports; the simulator assembles the same terms itself).
+// V_rest, V are #V by 3 positions in metres; F is #F by 3 vertex ids.
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "cloth/cloth_energy.h"
+
+namespace gp::cloth {
+
+// Material parameters. Defaults are the paper's values (Wolff et al. 2023), read
+// in this project's per-unit-rest-area formulation (see cloth_energy.h).
+struct ClothParameters {
+  double k_stretch = 800.0;        // N/m, per unit rest area
+  double k_shear = 200.0;          // N/m, per unit rest area
+  double k_bend = 1e-6;            // J (N m), quadratic bending (Bergou et al. 2006)
+  double damping_stretch = 100.0;  // N s/m
+  double damping_shear = 1.0;      // N s/m
+  double damping_bend = 1e-5;      // N m s
+  double density = 0.15;           // kg/m^2 of rest area (a light cotton shirting)
+  Eigen::Vector3d gravity{0.0, -9.81, 0.0};               // m/s^2
+  Eigen::Vector3d material_direction{0.0, 1.0, 0.0};      // warp direction (u axis)
+};
+
+struct ClothRestState {
+  std::vector<TriangleRest> triangles;   // #F
+  std::vector<BendingStencil> stencils;  // one per interior (two-face) edge
+  Eigen::VectorXd masses;                // #V lumped masses [kg]: density * area / 3 per face
+  Eigen::SparseMatrix<double> Q;         // #V by #V bending matrix sum_e Q_e (scalar, per coordinate)
+  double total_area = 0.0;               // m^2
+};
+
+// Rest state of the mesh (V_rest, F). Throws GeometryError naming the face for a
+// zero-area rest triangle, InputError for out-of-range vertex ids.
+ClothRestState build_rest_state(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
+                                const ClothParameters& params);
+
+// Energies of the configuration V [J].
+struct ClothEnergies {
+  double stretch = 0.0;
+  double shear = 0.0;
+  double bend = 0.0;
+  double gravity = 0.0;
+  double total() const { return stretch + shear + bend + gravity; }
+};
+ClothEnergies cloth_energies(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                             const ClothRestState& rest, const ClothParameters& params);
+
+// Gradient of the total energy (stretch + shear + bend + gravity), #V by 3 [N].
+Eigen::MatrixXd cloth_gradient(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                               const ClothRestState& rest, const ClothParameters& params);
+
+}  // namespace gp::cloth

@@ -1,0 +1,562 @@
+#include "cloth/cloth_simulator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include <Eigen/Dense>
+
+#include "core/error.h"
+#include "linalg/cholmod_solver.h"
+
+namespace gp::cloth {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// The six 3x3 blocks of a triangle's 9x9 matrix kept in the lower-triangle storage:
+// three diagonal blocks and the three above the diagonal (their transposes are
+// the mirrored lower entries).
+constexpr int kBlockPairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+
+}  // namespace
+
+const char* solver_strategy_name(SolverStrategy s) {
+  switch (s) {
+    case SolverStrategy::pcg_reused_factor: return "pcg_reused_factor";
+    case SolverStrategy::refactor_every_step: return "refactor_every_step";
+    case SolverStrategy::pcg_jacobi: return "pcg_jacobi";
+  }
+  return "unknown";
+}
+
+struct ClothSimulator::Impl {
+  Eigen::MatrixXd V_rest, X, Vel;
+  Eigen::MatrixXi F;
+  ClothParameters params;
+  SimulatorOptions options;
+  ClothRestState rest;
+
+  std::vector<int> pinned_ids;
+  Eigen::VectorXi free_id;        // #V, -1 for pinned vertices
+  Eigen::MatrixXd pin_targets;    // #pinned by 3
+  int n_free = 0;
+
+  Eigen::SparseMatrix<double> A;  // lower triangle over the free dofs
+  std::vector<int> triangle_positions;  // 54 per face: value index or -1
+  std::vector<int> mass_positions;      // 3 per free vertex
+  struct BendEntry {
+    int q_index;   // index into rest.Q's values
+    int pos[3];
+  };
+  std::vector<BendEntry> bend_entries;
+  struct BendCoupling {
+    int free_vertex;
+    int pinned_vertex;
+    int q_index;
+  };
+  std::vector<BendCoupling> bend_couplings;
+  Eigen::VectorXd constant_values;
+  double constant_h = -1.0;
+
+  CholmodSolver solver;
+  bool factor_valid = false;
+  bool refresh_needed = true;
+
+  CollisionHandler collision_handler;
+  PhaseTimes times;
+  SolverCounters counters;
+
+  // Work buffers.
+  Eigen::MatrixXd G, V_prescribed;
+  Eigen::VectorXd b, sol, r, z, p, Ap;
+  Eigen::MatrixXd rhs_buffer, sol_buffer;
+  std::string last_failure;
+
+  int value_position(int row, int col) const {
+    const int* inner = A.innerIndexPtr();
+    const int begin = A.outerIndexPtr()[col], end = A.outerIndexPtr()[col + 1];
+    const int* it = std::lower_bound(inner + begin, inner + end, row);
+    return static_cast<int>(it - inner);
+  }
+
+  void build_pattern() {
+    const int nv = static_cast<int>(X.rows());
+    free_id = Eigen::VectorXi::Constant(nv, -1);
+    std::vector<char> is_pinned(nv, 0);
+    for (int v : pinned_ids) is_pinned[v] = 1;
+    n_free = 0;
+    for (int v = 0; v < nv; ++v) {
+      if (!is_pinned[v]) free_id(v) = n_free++;
+    }
+    const int n = 3 * n_free;
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(F.rows() * 45 + rest.Q.nonZeros() * 3 + n);
+    for (int i = 0; i < n; ++i) triplets.emplace_back(i, i, 0.0);
+    for (int f = 0; f < F.rows(); ++f) {
+      for (int li = 0; li < 3; ++li) {
+        for (int lj = 0; lj < 3; ++lj) {
+          const int fi = free_id(F(f, li)), fj = free_id(F(f, lj));
+          if (fi < 0 || fj < 0) continue;
+          for (int a = 0; a < 3; ++a) {
+            for (int c = 0; c < 3; ++c) {
+              if (3 * fi + a >= 3 * fj + c) triplets.emplace_back(3 * fi + a, 3 * fj + c, 0.0);
+            }
+          }
+        }
+      }
+    }
+    for (int k = 0; k < rest.Q.outerSize(); ++k) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(rest.Q, k); it; ++it) {
+        const int fi = free_id(static_cast<int>(it.row())), fj = free_id(static_cast<int>(it.col()));
+        if (fi >= 0 && fj >= 0 && fi >= fj) {
+          for (int c = 0; c < 3; ++c) triplets.emplace_back(3 * fi + c, 3 * fj + c, 0.0);
+        }
+      }
+    }
+    A.resize(n, n);
+    A.setFromTriplets(triplets.begin(), triplets.end());
+    A.makeCompressed();
+
+    triangle_positions.assign(F.rows() * 54, -1);
+    for (int f = 0; f < F.rows(); ++f) {
+      for (int blk = 0; blk < 6; ++blk) {
+        const int li = kBlockPairs[blk][0], lj = kBlockPairs[blk][1];
+        const int fi = free_id(F(f, li)), fj = free_id(F(f, lj));
+        if (fi < 0 || fj < 0) continue;
+        for (int a = 0; a < 3; ++a) {
+          for (int c = 0; c < 3; ++c) {
+            int pos = -1;
+            const int row = 3 * fi + a, col = 3 * fj + c;
+            if (li == lj) {
+              if (a >= c) pos = value_position(row, col);
+            } else {
+              pos = row >= col ? value_position(row, col) : value_position(col, row);
+            }
+            triangle_positions[f * 54 + blk * 9 + a * 3 + c] = pos;
+          }
+        }
+      }
+    }
+    mass_positions.resize(n);
+    for (int i = 0; i < n; ++i) mass_positions[i] = value_position(i, i);
+    bend_entries.clear();
+    bend_couplings.clear();
+    for (int k = 0; k < rest.Q.outerSize(); ++k) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(rest.Q, k); it; ++it) {
+        const int vi = static_cast<int>(it.row()), vj = static_cast<int>(it.col());
+        const int fi = free_id(vi), fj = free_id(vj);
+        const int q_index = static_cast<int>(&it.value() - rest.Q.valuePtr());
+        if (fi >= 0 && fj >= 0 && fi >= fj) {
+          BendEntry e{q_index, {0, 0, 0}};
+          for (int c = 0; c < 3; ++c) e.pos[c] = value_position(3 * fi + c, 3 * fj + c);
+          bend_entries.push_back(e);
+        } else if (fi >= 0 && fj < 0) {
+          bend_couplings.push_back({vi, vj, q_index});
+        }
+      }
+    }
+    constant_h = -1.0;
+    factor_valid = false;
+    refresh_needed = true;
+  }
+
+  // Mass and bending part of the system matrix for step size h (constant while
+  // the rest shape and h are unchanged).
+  void build_constant_values(double h) {
+    constant_values = Eigen::VectorXd::Zero(A.nonZeros());
+    for (int v = 0; v < X.rows(); ++v) {
+      const int fi = free_id(v);
+      if (fi < 0) continue;
+      for (int c = 0; c < 3; ++c) constant_values(mass_positions[3 * fi + c]) += rest.masses(v);
+    }
+    const double cb = h * h * params.k_bend + h * params.damping_bend;
+    const double* q = rest.Q.valuePtr();
+    for (const BendEntry& e : bend_entries) {
+      for (int c = 0; c < 3; ++c) constant_values(e.pos[c]) += cb * q[e.q_index];
+    }
+    constant_h = h;
+  }
+
+  double bending_energy_total(const Eigen::MatrixXd& Xc) const {
+    return 0.5 * params.k_bend * (Xc.transpose() * (rest.Q * Xc)).trace();
+  }
+
+  double membrane_energy(const Eigen::MatrixXd& Xc) const {
+    double e = 0.0;
+    for (int f = 0; f < F.rows(); ++f) {
+      Eigen::Matrix3d T;
+      for (int k = 0; k < 3; ++k) T.col(k) = Xc.row(F(f, k)).transpose();
+      e += stretch_energy(T, rest.triangles[f], params.k_stretch) +
+           shear_energy(T, rest.triangles[f], params.k_shear);
+    }
+    return e;
+  }
+
+  double kinetic(const Eigen::MatrixXd& Vc) const {
+    return 0.5 * (rest.masses.array() * Vc.rowwise().squaredNorm().array()).sum();
+  }
+
+  // Assembles A (values) and b for step size h; returns the elastic energy at X.
+  double assemble(double h) {
+    if (constant_h != h) build_constant_values(h);
+    std::copy(constant_values.data(), constant_values.data() + constant_values.size(), A.valuePtr());
+    double* vals = A.valuePtr();
+    G.noalias() = params.k_bend * (rest.Q * X);
+    double energy = bending_energy_total(X);
+    b.setZero(3 * n_free);
+    const MembraneCoefficients coeffs{params.k_stretch, params.k_shear, params.damping_stretch,
+                                      params.damping_shear};
+    Vector9d g9;
+    Matrix9d K9;
+    for (int f = 0; f < F.rows(); ++f) {
+      Eigen::Matrix3d T;
+      for (int k = 0; k < 3; ++k) T.col(k) = X.row(F(f, k)).transpose();
+      energy += membrane_system_block(T, rest.triangles[f], coeffs, h, g9, K9);
+      for (int k = 0; k < 3; ++k) G.row(F(f, k)) += g9.segment<3>(3 * k).transpose();
+      const int* pos = &triangle_positions[f * 54];
+      for (int blk = 0; blk < 6; ++blk) {
+        const int li = kBlockPairs[blk][0], lj = kBlockPairs[blk][1];
+        for (int a = 0; a < 3; ++a) {
+          for (int c = 0; c < 3; ++c) {
+            const int q = pos[blk * 9 + a * 3 + c];
+            if (q >= 0) vals[q] += K9(3 * li + a, 3 * lj + c);
+          }
+        }
+      }
+      // Coupling to pinned vertices goes to the right-hand side: b_f -= A_fp v_p.
+      for (int li = 0; li < 3; ++li) {
+        const int fi = free_id(F(f, li));
+        if (fi < 0) continue;
+        for (int lj = 0; lj < 3; ++lj) {
+          const int vj = F(f, lj);
+          if (free_id(vj) >= 0) continue;
+          b.segment<3>(3 * fi) -=
+              K9.block<3, 3>(3 * li, 3 * lj) * V_prescribed.row(vj).transpose();
+        }
+      }
+    }
+    const double cb = h * h * params.k_bend + h * params.damping_bend;
+    const double* q = rest.Q.valuePtr();
+    for (const BendCoupling& c : bend_couplings) {
+      b.segment<3>(3 * free_id(c.free_vertex)) -=
+          cb * q[c.q_index] * V_prescribed.row(c.pinned_vertex).transpose();
+    }
+    for (int v = 0; v < X.rows(); ++v) {
+      const int fi = free_id(v);
+      if (fi < 0) continue;
+      const double m = rest.masses(v);
+      b.segment<3>(3 * fi) += m * Vel.row(v).transpose() +
+                              h * (m * params.gravity - G.row(v).transpose());
+    }
+    return energy;
+  }
+
+  void factorize() {
+    const auto t0 = Clock::now();
+    solver.factorize(A);
+    times.factorization += seconds_since(t0);
+    ++counters.factorizations;
+    factor_valid = true;
+    refresh_needed = false;
+  }
+
+  void apply_factor(const Eigen::VectorXd& in, Eigen::VectorXd& out) {
+    rhs_buffer = in;
+    solver.solve(rhs_buffer, sol_buffer);
+    out = sol_buffer.col(0);
+  }
+
+  // Preconditioned conjugate gradients on A sol = b from the current sol.
+  // `precondition` applies M^-1. Returns iterations; sets counters.last_residual.
+  template <class Precondition>
+  int pcg(Precondition precondition, bool& converged) {
+    const auto Asym = A.selfadjointView<Eigen::Lower>();
+    const double b_norm = std::max(b.norm(), 1e-300);
+    r = b - Asym * sol;
+    double res = r.norm() / b_norm;
+    int it = 0;
+    converged = res <= options.cg_tolerance;
+    if (!converged) {
+      precondition(r, z);
+      p = z;
+      double rz = r.dot(z);
+      while (it < options.cg_max_iterations) {
+        Ap.noalias() = Asym * p;
+        const double pAp = p.dot(Ap);
+        if (!(pAp > 0.0)) break;
+        const double alpha = rz / pAp;
+        sol += alpha * p;
+        r -= alpha * Ap;
+        ++it;
+        res = r.norm() / b_norm;
+        if (res <= options.cg_tolerance) {
+          converged = true;
+          break;
+        }
+        precondition(r, z);
+        const double rz_new = r.dot(z);
+        p = z + (rz_new / rz) * p;
+        rz = rz_new;
+      }
+    }
+    counters.last_residual = res;
+    return it;
+  }
+
+  double relative_residual() const {
+    const double b_norm = std::max(b.norm(), 1e-300);
+    return (b - A.selfadjointView<Eigen::Lower>() * sol).norm() / b_norm;
+  }
+
+  void solve_system() {
+    sol.resize(3 * n_free);
+    for (int v = 0; v < X.rows(); ++v) {
+      if (free_id(v) >= 0) sol.segment<3>(3 * free_id(v)) = Vel.row(v).transpose();
+    }
+    int iterations = 0;
+    switch (options.strategy) {
+      case SolverStrategy::refactor_every_step: {
+        factorize();
+        const auto t0 = Clock::now();
+        apply_factor(b, sol);
+        counters.last_residual = relative_residual();
+        times.solve += seconds_since(t0);
+        break;
+      }
+      case SolverStrategy::pcg_reused_factor: {
+        if (!factor_valid || refresh_needed) factorize();
+        const auto t0 = Clock::now();
+        bool converged = false;
+        iterations = pcg([this](const Eigen::VectorXd& in, Eigen::VectorXd& out) { apply_factor(in, out); },
+                         converged);
+        times.solve += seconds_since(t0);
+        if (!converged) {
+          // A stale preconditioner: refresh it and solve directly.
+          factorize();
+          const auto t1 = Clock::now();
+          apply_factor(b, sol);
+          counters.last_residual = relative_residual();
+          times.solve += seconds_since(t1);
+        } else if (iterations > options.refresh_iterations) {
+          refresh_needed = true;
+        }
+        break;
+      }
+      case SolverStrategy::pcg_jacobi: {
+        const auto t0 = Clock::now();
+        Eigen::VectorXd inv_diag(3 * n_free);
+        for (int i = 0; i < 3 * n_free; ++i) inv_diag(i) = 1.0 / A.valuePtr()[mass_positions[i]];
+        bool converged = false;
+        iterations = pcg([&inv_diag](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
+                           out = inv_diag.cwiseProduct(in);
+                         },
+                         converged);
+        times.solve += seconds_since(t0);
+        if (!converged) throw NumericalError("Jacobi-preconditioned CG did not converge");
+        break;
+      }
+    }
+    counters.last_cg_iterations = iterations;
+    counters.cg_iterations += iterations;
+  }
+
+  // One linearized implicit Euler step of size h; returns "" or the reason of rejection.
+  std::string single_step(double h, const Eigen::MatrixXd& pin_end) {
+    auto t0 = Clock::now();
+    V_prescribed.setZero(X.rows(), 3);
+    for (size_t k = 0; k < pinned_ids.size(); ++k) {
+      const int v = pinned_ids[k];
+      V_prescribed.row(v) = (pin_end.row(k) - X.row(v)) / h;
+    }
+    const double energy_before = assemble(h) + kinetic(Vel);
+    times.forces_assembly += seconds_since(t0);
+    try {
+      solve_system();
+    } catch (const NumericalError& e) {
+      factor_valid = false;
+      return std::string("linear solve failed: ") + e.what();
+    }
+
+    t0 = Clock::now();
+    Eigen::MatrixXd X_new = X, V_new = V_prescribed;
+    for (int v = 0; v < X.rows(); ++v) {
+      const int fi = free_id(v);
+      if (fi >= 0) V_new.row(v) = sol.segment<3>(3 * fi).transpose();
+    }
+    X_new += h * V_new;
+    for (size_t k = 0; k < pinned_ids.size(); ++k) X_new.row(pinned_ids[k]) = pin_end.row(k);
+    times.checks += seconds_since(t0);
+
+    if (collision_handler) {
+      t0 = Clock::now();
+      collision_handler(X_new, V_new);
+      for (size_t k = 0; k < pinned_ids.size(); ++k) {
+        X_new.row(pinned_ids[k]) = pin_end.row(k);
+        V_new.row(pinned_ids[k]) = V_prescribed.row(pinned_ids[k]);
+      }
+      times.collisions += seconds_since(t0);
+    }
+
+    t0 = Clock::now();
+    std::string failure;
+    if (!X_new.allFinite() || !V_new.allFinite()) {
+      failure = "non-finite positions or velocities";
+    } else if (V_new.rowwise().norm().maxCoeff() > options.max_speed) {
+      failure = "vertex speed above " + std::to_string(options.max_speed) + " m/s";
+    } else {
+      for (int f = 0; f < F.rows() && failure.empty(); ++f) {
+        const Eigen::Vector3d x0 = X.row(F(f, 0)), x1 = X.row(F(f, 1)), x2 = X.row(F(f, 2));
+        const Eigen::Vector3d y0 = X_new.row(F(f, 0)), y1 = X_new.row(F(f, 1)), y2 = X_new.row(F(f, 2));
+        const Eigen::Vector3d n_old = (x1 - x0).cross(x2 - x0);
+        const Eigen::Vector3d n_new = (y1 - y0).cross(y2 - y0);
+        if (n_old.dot(n_new) < 0.0) failure = "triangle " + std::to_string(f) + " inverted";
+      }
+      if (failure.empty()) {
+        const double energy_after = membrane_energy(X_new) + bending_energy_total(X_new) + kinetic(V_new);
+        const double floor = 10.0 * rest.masses.sum();
+        if (energy_after > options.energy_growth_limit * energy_before + floor) {
+          failure = "energy exploded (" + std::to_string(energy_before) + " J -> " +
+                    std::to_string(energy_after) + " J)";
+        }
+      }
+    }
+    times.checks += seconds_since(t0);
+    if (!failure.empty()) return failure;
+    X = std::move(X_new);
+    Vel = std::move(V_new);
+    ++counters.substeps;
+    return "";
+  }
+
+  bool advance(double h, const Eigen::MatrixXd& pin_start, const Eigen::MatrixXd& pin_end, int depth) {
+    const Eigen::MatrixXd X_saved = X, V_saved = Vel;
+    const std::string failure = single_step(h, pin_end);
+    if (failure.empty()) return true;
+    ++counters.rejected;
+    X = X_saved;
+    Vel = V_saved;
+    last_failure = failure;
+    if (depth >= options.max_step_halvings) return false;
+    const Eigen::MatrixXd pin_mid = 0.5 * (pin_start + pin_end);
+    return advance(0.5 * h, pin_start, pin_mid, depth + 1) &&
+           advance(0.5 * h, pin_mid, pin_end, depth + 1);
+  }
+};
+
+ClothSimulator::ClothSimulator(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
+                               const ClothParameters& params, const SimulatorOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  if (!(options.dt > 0.0)) throw UsageError("time step must be positive");
+  impl_->V_rest = V_rest;
+  impl_->F = F;
+  impl_->params = params;
+  impl_->options = options;
+  impl_->rest = build_rest_state(V_rest, F, params);
+  impl_->X = V_rest;
+  impl_->Vel = Eigen::MatrixXd::Zero(V_rest.rows(), 3);
+  impl_->pin_targets.resize(0, 3);
+  impl_->build_pattern();
+}
+
+ClothSimulator::~ClothSimulator() = default;
+ClothSimulator::ClothSimulator(ClothSimulator&&) noexcept = default;
+ClothSimulator& ClothSimulator::operator=(ClothSimulator&&) noexcept = default;
+
+void ClothSimulator::set_rest_shape(const Eigen::MatrixXd& V_rest) {
+  if (V_rest.rows() != impl_->V_rest.rows() || V_rest.cols() != 3) {
+    throw UsageError("new rest shape must have the same vertex count");
+  }
+  ClothRestState rest = build_rest_state(V_rest, impl_->F, impl_->params);
+  // Same connectivity, so Q keeps its pattern and the value indices stay valid.
+  impl_->rest = std::move(rest);
+  impl_->V_rest = V_rest;
+  impl_->constant_h = -1.0;
+}
+
+void ClothSimulator::set_pinned(const std::vector<int>& pinned_ids) {
+  std::vector<int> sorted = pinned_ids;
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
+    throw UsageError("pinned vertex ids must be distinct");
+  }
+  for (int v : pinned_ids) {
+    if (v < 0 || v >= impl_->X.rows()) throw UsageError("pinned vertex id out of range");
+  }
+  impl_->pinned_ids = pinned_ids;
+  impl_->pin_targets.resize(pinned_ids.size(), 3);
+  for (size_t k = 0; k < pinned_ids.size(); ++k) impl_->pin_targets.row(k) = impl_->X.row(pinned_ids[k]);
+  impl_->build_pattern();
+}
+
+void ClothSimulator::set_pin_targets(const Eigen::MatrixXd& targets) {
+  if (targets.rows() != static_cast<Eigen::Index>(impl_->pinned_ids.size()) || targets.cols() != 3) {
+    throw UsageError("pin targets must be #pinned by 3");
+  }
+  impl_->pin_targets = targets;
+}
+
+void ClothSimulator::set_positions(const Eigen::MatrixXd& X) {
+  if (X.rows() != impl_->X.rows() || X.cols() != 3) throw UsageError("positions must be #V by 3");
+  impl_->X = X;
+  for (size_t k = 0; k < impl_->pinned_ids.size(); ++k) impl_->pin_targets.row(k) = X.row(impl_->pinned_ids[k]);
+}
+
+void ClothSimulator::set_velocities(const Eigen::MatrixXd& Vel) {
+  if (Vel.rows() != impl_->X.rows() || Vel.cols() != 3) throw UsageError("velocities must be #V by 3");
+  impl_->Vel = Vel;
+}
+
+void ClothSimulator::set_collision_handler(CollisionHandler handler) {
+  impl_->collision_handler = std::move(handler);
+}
+
+void ClothSimulator::set_options(const SimulatorOptions& options) {
+  if (!(options.dt > 0.0)) throw UsageError("time step must be positive");
+  impl_->options = options;
+  impl_->refresh_needed = true;
+}
+
+void ClothSimulator::step() {
+  Impl& s = *impl_;
+  const Eigen::MatrixXd X0 = s.X, V0 = s.Vel;
+  Eigen::MatrixXd pin_start(s.pinned_ids.size(), 3);
+  for (size_t k = 0; k < s.pinned_ids.size(); ++k) pin_start.row(k) = s.X.row(s.pinned_ids[k]);
+  if (!s.advance(s.options.dt, pin_start, s.pin_targets, 0)) {
+    s.X = X0;
+    s.Vel = V0;
+    throw NumericalError("cloth step failed after " + std::to_string(s.options.max_step_halvings) +
+                             " halvings of the time step: " + s.last_failure,
+                         "step " + std::to_string(s.counters.steps));
+  }
+  ++s.counters.steps;
+}
+
+const Eigen::MatrixXd& ClothSimulator::positions() const { return impl_->X; }
+const Eigen::MatrixXd& ClothSimulator::velocities() const { return impl_->Vel; }
+const Eigen::MatrixXi& ClothSimulator::faces() const { return impl_->F; }
+const Eigen::MatrixXd& ClothSimulator::rest_positions() const { return impl_->V_rest; }
+const ClothRestState& ClothSimulator::rest_state() const { return impl_->rest; }
+const ClothParameters& ClothSimulator::parameters() const { return impl_->params; }
+const SimulatorOptions& ClothSimulator::options() const { return impl_->options; }
+const std::vector<int>& ClothSimulator::pinned() const { return impl_->pinned_ids; }
+const PhaseTimes& ClothSimulator::times() const { return impl_->times; }
+const SolverCounters& ClothSimulator::counters() const { return impl_->counters; }
+
+void ClothSimulator::reset_statistics() {
+  impl_->times = PhaseTimes{};
+  impl_->counters = SolverCounters{};
+}
+
+double ClothSimulator::kinetic_energy() const { return impl_->kinetic(impl_->Vel); }
+
+double ClothSimulator::max_speed() const {
+  return impl_->Vel.rows() ? impl_->Vel.rowwise().norm().maxCoeff() : 0.0;
+}
+
+}  // namespace gp::cloth

@@ -1,0 +1,127 @@
+#pragma once
+// Implicit Euler cloth time stepping (Baraff & Witkin 1998, sec. 5), linearized
+// once per step:
+//   (M + h D + h^2 H) v' = M v + h f(x),   x' = x + h v'
+// with H the PSD-projected membrane Hessian plus k_bend Q, D the damping matrices,
+// f the conservative forces (membrane, bending, gravity). The matrix is SPD by
+// construction (mass positive, every element block projected PSD), so CHOLMOD never
+// fails on a valid mesh. Pinned vertices are hard constraints: their velocities
+// are prescribed (they reach their targets at the end of the step) and their
+// degrees of freedom are eliminated, i.e. the system is assembled over the free
+// vertices only, with the coupling to pinned ones moved to the right-hand side.
+//
+// Solver strategies (measured in the tests; see the report of issue 9):
+//  - pcg_reused_factor: conjugate gradients warm-started from the previous
+//    velocity, preconditioned by a CHOLMOD factor of an earlier step's matrix
+//    (the symbolic analysis is done once per pin set); the factor is refreshed
+//    when PCG needs more than `refresh_iterations`. The constant part of the
+//    matrix (mass, bending) is assembled once per step size.
+//  - refactor_every_step: fresh numeric factorization and a direct solve every step.
+//  - pcg_jacobi: conjugate gradients with a diagonal preconditioner (baseline).
+//
+// Numerical safety: after every step positions and velocities must be finite, no
+// triangle may flip (its normal turning by more than 90 degrees within the step),
+// no vertex may exceed `max_speed`, and kinetic plus elastic energy may not grow by
+// more than `energy_growth_limit` times (plus a floor of 10 J/kg of cloth mass).
+// A failed step is rejected and retried as two steps of half the size, at most
+// `max_step_halvings` times deep; then NumericalError is thrown and the state is left
+// as it was before the step.
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "cloth/cloth_model.h"
+
+namespace gp::cloth {
+
+enum class SolverStrategy { pcg_reused_factor, refactor_every_step, pcg_jacobi };
+
+const char* solver_strategy_name(SolverStrategy s);
+
+struct SimulatorOptions {
+  double dt = 0.0025;                    // time step [s] (paper value)
+  SolverStrategy strategy = SolverStrategy::pcg_reused_factor;
+  double cg_tolerance = 1e-8;            // relative residual |b - A v'| / |b|
+  int cg_max_iterations = 200;           // then the step falls back to a fresh factor
+  int refresh_iterations = 8;            // refactor the preconditioner when PCG needs more
+  int max_step_halvings = 4;             // retry depth on a rejected step
+  double max_speed = 20.0;               // m/s; faster vertices reject the step
+  double energy_growth_limit = 10.0;     // rejects a step whose energy grows more than this
+};
+
+// Wall time per phase [s], accumulated over steps.
+struct PhaseTimes {
+  double forces_assembly = 0.0;
+  double factorization = 0.0;
+  double solve = 0.0;
+  double collisions = 0.0;
+  double checks = 0.0;
+  double total() const { return forces_assembly + factorization + solve + collisions + checks; }
+};
+
+struct SolverCounters {
+  long steps = 0;            // accepted calls to step()
+  long substeps = 0;         // linear solves that were accepted (>= steps when halving)
+  long rejected = 0;         // rejected (sub)steps
+  long factorizations = 0;
+  long cg_iterations = 0;
+  double last_residual = 0.0;  // relative residual of the last solve
+  int last_cg_iterations = 0;
+};
+
+// Called after each (sub)step with the new positions and velocities of all
+// vertices (#V by 3); it may move vertices and change velocities (body
+// collisions). Pinned vertices are restored afterwards.
+using CollisionHandler = std::function<void(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel)>;
+
+class ClothSimulator {
+ public:
+  // Rest shape V_rest (also the initial positions, at rest) and faces F.
+  // Throws GeometryError / InputError as build_rest_state.
+  ClothSimulator(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
+                 const ClothParameters& params = {}, const SimulatorOptions& options = {});
+  ~ClothSimulator();
+  ClothSimulator(ClothSimulator&&) noexcept;
+  ClothSimulator& operator=(ClothSimulator&&) noexcept;
+
+  // New rest shape with the same connectivity (after adaptation); keeps the state.
+  void set_rest_shape(const Eigen::MatrixXd& V_rest);
+  // Pinned vertex ids (distinct, in range); their targets start at their positions.
+  void set_pinned(const std::vector<int>& pinned_ids);
+  // Positions the pinned vertices reach at the end of the next step (#pinned by 3,
+  // in the order of set_pinned).
+  void set_pin_targets(const Eigen::MatrixXd& targets);
+  void set_positions(const Eigen::MatrixXd& X);
+  void set_velocities(const Eigen::MatrixXd& Vel);
+  void set_collision_handler(CollisionHandler handler);
+  void set_options(const SimulatorOptions& options);
+
+  // Advances by options().dt (possibly in halved substeps). Throws NumericalError
+  // when even the smallest substep fails (state restored to before the call).
+  void step();
+
+  const Eigen::MatrixXd& positions() const;
+  const Eigen::MatrixXd& velocities() const;
+  const Eigen::MatrixXi& faces() const;
+  const Eigen::MatrixXd& rest_positions() const;
+  const ClothRestState& rest_state() const;
+  const ClothParameters& parameters() const;
+  const SimulatorOptions& options() const;
+  const std::vector<int>& pinned() const;
+  const PhaseTimes& times() const;
+  const SolverCounters& counters() const;
+  void reset_statistics();
+  // Kinetic energy [J] and largest vertex speed [m/s] of the current state.
+  double kinetic_energy() const;
+  double max_speed() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace gp::cloth

@@ -1,0 +1,167 @@
+// Time stepping: a hanging cloth settles at the paper's step and at 4x that,
+// pins are exact, solver strategies agree, and failures are rejected or thrown.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+
+#include "cloth/cloth_simulator.h"
+#include "core/error.h"
+#include "testing/test_meshes.h"
+
+using namespace gp::cloth;
+
+namespace {
+
+// A square cloth of side `size` in the vertical xy plane, top edge at y = 0,
+// hanging down; vertex (i, j) = j*(n+1) + i with j = 0 the top row.
+gp::Mesh hanging_square(int n, double size) {
+  gp::Mesh m = gp::testing::make_grid(n, n, size, size);
+  for (int v = 0; v < m.V.rows(); ++v) {
+    const double x = m.V(v, 0), z = m.V(v, 2);
+    m.V.row(v) = Eigen::RowVector3d(x, -z, 0.0);
+  }
+  return m;
+}
+
+struct SettleResult {
+  double max_speed;
+  double lowest_y;
+  long rejected;
+};
+
+SettleResult settle(double dt, double seconds, SolverStrategy strategy) {
+  const int n = 20;
+  const gp::Mesh m = hanging_square(n, 0.5);
+  SimulatorOptions options;
+  options.dt = dt;
+  options.strategy = strategy;
+  ClothSimulator sim(m.V, m.F, ClothParameters{}, options);
+  sim.set_pinned({0, n});
+  const int steps = static_cast<int>(std::lround(seconds / dt));
+  for (int s = 0; s < steps; ++s) sim.step();
+  REQUIRE(sim.positions().allFinite());
+  // Pinned corners stay exactly where they were.
+  CHECK(sim.positions().row(0) == m.V.row(0));
+  CHECK(sim.positions().row(n) == m.V.row(n));
+  return {sim.max_speed(), sim.positions().col(1).minCoeff(), sim.counters().rejected};
+}
+
+}  // namespace
+
+TEST_CASE("a cloth pinned at two corners settles without NaN at dt and 4 dt", "[simulator]") {
+  const SettleResult small = settle(0.0025, 2.0, SolverStrategy::pcg_reused_factor);
+  const SettleResult large = settle(0.01, 2.0, SolverStrategy::pcg_reused_factor);
+  INFO("dt 0.0025: max speed " << small.max_speed << " lowest " << small.lowest_y);
+  INFO("dt 0.01:   max speed " << large.max_speed << " lowest " << large.lowest_y);
+  // Sags below its initial bottom edge (y = -0.5) but not by much (stiff fabric).
+  CHECK(small.lowest_y < -0.5);
+  CHECK(small.lowest_y > -0.65);
+  CHECK(large.lowest_y < -0.5);
+  CHECK(large.lowest_y > -0.65);
+  // Settled: slow everywhere after two seconds.
+  CHECK(small.max_speed < 0.05);
+  CHECK(large.max_speed < 0.05);
+  CHECK(std::abs(small.lowest_y - large.lowest_y) < 0.01);
+  CHECK(small.rejected == 0);
+  CHECK(large.rejected == 0);
+}
+
+TEST_CASE("solver strategies give the same trajectory", "[simulator]") {
+  const gp::Mesh m = hanging_square(12, 0.4);
+  Eigen::MatrixXd result[3];
+  const SolverStrategy strategies[3] = {SolverStrategy::pcg_reused_factor,
+                                        SolverStrategy::refactor_every_step, SolverStrategy::pcg_jacobi};
+  long factorizations[3] = {0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    SimulatorOptions options;
+    options.strategy = strategies[k];
+    options.cg_tolerance = 1e-10;
+    options.cg_max_iterations = 5000;
+    ClothSimulator sim(m.V, m.F, ClothParameters{}, options);
+    sim.set_pinned({0, 12});
+    for (int s = 0; s < 80; ++s) sim.step();
+    result[k] = sim.positions();
+    factorizations[k] = sim.counters().factorizations;
+    CHECK(sim.counters().last_residual <= 1e-9);
+  }
+  CHECK((result[0] - result[1]).cwiseAbs().maxCoeff() < 1e-7);
+  CHECK((result[0] - result[2]).cwiseAbs().maxCoeff() < 1e-7);
+  CHECK(factorizations[1] == 80);
+  CHECK(factorizations[0] < 40);
+  CHECK(factorizations[2] == 0);
+}
+
+TEST_CASE("pinned vertices follow their targets exactly and free ones follow", "[simulator]") {
+  const gp::Mesh m = hanging_square(10, 0.3);
+  ClothSimulator sim(m.V, m.F);
+  sim.set_pinned({0, 10});
+  Eigen::MatrixXd targets(2, 3);
+  for (int s = 1; s <= 100; ++s) {
+    const double shift = 0.001 * s;  // 0.4 m/s to the right
+    targets.row(0) = m.V.row(0) + Eigen::RowVector3d(shift, 0, 0);
+    targets.row(1) = m.V.row(10) + Eigen::RowVector3d(shift, 0, 0);
+    sim.set_pin_targets(targets);
+    sim.step();
+    CHECK((sim.positions().row(0) - targets.row(0)).norm() == 0.0);
+    CHECK((sim.positions().row(10) - targets.row(1)).norm() == 0.0);
+  }
+  // The rest of the cloth was dragged along.
+  CHECK(sim.positions().col(0).mean() - m.V.col(0).mean() > 0.05);
+  CHECK_THROWS_AS(sim.set_pin_targets(Eigen::MatrixXd::Zero(3, 3)), gp::UsageError);
+  CHECK_THROWS_AS(sim.set_pinned({1, 1}), gp::UsageError);
+  CHECK_THROWS_AS(sim.set_pinned({-1}), gp::UsageError);
+}
+
+TEST_CASE("an unrecoverable step throws NumericalError and leaves the state untouched", "[simulator]") {
+  const gp::Mesh m = hanging_square(6, 0.3);
+  ClothSimulator sim(m.V, m.F);
+  Eigen::MatrixXd Vel = Eigen::MatrixXd::Zero(m.V.rows(), 3);
+  Vel(5, 1) = std::numeric_limits<double>::quiet_NaN();
+  sim.set_velocities(Vel);
+  const Eigen::MatrixXd X0 = sim.positions();
+  CHECK_THROWS_AS(sim.step(), gp::NumericalError);
+  CHECK(sim.positions() == X0);
+  CHECK(sim.counters().rejected == 5);  // one failing chain, depths 0 to 4
+}
+
+TEST_CASE("a rejected step is retried as two half steps", "[simulator]") {
+  // A collision handler that breaks (writes NaN) whenever a vertex moves more than
+  // 7 mm within one step: the full 10 ms step at 1 m/s is rejected, its halves pass.
+  const gp::Mesh m = hanging_square(8, 0.2);
+  SimulatorOptions options;
+  options.dt = 0.01;
+  ClothParameters params;
+  params.gravity.setZero();
+  ClothSimulator sim(m.V, m.F, params, options);
+  sim.set_velocities(Eigen::MatrixXd::Constant(m.V.rows(), 3, 0.0).rowwise() +
+                     Eigen::RowVector3d(0.0, -1.0, 0.0));
+  const ClothSimulator* observed = &sim;
+  sim.set_collision_handler([observed](Eigen::MatrixXd& X, Eigen::MatrixXd&) {
+    if ((X - observed->positions()).rowwise().norm().maxCoeff() > 0.007) {
+      X(0, 0) = std::numeric_limits<double>::quiet_NaN();
+    }
+  });
+  for (int s = 0; s < 5; ++s) sim.step();
+  CHECK(sim.positions().allFinite());
+  CHECK(sim.counters().steps == 5);
+  CHECK(sim.counters().rejected == 5);
+  CHECK(sim.counters().substeps == 10);
+  // The cloth fell 5 cm as a rigid body.
+  CHECK((sim.positions() - m.V).col(1).mean() == Approx(-0.05).epsilon(1e-6));
+}
+
+TEST_CASE("a new rest shape changes forces but keeps the state", "[simulator]") {
+  const gp::Mesh m = hanging_square(6, 0.3);
+  ClothParameters params;
+  params.gravity.setZero();
+  ClothSimulator sim(m.V, m.F, params);
+  sim.step();
+  CHECK(sim.max_speed() < 1e-12);  // at rest, no gravity: nothing moves
+  sim.set_rest_shape(1.1 * m.V);   // rest larger than current: the cloth expands
+  for (int s = 0; s < 50; ++s) sim.step();
+  CHECK(sim.rest_state().total_area == Approx(1.21 * 0.09).epsilon(1e-9));
+  const double width = sim.positions().col(0).maxCoeff() - sim.positions().col(0).minCoeff();
+  CHECK(width > 0.31);
+  CHECK_THROWS_AS(sim.set_rest_shape(Eigen::MatrixXd::Zero(3, 3)), gp::UsageError);
+}
