@@ -28,14 +28,18 @@ int fan_count(int v, const std::vector<int>& faces, const Eigen::MatrixXi& F) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
   };
-  // Faces around v sharing another vertex share an edge through v.
-  std::map<int, int> first_with;
+  // Faces around v sharing another vertex share an edge through v. The
+  // one-ring is small, so a linear scan beats any map.
+  std::vector<std::pair<int, int>> first_with;  // (other vertex, first face slot)
+  first_with.reserve(faces.size() * 2);
   for (size_t i = 0; i < faces.size(); ++i)
     for (int k = 0; k < 3; ++k) {
       const int w = F(faces[i], k);
       if (w == v) continue;
-      auto [it, inserted] = first_with.emplace(w, static_cast<int>(i));
-      if (!inserted) parent[find(static_cast<int>(i))] = find(it->second);
+      auto it = std::find_if(first_with.begin(), first_with.end(),
+                             [w](const std::pair<int, int>& p) { return p.first == w; });
+      if (it == first_with.end()) first_with.push_back({w, static_cast<int>(i)});
+      else parent[find(static_cast<int>(i))] = find(it->second);
     }
   int fans = 0;
   for (size_t i = 0; i < faces.size(); ++i) fans += (find(static_cast<int>(i)) == static_cast<int>(i));
@@ -69,27 +73,35 @@ MeshCheckResult check_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     }
   r.bounding_box_diagonal = (nv > 0 && lo.allFinite()) ? (hi - lo).norm() : 0.0;
 
-  // Edge use: count and direction of every undirected edge.
+  // Edge use: every face edge as (min, max, runs min->max), sorted so that the
+  // uses of one undirected edge are adjacent.
   struct EdgeUse {
-    int count = 0;
-    int forward = 0;  // uses as (min -> max)
+    int a, b;
+    bool forward;
+    bool operator<(const EdgeUse& o) const { return a != o.a ? a < o.a : b < o.b; }
   };
-  std::map<std::pair<int, int>, EdgeUse> edges;
+  std::vector<EdgeUse> uses;
+  uses.reserve(static_cast<size_t>(F.rows()) * 3);
   for (int f = 0; f < F.rows(); ++f)
     for (int k = 0; k < 3; ++k) {
       const int a = F(f, k), b = F(f, (k + 1) % 3);
-      EdgeUse& use = edges[std::minmax(a, b)];
-      ++use.count;
-      use.forward += (a < b);
+      uses.push_back({std::min(a, b), std::max(a, b), a < b});
     }
-  for (const auto& [e, use] : edges) {
-    if (use.count > 2) {
+  std::sort(uses.begin(), uses.end());
+  for (size_t i = 0; i < uses.size();) {
+    size_t j = i;
+    int forward = 0;
+    while (j < uses.size() && uses[j].a == uses[i].a && uses[j].b == uses[i].b) forward += uses[j++].forward;
+    const size_t count = j - i;
+    const std::pair<int, int> e(uses[i].a, uses[i].b);
+    if (count > 2) {
       ++r.nonmanifold_edges;
-      keep_example(r.nonmanifold_edge_examples, std::pair<int, int>(e), max_ex);
-    } else if (use.count == 2 && use.forward != 1) {
+      keep_example(r.nonmanifold_edge_examples, e, max_ex);
+    } else if (count == 2 && forward != 1) {
       ++r.inconsistent_orientation_edges;
-      keep_example(r.inconsistent_edge_examples, std::pair<int, int>(e), max_ex);
+      keep_example(r.inconsistent_edge_examples, e, max_ex);
     }
+    i = j;
   }
 
   const auto vf = vertex_faces(F, nv);
