@@ -1,0 +1,124 @@
+#pragma once
+// The garment file (schema "garment/1"), written by make-garment and
+// extend-boundary and read by the simulation and export stages. It sits next to
+// the garment mesh and records everything about the garment that the mesh
+// cannot hold:
+//
+//   {
+//     "schema": "garment/1",
+//     "name": "shirt",
+//     "units": "m",
+//     "mesh": { "file": "garment.ply", "sha256": "<digest of the mesh file>",
+//               "vertex_count": 4012, "face_count": 7826 },
+//     "body": { "source": "<poses.json or mesh path as given>", "source_sha256": "...",
+//               "design_pose": "tpose", "vertex_count": 27578, "face_count": 55152,
+//               "topology_sha256": "<gp::topology_checksum of the body triangles>" },
+//     "spec": { "file": "<garment spec path as given>", "sha256": "..." },
+//     "target_edge_length": 0.02,         // metres, the garment's resolution
+//     "offset": 0.015,                    // comfort offset (T4), metres
+//     "loops": [                          // boundary loops (T1), in spec order
+//       { "name": "neck", "pinned": true, // T5: pinned loops follow the body
+//         "vertex_ids": [ ... ],          // garment vertex ids, in boundary order
+//         "binding": {                    // one entry per vertex id, or null when
+//           "face_ids": [ ... ],          //   the loop is not on the body (a hem
+//           "barycentric": [[a,b,c],...]  //   made by extend-boundary)
+//         },
+//         "curve": { "face_ids": [...], "barycentric": [...] }  // the smoothed body
+//       }, ...                            //   curve as a closed polyline, or null
+//     ],
+//     "paint": [ ... ],                   // T3: area factor per garment triangle
+//     "material": { "k_stretch": 800, "k_shear": 200, "k_bend": 1e-06,
+//                   "damping_stretch": 100, "damping_shear": 1, "damping_bend": 1e-05,
+//                   "density": 0.15 },
+//     "extensions": [ { "loop": "waist", "distance": 0.5, "scale": 1.4,
+//                       "girth": 1.1 }, ... ]        // T2 history, may be empty
+//   }
+//
+// Binding rule (how a later stage places a bound boundary vertex in pose p):
+//   x = sum_k b_k V_p[F[f][k]] + offset * n,  n = normalize(sum_k b_k N_p[F[f][k]])
+// with f, b from "binding", V_p the body in pose p, F the body triangles and N_p
+// = gp::vertex_normals(V_p, F) (area-weighted vertex normals). The garment mesh
+// itself holds the rest shape in the design pose.
+#include <filesystem>
+#include <string>
+#include <vector>
+#include <Eigen/Core>
+
+#include "garment/surface_point.h"
+#include "spec/json_file.h"
+#include "spec/spec_object.h"
+
+namespace gp {
+
+// Baraff-Witkin cloth parameters, defaults from the paper (Wolff et al. 2023).
+struct Material {
+  double k_stretch = 800.0;       // stretch stiffness
+  double k_shear = 200.0;         // shear stiffness
+  double k_bend = 1e-6;           // bending stiffness
+  double damping_stretch = 100.0;  // stretch damping
+  double damping_shear = 1.0;      // shear damping
+  double damping_bend = 1e-5;      // bend damping
+  // Area density in kg/m^2. The paper gives no value; 0.15 kg/m^2 is a
+  // medium-weight cotton shirting (150 g/m^2).
+  double density = 0.15;
+};
+OrderedJson to_json(const Material& material);
+// Reads the fields present in `obj` over the defaults (strict: unknown keys fail).
+Material read_material(const SpecObject& obj);
+
+struct GarmentLoop {
+  std::string name;
+  bool pinned = false;
+  std::vector<int> vertex_ids;          // garment vertex ids in boundary order
+  std::vector<SurfacePoint> binding;    // per vertex id; empty when not on the body
+  std::vector<SurfacePoint> curve;      // smoothed body curve; empty when not on the body
+};
+
+struct GarmentBodyInfo {
+  std::string source;
+  std::string source_sha256;
+  std::string design_pose;
+  long long vertex_count = 0;
+  long long face_count = 0;
+  std::string topology_sha256;
+};
+
+struct GarmentExtension {
+  std::string loop;
+  double distance = 0.0;  // metres moved along the loop axis
+  double scale = 1.0;     // scale applied to the loop
+  double girth = 0.0;     // length of the new loop, metres
+};
+
+struct GarmentFile {
+  std::string name;
+  std::string mesh_file = "garment.ply";
+  std::string mesh_sha256;
+  long long vertex_count = 0;
+  long long face_count = 0;
+  GarmentBodyInfo body;
+  std::string spec_file;
+  std::string spec_sha256;
+  double target_edge_length = 0.0;
+  double offset = 0.0;
+  std::vector<GarmentLoop> loops;
+  std::vector<double> paint;  // per garment face
+  Material material;
+  std::vector<GarmentExtension> extensions;
+
+  // Index of the loop called `name`, or -1.
+  int find_loop(const std::string& name) const;
+};
+
+OrderedJson to_json(const GarmentFile& garment);
+// Strict reader: SpecError naming the field for a wrong schema, unknown,
+// missing or mistyped field, ids out of range or arrays of the wrong length.
+GarmentFile read_garment_file(const std::filesystem::path& path);
+void write_garment_file(const std::filesystem::path& path, const GarmentFile& garment);
+
+// Position of a bound vertex in a pose by the binding rule above; N are the
+// pose's vertex normals.
+Eigen::Vector3d evaluate_binding(const Eigen::MatrixXd& V, const Eigen::MatrixXd& N,
+                                 const Eigen::MatrixXi& F, const SurfacePoint& p, double offset);
+
+}  // namespace gp

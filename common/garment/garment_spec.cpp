@@ -1,0 +1,164 @@
+#include "garment/garment_spec.h"
+
+#include <set>
+
+#include "core/error.h"
+
+namespace gp {
+namespace {
+
+SpecPoint read_point(const Json& j, const std::string& where) {
+  SpecPoint p;
+  p.where = where;
+  if (j.is_number_integer()) {
+    p.vertex_id = j.get<long long>();
+    if (p.vertex_id < 0) throw SpecError("a body vertex id cannot be negative", where);
+    return p;
+  }
+  if (j.is_array() && j.size() == 3 && j[0].is_number() && j[1].is_number() && j[2].is_number()) {
+    p.is_vertex = false;
+    p.point = {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
+    if (!p.point.allFinite()) throw SpecError("point is not finite", where);
+    return p;
+  }
+  throw SpecError("expected a body vertex id or a point [x, y, z], found " + json_type_name(j), where);
+}
+
+OrderedJson point_json(const SpecPoint& p) {
+  if (p.is_vertex) return p.vertex_id;
+  return OrderedJson::array({p.point[0], p.point[1], p.point[2]});
+}
+
+}  // namespace
+
+GarmentSpec parse_garment_spec(const Json& j, const std::string& file) {
+  check_schema(j, "garment-spec", {1}, file);
+  const SpecObject root(j, file);
+  root.allow("schema");
+  GarmentSpec s;
+  s.file = file;
+  s.name = root.string("name", "garment");
+  s.design_pose = root.string("design_pose", "");
+
+  const SpecArray loops = root.array("loops");
+  if (loops.empty()) throw SpecError("a garment needs at least one boundary loop", root.where("loops"));
+  std::set<std::string> names;
+  for (size_t i = 0; i < loops.size(); ++i) {
+    const SpecObject l = loops.object(i);
+    SpecLoop loop;
+    loop.where = l.where();
+    loop.name = l.required_string("name");
+    if (loop.name.empty() || !names.insert(loop.name).second)
+      throw SpecError("loop names must be unique and not empty", l.where("name"));
+    loop.pinned = l.boolean("pinned", false);
+    const Json* points = l.raw("points");
+    if (!points) throw SpecError("missing required field 'points'", l.where("points"));
+    if (!points->is_array()) throw SpecError("expected an array of points", l.where("points"));
+    for (size_t k = 0; k < points->size(); ++k)
+      loop.points.push_back(read_point((*points)[k], l.where("points") + "/" + std::to_string(k)));
+    l.finish();
+    s.loops.push_back(loop);
+  }
+
+  const Json* region = root.raw("region");
+  if (!region) throw SpecError("missing required field 'region'", root.where("region"));
+  s.region = read_point(*region, root.where("region"));
+
+  const SpecObject resolution = root.object("resolution");
+  const bool by_length = resolution.has("edge_length"), by_count = resolution.has("vertex_count");
+  if (by_length == by_count)
+    throw SpecError("give exactly one of 'edge_length' and 'vertex_count'", resolution.where());
+  if (by_length) s.edge_length = resolution.required_number("edge_length", Range::between(1e-4, 1.0));
+  else s.vertex_count = resolution.required_integer("vertex_count", Range::between(50, 1e7));
+  resolution.finish();
+
+  s.offset = root.number("offset", 0.0, Range::between(0.0, 0.5));
+  if (const auto paint = root.optional_array("paint")) {
+    for (size_t i = 0; i < paint->size(); ++i) {
+      const SpecObject p = paint->object(i);
+      PaintRegion r;
+      r.where = p.where();
+      r.name = p.string("name", "paint" + std::to_string(i));
+      r.factor = p.required_number("factor", Range::between(0.01, 100.0));
+      const bool disc = p.has("disc"), vertices = p.has("vertices");
+      if (disc == vertices) throw SpecError("give exactly one of 'disc' and 'vertices'", p.where());
+      if (disc) {
+        const SpecObject d = p.object("disc");
+        const Json* center = d.raw("center");
+        if (!center) throw SpecError("missing required field 'center'", d.where("center"));
+        r.center = read_point(*center, d.where("center"));
+        r.radius = d.required_number("radius", Range::positive());
+        d.finish();
+      } else {
+        r.is_disc = false;
+        const Json* ids = p.raw("vertices");
+        if (!ids->is_array() || ids->empty())
+          throw SpecError("expected a non-empty array of body vertex ids", p.where("vertices"));
+        for (size_t k = 0; k < ids->size(); ++k) {
+          if (!(*ids)[k].is_number_integer() || (*ids)[k].get<long long>() < 0)
+            throw SpecError("expected a body vertex id", p.where("vertices") + "/" + std::to_string(k));
+          r.vertex_ids.push_back((*ids)[k].get<long long>());
+        }
+      }
+      p.finish();
+      s.paint.push_back(r);
+    }
+  }
+  if (const auto material = root.optional_object("material")) s.material = read_material(*material);
+  if (const auto smoothing = root.optional_object("smoothing")) {
+    s.smoothing.smoothing_iterations = static_cast<int>(
+        smoothing->integer("iterations", s.smoothing.smoothing_iterations, Range::between(0, 200)));
+    s.smoothing.band_rings =
+        static_cast<int>(smoothing->integer("band_rings", s.smoothing.band_rings, Range::between(1, 50)));
+    smoothing->finish();
+  }
+  if (const auto remesh = root.optional_object("remesh")) {
+    s.remesh.iterations =
+        static_cast<int>(remesh->integer("iterations", s.remesh.iterations, Range::between(1, 50)));
+    s.remesh.relaxation_steps = static_cast<int>(
+        remesh->integer("relaxation_steps", s.remesh.relaxation_steps, Range::between(1, 20)));
+    remesh->finish();
+  }
+  s.snap_tolerance = root.number("snap_tolerance", s.snap_tolerance, Range::positive());
+  root.finish();
+  return s;
+}
+
+GarmentSpec read_garment_spec(const std::filesystem::path& path) {
+  return parse_garment_spec(read_json_file(path), path.string());
+}
+
+OrderedJson to_json(const GarmentSpec& s) {
+  OrderedJson j;
+  j["schema"] = schema_tag("garment-spec", 1);
+  j["name"] = s.name;
+  j["design_pose"] = s.design_pose;
+  OrderedJson loops = OrderedJson::array();
+  for (const auto& l : s.loops) {
+    OrderedJson points = OrderedJson::array();
+    for (const auto& p : l.points) points.push_back(point_json(p));
+    loops.push_back({{"name", l.name}, {"pinned", l.pinned}, {"points", points}});
+  }
+  j["loops"] = loops;
+  j["region"] = point_json(s.region);
+  if (s.edge_length > 0) j["resolution"] = {{"edge_length", s.edge_length}};
+  else j["resolution"] = {{"vertex_count", s.vertex_count}};
+  j["offset"] = s.offset;
+  OrderedJson paint = OrderedJson::array();
+  for (const auto& r : s.paint) {
+    OrderedJson p;
+    p["name"] = r.name;
+    p["factor"] = r.factor;
+    if (r.is_disc) p["disc"] = {{"center", point_json(r.center)}, {"radius", r.radius}};
+    else p["vertices"] = r.vertex_ids;
+    paint.push_back(p);
+  }
+  j["paint"] = paint;
+  j["material"] = to_json(s.material);
+  j["smoothing"] = {{"iterations", s.smoothing.smoothing_iterations}, {"band_rings", s.smoothing.band_rings}};
+  j["remesh"] = {{"iterations", s.remesh.iterations}, {"relaxation_steps", s.remesh.relaxation_steps}};
+  j["snap_tolerance"] = s.snap_tolerance;
+  return j;
+}
+
+}  // namespace gp

@@ -1,0 +1,85 @@
+#pragma once
+// The garment spec (schema "garment-spec/1"): the design tools T1 to T5 as
+// JSON instead of mouse clicks.
+//
+//   {
+//     "schema": "garment-spec/1",
+//     "name": "shirt",
+//     "design_pose": "tpose",            // optional; else --pose or the reference pose
+//     "loops": [                          // T1 boundary loops, closed automatically
+//       { "name": "neck", "pinned": true, // T5 (default false)
+//         "points": [ 1234, [0.01, 1.45, 0.05], ... ] },  // body vertex ids or
+//       ...                               //   3D points snapped to the body
+//     ],
+//     "region": 5678,                     // one point inside the garment (id or [x,y,z])
+//     "resolution": { "edge_length": 0.015 }   // metres, or { "vertex_count": 4000 }
+//     "offset": 0.015,                    // T4 comfort offset, metres (default 0)
+//     "paint": [                          // T3, optional; factors multiply where regions overlap
+//       { "name": "back", "factor": 1.2, "disc": { "center": 4321, "radius": 0.1 } },
+//       { "name": "elbow", "factor": 1.1, "vertices": [ 11, 12, 13 ] } ],
+//     "material": { "k_stretch": 800, ... },  // optional, paper defaults
+//     "smoothing": { "iterations": 12, "band_rings": 5 },   // optional
+//     "remesh": { "iterations": 8, "relaxation_steps": 2 },  // optional
+//     "snap_tolerance": 0.05              // metres: how far a 3D point may be from the body
+//   }
+#include <filesystem>
+#include <string>
+#include <vector>
+#include <Eigen/Core>
+
+#include "garment/garment_file.h"
+#include "garment/region_cut.h"
+#include "garment/remesh.h"
+#include "spec/json_file.h"
+
+namespace gp {
+
+// A clicked point: a body vertex id, or a 3D point (metres) snapped to the body.
+struct SpecPoint {
+  bool is_vertex = true;
+  long long vertex_id = -1;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  std::string where;  // "file: /json/pointer" for errors
+};
+
+struct SpecLoop {
+  std::string name;
+  bool pinned = false;
+  std::vector<SpecPoint> points;
+  std::string where;
+};
+
+struct PaintRegion {
+  std::string name;
+  double factor = 1.0;     // area factor (> 0): > 1 enlarges the rest shape
+  bool is_disc = true;
+  SpecPoint center;        // disc: geodesic disc around this point
+  double radius = 0.0;     // disc radius along the body surface, metres
+  std::vector<long long> vertex_ids;  // or: a set of body vertices
+  std::string where;
+};
+
+struct GarmentSpec {
+  std::string file;
+  std::string name;
+  std::string design_pose;  // empty: not given
+  std::vector<SpecLoop> loops;
+  SpecPoint region;
+  double edge_length = 0.0;    // metres; 0 when vertex_count is given
+  long long vertex_count = 0;  // 0 when edge_length is given
+  double offset = 0.0;
+  std::vector<PaintRegion> paint;
+  Material material;
+  RegionCutOptions smoothing;
+  RemeshOptions remesh;  // target_edge_length is filled in by make_garment
+  double snap_tolerance = 0.05;
+};
+
+// Strict reader; SpecError naming the file and JSON pointer of any wrong,
+// unknown, missing or out-of-range field.
+GarmentSpec read_garment_spec(const std::filesystem::path& path);
+GarmentSpec parse_garment_spec(const Json& j, const std::string& file);
+// The effective spec with defaults filled in, for reports.
+OrderedJson to_json(const GarmentSpec& spec);
+
+}  // namespace gp

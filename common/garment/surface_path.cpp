@@ -1,0 +1,83 @@
+#include "garment/surface_path.h"
+
+#include <algorithm>
+#include <functional>
+#include <limits>
+#include <queue>
+
+#include "core/error.h"
+
+namespace gp {
+
+std::vector<int> shortest_edge_path(const Eigen::MatrixXd& V,
+                                    const std::vector<std::vector<int>>& neighbors, int from,
+                                    int to) {
+  const int n = static_cast<int>(neighbors.size());
+  std::vector<double> dist(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
+  std::vector<int> parent(static_cast<size_t>(n), -1);
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  dist[from] = 0.0;
+  queue.push({0.0, from});
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > dist[v]) continue;
+    if (v == to) break;
+    for (int w : neighbors[v]) {
+      const double nd = d + (V.row(v) - V.row(w)).norm();
+      if (nd < dist[w]) {
+        dist[w] = nd;
+        parent[w] = v;
+        queue.push({nd, w});
+      }
+    }
+  }
+  if (from != to && parent[to] < 0) return {};
+  std::vector<int> path;
+  for (int v = to; v != -1; v = (v == from ? -1 : parent[v])) path.push_back(v);
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
+std::vector<int> closed_edge_path(const Eigen::MatrixXd& V,
+                                  const std::vector<std::vector<int>>& neighbors,
+                                  const std::vector<int>& click_vertex_ids, const std::string& where) {
+  // Repeated consecutive clicks (a double click) add nothing to the loop.
+  std::vector<int> clicks;
+  std::vector<size_t> click_index;
+  for (size_t i = 0; i < click_vertex_ids.size(); ++i) {
+    if (!clicks.empty() && clicks.back() == click_vertex_ids[i]) continue;
+    clicks.push_back(click_vertex_ids[i]);
+    click_index.push_back(i);
+  }
+  while (clicks.size() > 1 && clicks.back() == clicks.front()) {
+    clicks.pop_back();
+    click_index.pop_back();
+  }
+  if (clicks.size() < 3)
+    throw SpecError("the loop does not close: it needs at least three distinct points, found " +
+                        std::to_string(clicks.size()),
+                    where);
+  std::vector<int> path;
+  for (size_t i = 0; i < clicks.size(); ++i) {
+    const size_t j = (i + 1) % clicks.size();
+    const std::vector<int> piece = shortest_edge_path(V, neighbors, clicks[i], clicks[j]);
+    if (piece.empty())
+      throw GeometryError("points " + std::to_string(click_index[i]) + " and " +
+                              std::to_string(click_index[j]) +
+                              " lie on different connected components of the body",
+                          where);
+    path.insert(path.end(), piece.begin(), piece.end() - 1);
+  }
+  std::vector<int> sorted = path;
+  std::sort(sorted.begin(), sorted.end());
+  const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
+  if (dup != sorted.end())
+    throw GeometryError("the loop crosses or touches itself at body vertex " + std::to_string(*dup) +
+                            " (the edge paths between its points meet; add or move points)",
+                        where);
+  return path;
+}
+
+}  // namespace gp
