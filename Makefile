@@ -6,6 +6,7 @@
 #   make test       unit, command-line and script tests (CTest)
 #   make demo       fit a garment on a generated body (see pipelines/demo.mk)
 #   make bench      benchmarks -> BENCHMARKS.md and bench-out/ plots
+#   make fuzz       libFuzzer on the mesh and spec readers, FUZZ_SECONDS per target
 #   make clean      remove the build folder
 
 BUILD  ?= build
@@ -14,7 +15,11 @@ PYTHON ?= /usr/bin/python3
 CMAKE_BUILD_TYPE ?= Release
 export GP_BIN := $(abspath $(BUILD))/bin
 
-.PHONY: all build deps configure test demo bench clean help
+FUZZ_SECONDS ?= 600
+FUZZ_BUILD ?= build-fuzz
+FUZZ_TARGETS := read_mesh read_spec
+
+.PHONY: all build deps configure test demo bench fuzz clean help
 
 all: build
 
@@ -42,5 +47,22 @@ demo: build
 bench: build
 	$(PYTHON) scripts/bench.py --bin $(GP_BIN) --out BENCHMARKS.md --plots bench-out
 
+# Crashes are written to $(FUZZ_BUILD)/crash-<target>-*; a crash input, once
+# fixed, belongs in testdata/fuzz/<target>/ where a unit test replays it.
+fuzz:
+	@scripts/install-deps.sh --fuzz
+	cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+	  -DGP_BUILD_FUZZERS=ON -DGP_BUILD_TESTS=OFF >/dev/null
+	cmake --build $(FUZZ_BUILD) -j$(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
+	@set -e; for t in $(FUZZ_TARGETS); do \
+	  mkdir -p $(FUZZ_BUILD)/corpus/$$t; cp testdata/fuzz/$$t/* $(FUZZ_BUILD)/corpus/$$t/; \
+	  echo "fuzz: $$t for $(FUZZ_SECONDS) s"; \
+	  status=0; LSAN_OPTIONS=suppressions=$(CURDIR)/testdata/fuzz/lsan-suppressions.txt $(FUZZ_BUILD)/bin/fuzz_$$t $(FUZZ_BUILD)/corpus/$$t -max_total_time=$(FUZZ_SECONDS) \
+	    -max_len=65536 -artifact_prefix=$(FUZZ_BUILD)/crash-$$t- -print_final_stats=1 \
+	    > $(FUZZ_BUILD)/$$t.log 2>&1 || status=$$?; \
+	  tail -n 12 $(FUZZ_BUILD)/$$t.log; \
+	  if [ $$status -ne 0 ]; then echo "fuzz: $$t found a problem (log: $(FUZZ_BUILD)/$$t.log)"; exit 1; fi; \
+	done
+
 clean:
-	rm -rf $(BUILD)
+	rm -rf $(BUILD) $(FUZZ_BUILD)

@@ -18,6 +18,11 @@ packages=(
   python3-matplotlib       # benchmark plots
 )
 
+# `install-deps.sh --fuzz` adds what `make fuzz` needs (clang with libFuzzer).
+if [ "${1:-}" = "--fuzz" ]; then
+  packages+=(clang libclang-rt-dev)
+fi
+
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

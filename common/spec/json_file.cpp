@@ -34,6 +34,12 @@ Json read_json_file(const std::filesystem::path& path) {
     if (colon != std::string::npos) what = what.substr(colon + 2);
     throw InputError("malformed JSON: " + what,
                      path.string() + ":" + std::to_string(line) + ":" + std::to_string(col));
+  } catch (const Json::exception& e) {
+    // Other parser failures, e.g. a number too large for a double.
+    std::string what = e.what();
+    const size_t bracket = what.find("] ");
+    if (bracket != std::string::npos) what = what.substr(bracket + 2);
+    throw InputError("malformed JSON: " + what, path.string());
   }
 }
 
