@@ -25,6 +25,9 @@ struct MakeGarmentResult {
   MeshQuality quality;                // of the final garment
   double boundary_curve_error = 0.0;  // max distance of remeshed boundary vertices to their offset curve, m
   ComfortOffsetStats offset_error;    // distance to the body minus offset, all vertices
+  // Largest distance between a boundary vertex and the position its binding
+  // rule gives (garment_file.h); non-zero only in concave places.
+  double binding_max_deviation = 0.0;
   int boundary_loop_count = 0;
   int euler_characteristic = 0;
   int component_count = 0;

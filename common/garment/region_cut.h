@@ -3,7 +3,8 @@
 // the body surface and the body is cut exactly along them; the part holding the
 // region point becomes the garment region.
 //
-// Method (a deliberate choice, see README of the module): the side of every
+// Method (a deliberate choice over tracing a smoothed polyline across faces):
+// the side of every
 // body vertex is encoded as phi = +1 inside the region (found by a face flood
 // fill that may not cross the edge paths), -1 outside and 0 on the paths. phi
 // is smoothed by Jacobi diffusion in a band of rings around the paths, and the

@@ -65,6 +65,7 @@ struct CurveAndSurfaceProjection {
   const CgalMesh* mesh;
   const SurfaceLocator* surface;
   const std::vector<Eigen::MatrixXd>* curves;
+  const PointProjection* interior;
   Point operator()(VertexIndex v) const {
     const Point& p = mesh->point(v);
     const Eigen::Vector3d x(p.x(), p.y(), p.z());
@@ -81,7 +82,7 @@ struct CurveAndSurfaceProjection {
           }
         }
     } else {
-      best = surface->closest(x).point;
+      best = *interior ? (*interior)(x) : surface->closest(x).point;
     }
     return Point(best[0], best[1], best[2]);
   }
@@ -90,11 +91,12 @@ struct CurveAndSurfaceProjection {
 }  // namespace
 
 void remesh_patch(Eigen::MatrixXd& V, Eigen::MatrixXi& F,
-                  const std::vector<Eigen::MatrixXd>& boundary_curves, const RemeshOptions& options) {
+                  const std::vector<Eigen::MatrixXd>& boundary_curves, const RemeshOptions& options,
+                  const PointProjection& project_interior) {
   if (!(options.target_edge_length > 0)) throw GeometryError("remeshing needs a positive edge length");
   CgalMesh mesh = to_cgal(V, F);
   const SurfaceLocator surface(V, F);
-  const CurveAndSurfaceProjection project{&mesh, &surface, &boundary_curves};
+  const CurveAndSurfaceProjection project{&mesh, &surface, &boundary_curves, &project_interior};
   PMP::isotropic_remeshing(
       faces(mesh), options.target_edge_length, mesh,
       CGAL::parameters::number_of_iterations(static_cast<unsigned>(options.iterations))

@@ -2,6 +2,7 @@
 // Isotropic remeshing (CGAL, Botsch and Kobbelt's split / collapse / flip /
 // relax scheme) of garment patches, and the triangle-quality figures that
 // make-garment reports.
+#include <functional>
 #include <vector>
 #include <Eigen/Core>
 
@@ -17,10 +18,16 @@ struct RemeshOptions {
 // to near-even triangles. Boundary vertices are resampled along the boundary
 // and after every move projected to the closest point of `boundary_curves`
 // (closed polylines, each #P by 3, listed point by point), so the boundary
-// stays on those curves; interior vertices are projected onto the input patch.
+// stays on those curves; interior vertices are projected by `project_interior`
+// (point -> point on the target surface) or, when it is empty, onto the input
+// patch. A projection onto a surface extending beyond the boundary (such as
+// the whole comfort-offset surface of the body) lets vertices near the
+// boundary relax without being pinched onto it.
 // Throws GeometryError if the patch is not a manifold triangle mesh.
+using PointProjection = std::function<Eigen::Vector3d(const Eigen::Vector3d&)>;
 void remesh_patch(Eigen::MatrixXd& V, Eigen::MatrixXi& F,
-                  const std::vector<Eigen::MatrixXd>& boundary_curves, const RemeshOptions& options);
+                  const std::vector<Eigen::MatrixXd>& boundary_curves, const RemeshOptions& options,
+                  const PointProjection& project_interior = {});
 
 // Remeshes only the faces with face_selected[f] != 0. Edges on the mesh
 // border and between selected and other faces are kept exactly (neither

@@ -109,6 +109,7 @@ int main(int argc, char** argv) {
                          {"boundary_curve_error", result.boundary_curve_error},
                          {"offset_max_error", result.offset_error.max_error},
                          {"offset_mean_error", result.offset_error.mean_error},
+                         {"binding_max_deviation", result.binding_max_deviation},
                          {"curves", curves}};
     // Timing is the only part of the outputs that differs between runs.
     gp::OrderedJson timing = result.timing;
