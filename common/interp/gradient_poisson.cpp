@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 
@@ -9,7 +10,6 @@
 
 #include "core/error.h"
 #include "interp/deformation_gradient.h"
-#include "mesh/topology.h"
 
 namespace gp {
 
@@ -30,12 +30,34 @@ GradientPoissonSolver::GradientPoissonSolver(const Eigen::MatrixXd& V_rest, cons
   const int nf = static_cast<int>(F.rows());
   if (nf == 0) throw GeometryError("mesh has no triangles");
 
-  // Components: per face, then carried to the vertices.
-  Eigen::VectorXi face_component;
-  n_components_ = face_components(F, face_component);
-  vertex_component_ = Eigen::VectorXi::Constant(n_vertices_, -1);
+  // Components of the Laplacian's graph: vertices joined through faces (parts
+  // touching at a single vertex are one component, unlike edge-connected faces).
+  std::vector<int> parent(static_cast<size_t>(n_vertices_));
+  for (int v = 0; v < n_vertices_; ++v) parent[static_cast<size_t>(v)] = v;
+  auto find = [&](int v) {
+    while (parent[static_cast<size_t>(v)] != v) {
+      parent[static_cast<size_t>(v)] = parent[static_cast<size_t>(parent[static_cast<size_t>(v)])];
+      v = parent[static_cast<size_t>(v)];
+    }
+    return v;
+  };
+  std::vector<char> used(static_cast<size_t>(n_vertices_), 0);
   for (int f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) vertex_component_(F(f, k)) = face_component(f);
+    for (int k = 0; k < 3; ++k) {
+      used[static_cast<size_t>(F(f, k))] = 1;
+      const int a = find(F(f, 0)), b = find(F(f, k));
+      if (a != b) parent[static_cast<size_t>(std::max(a, b))] = std::min(a, b);
+    }
+  // Number components by their lowest vertex id.
+  vertex_component_ = Eigen::VectorXi::Constant(n_vertices_, -1);
+  std::vector<int> root_component(static_cast<size_t>(n_vertices_), -1);
+  n_components_ = 0;
+  for (int v = 0; v < n_vertices_; ++v) {
+    if (!used[static_cast<size_t>(v)]) continue;
+    int& c = root_component[static_cast<size_t>(find(v))];
+    if (c < 0) c = n_components_++;
+    vertex_component_(v) = c;
+  }
   std::vector<char> pinned_component(n_components_, 0);
   reduced_id_ = Eigen::VectorXi::Constant(n_vertices_, -1);
   int n_unknowns = 0;

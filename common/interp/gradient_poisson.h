@@ -14,9 +14,10 @@
 // factored once and every solve is one assembly of b plus a back-substitution
 // with 3 right-hand sides.
 //
-// The energy is invariant to a translation of each connected component, so the
-// lowest vertex id of every component is pinned at the origin; callers place
-// the result (e.g. by an anchor). Vertices used by no face are left at 0.
+// The energy is invariant to a translation of each connected component
+// (vertices joined through faces), so the lowest vertex id of every component
+// is pinned at the origin; callers place the result (e.g. by an anchor).
+// Vertices used by no face are left at 0.
 #include <vector>
 
 #include <Eigen/Core>

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numeric>
 #include <queue>
+#include <tuple>
 
 #include "mesh/topology.h"
 
@@ -78,37 +79,66 @@ Eigen::MatrixXd consistent_rotation_logs(const std::vector<Eigen::Matrix3d>& R,
                                          const std::vector<bool>& valid, const Eigen::MatrixXi& F) {
   const int nf = static_cast<int>(F.rows());
   Eigen::MatrixXd principal(nf, 3);
-  std::vector<double> angle(nf);
+  std::vector<double> angle(static_cast<size_t>(nf));
   for (int f = 0; f < nf; ++f) {
-    principal.row(f) = rotation_log(R[f]).transpose();
-    angle[f] = valid[f] ? principal.row(f).norm() : 1e300;
+    principal.row(f) = rotation_log(R[static_cast<size_t>(f)]).transpose();
+    angle[static_cast<size_t>(f)] = valid[static_cast<size_t>(f)] ? principal.row(f).norm() : 1e300;
   }
-  std::vector<int> order(nf);
+  std::vector<int> order(static_cast<size_t>(nf));
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return angle[x] < angle[y]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int x, int y) { return angle[static_cast<size_t>(x)] < angle[static_cast<size_t>(y)]; });
 
   const Eigen::MatrixXi TT = triangle_adjacency(F);
+  const int nv = F.size() > 0 ? F.maxCoeff() + 1 : 0;
+  const std::vector<std::vector<int>> VF = vertex_faces(F, nv);
+  Eigen::VectorXi edge_component;
+  face_components(F, edge_component);
+
+  // Prim's order over the face graph (a minimum spanning tree): the face taken
+  // next is the one whose rotation differs least from an already placed
+  // neighbour's (angle of R_f^T R_g, branch-free). The branch thus travels
+  // along the smoothest paths and never through a noisy patch (folds, near-
+  // degenerate triangles) when a smoother way round exists: on a body, plain
+  // breadth-first order can wind up a full turn through such a patch.
+  // Faces sharing only a vertex are joined at a penalty, so that parts touching
+  // at one vertex are reached but edges are preferred.
+  constexpr double kVertexOnlyPenalty = 2.0 * kPi;
   Eigen::MatrixXd omega = Eigen::MatrixXd::Zero(nf, 3);
-  std::vector<char> visited(nf, 0);
-  std::queue<int> queue;
-  for (int seed : order) {
-    if (visited[seed]) continue;
-    visited[seed] = 1;
-    if (valid[seed]) omega.row(seed) = principal.row(seed);
-    queue.push(seed);
-    while (!queue.empty()) {
-      const int f = queue.front();
-      queue.pop();
-      const Eigen::Vector3d parent = omega.row(f).transpose();
-      for (int k = 0; k < 3; ++k) {
-        const int g = TT(f, k);
-        if (g < 0 || visited[g]) continue;
-        visited[g] = 1;
-        const Eigen::Vector3d w =
-            valid[g] ? closest_log_branch(principal.row(g).transpose(), parent) : parent;
-        omega.row(g) = w.transpose();
-        queue.push(g);
+  std::vector<char> placed(static_cast<size_t>(nf), 0);
+  using Item = std::tuple<double, int, int>;  // (weight, face, parent)
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+  auto relative_angle = [&](int f, int g) {
+    return rotation_log(R[static_cast<size_t>(f)].transpose() * R[static_cast<size_t>(g)]).norm();
+  };
+  auto push_neighbours = [&](int f) {
+    for (int k = 0; k < 3; ++k) {
+      const int g = TT(f, k);
+      if (g >= 0 && !placed[static_cast<size_t>(g)]) heap.emplace(relative_angle(f, g), g, f);
+    }
+    for (int k = 0; k < 3; ++k)
+      for (int g : VF[static_cast<size_t>(F(f, k))]) {
+        // Within an edge-connected part the edges reach every face already.
+        if (placed[static_cast<size_t>(g)] || edge_component(g) == edge_component(f)) continue;
+        heap.emplace(relative_angle(f, g) + kVertexOnlyPenalty, g, f);
       }
+  };
+  for (int seed : order) {
+    if (placed[static_cast<size_t>(seed)]) continue;
+    placed[static_cast<size_t>(seed)] = 1;
+    if (valid[static_cast<size_t>(seed)]) omega.row(seed) = principal.row(seed);
+    push_neighbours(seed);
+    while (!heap.empty()) {
+      const auto [weight, g, f] = heap.top();
+      heap.pop();
+      if (placed[static_cast<size_t>(g)]) continue;
+      placed[static_cast<size_t>(g)] = 1;
+      const Eigen::Vector3d parent = omega.row(f).transpose();
+      const Eigen::Vector3d w = valid[static_cast<size_t>(g)]
+                                    ? closest_log_branch(principal.row(g).transpose(), parent)
+                                    : parent;
+      omega.row(g) = w.transpose();
+      push_neighbours(g);
     }
   }
   return omega;

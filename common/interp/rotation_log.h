@@ -9,8 +9,8 @@
 // more than 180 degrees (a twisted chain) and unstable near 180 degrees, where
 // neighbouring triangles can pick opposite axes and tear apart. Following
 // Poisson shape interpolation (Xu et al. 2005, Sec. 4.1), the branch is chosen
-// per triangle to be closest to its neighbour's, propagated breadth-first over
-// the face adjacency from the least-rotated triangle of each component.
+// per triangle to be closest to its neighbour's, propagated over the face
+// adjacency from the least-rotated triangle of each component.
 #include <vector>
 
 #include <Eigen/Core>
@@ -30,11 +30,13 @@ Eigen::Matrix3d rotation_exp(const Eigen::Vector3d& omega);
 Eigen::Vector3d closest_log_branch(const Eigen::Vector3d& omega, const Eigen::Vector3d& reference);
 
 // Consistent logarithms of per-face rotations R (#F entries) over the triangle
-// mesh F (#F by 3): #F by 3 axis-angle vectors. Each connected component is
-// seeded at its valid face with the smallest rotation angle (lowest id on
-// ties); every other face takes the branch closest to the face it is reached
-// from in breadth-first order. Faces with valid[f] false (degenerate) take
-// their parent's logarithm unchanged. Deterministic.
+// mesh F (#F by 3): #F by 3 axis-angle vectors. Each connected component
+// (faces joined by edges or, at a penalty, by single vertices) is seeded at its
+// valid face with the smallest rotation angle (lowest id on ties) and grown as
+// a minimum spanning tree (Prim) whose weights are the angles between
+// neighbouring rotations; each face takes the branch closest to its tree
+// parent's. Faces with valid[f] false (degenerate) take their parent's
+// logarithm unchanged. Deterministic.
 Eigen::MatrixXd consistent_rotation_logs(const std::vector<Eigen::Matrix3d>& R,
                                          const std::vector<bool>& valid, const Eigen::MatrixXi& F);
 
