@@ -1,0 +1,393 @@
+#include "avatar/make_avatar.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <set>
+
+#include "avatar/body_checks.h"
+#include "avatar/girth.h"
+#include "avatar/isosurface.h"
+#include "avatar/simplify.h"
+#include "avatar/skinning.h"
+#include "core/error.h"
+#include "mesh/measures.h"
+#include "mesh/topology.h"
+
+namespace gp {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Moves every vertex onto the zero set along the field gradient (Newton
+// steps, gradient by central differences). Steps are capped at `max_step`, so
+// that a vertex never jumps to another part of the body.
+void project_to_surface(const BodyShape& shape, Eigen::MatrixXd& V, double max_step) {
+  const double eps = 1e-5 * shape.scale;
+  for (Eigen::Index v = 0; v < V.rows(); ++v) {
+    Eigen::Vector3d p = V.row(v).transpose();
+    for (int it = 0; it < 3; ++it) {
+      const double f = body_field(shape, p);
+      Eigen::Vector3d g;
+      for (int a = 0; a < 3; ++a) {
+        Eigen::Vector3d e = Eigen::Vector3d::Zero();
+        e(a) = eps;
+        g(a) = (body_field(shape, p + e) - body_field(shape, p - e)) / (2 * eps);
+      }
+      const double g2 = g.squaredNorm();
+      if (g2 < 1e-12) break;
+      Eigen::Vector3d step = -f / g2 * g;
+      const double len = step.norm();
+      if (len > max_step) step *= max_step / len;
+      p += step;
+      if (len < 1e-7) break;
+    }
+    V.row(v) = p.transpose();
+  }
+}
+
+// Tangential smoothing (each vertex moves half-way to its neighbours'
+// centroid within its tangent plane) followed by projection onto the implicit
+// surface: evens out the decimated triangles without changing the shape.
+void relax(const BodyShape& shape, Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int iterations,
+           double max_step) {
+  const auto nb = vertex_neighbors(F, static_cast<int>(V.rows()));
+  for (int it = 0; it < iterations; ++it) {
+    const Eigen::MatrixXd N = vertex_normals(V, F);
+    Eigen::MatrixXd U = V;
+    for (Eigen::Index v = 0; v < V.rows(); ++v) {
+      if (nb[v].empty()) continue;
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (int u : nb[v]) c += V.row(u).transpose();
+      c /= static_cast<double>(nb[v].size());
+      const Eigen::Vector3d n = N.row(v).transpose();
+      Eigen::Vector3d d = c - V.row(v).transpose();
+      d -= d.dot(n) * n;
+      U.row(v) += 0.5 * d.transpose();
+    }
+    V.swap(U);
+    project_to_surface(shape, V, max_step);
+  }
+}
+
+// Local folds left by decimation in tight places (back of the knee,
+// armpit) are removed by smoothing the two-ring around every intersecting
+// triangle until CGAL finds no intersection. Returns the rounds used.
+int untangle(Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int max_rounds) {
+  const auto nb = vertex_neighbors(F, static_cast<int>(V.rows()));
+  for (int round = 0; round < max_rounds; ++round) {
+    const std::vector<int> faces = self_intersecting_faces(V, F);
+    if (faces.empty()) return round;
+    std::vector<char> mark(V.rows(), 0);
+    for (int f : faces)
+      for (int k = 0; k < 3; ++k) mark[F(f, k)] = 1;
+    for (int ring = 0; ring < 2 + round; ++ring) {
+      std::vector<char> next = mark;
+      for (Eigen::Index v = 0; v < V.rows(); ++v)
+        if (mark[v])
+          for (int u : nb[v]) next[u] = 1;
+      mark.swap(next);
+    }
+    for (int it = 0; it < 3; ++it) {
+      Eigen::MatrixXd U = V;
+      for (Eigen::Index v = 0; v < V.rows(); ++v) {
+        if (!mark[v] || nb[v].empty()) continue;
+        Eigen::RowVector3d c = Eigen::RowVector3d::Zero();
+        for (int u : nb[v]) c += V.row(u);
+        U.row(v) = 0.5 * V.row(v) + 0.5 * c / static_cast<double>(nb[v].size());
+      }
+      V.swap(U);
+    }
+  }
+  if (!self_intersecting_faces(V, F).empty())
+    throw GeometryError("the generated rest pose intersects itself; try another resolution");
+  return max_rounds;
+}
+
+std::vector<std::string> resolve_poses(const AvatarSpec& spec, const AvatarOptions& o) {
+  std::set<std::string> spec_names;
+  for (const JointAnglePose& p : spec.poses) {
+    if (is_builtin_pose(p.name))
+      throw SpecError("pose '" + p.name + "' is a built-in pose name; choose another", "poses");
+    if (!spec_names.insert(p.name).second) throw SpecError("duplicate pose '" + p.name + "'", "poses");
+  }
+  std::vector<std::string> names = o.poses;
+  if (names.empty()) {
+    names = builtin_pose_names();
+    for (const JointAnglePose& p : spec.poses) names.push_back(p.name);
+  }
+  std::set<std::string> seen;
+  for (const std::string& n : names) {
+    if (!is_builtin_pose(n) && !spec_names.count(n)) {
+      std::string known;
+      for (const std::string& b : builtin_pose_names()) known += (known.empty() ? "" : ", ") + b;
+      for (const std::string& b : spec_names) known += ", " + b;
+      throw SpecError("unknown pose '" + n + "' (known: " + known + ")", "poses");
+    }
+    if (!seen.insert(n).second) throw SpecError("pose '" + n + "' listed twice", "poses");
+  }
+  // The rest pose is the reference and comes first.
+  names.erase(std::remove(names.begin(), names.end(), std::string("apose")), names.end());
+  names.insert(names.begin(), "apose");
+  return names;
+}
+
+JointRotations pose_rotations(const AvatarSpec& spec, const Skeleton& sk, const std::string& name) {
+  if (is_builtin_pose(name)) return builtin_pose(sk, name);
+  for (const JointAnglePose& p : spec.poses) {
+    if (p.name != name) continue;
+    JointRotations r(kJointCount, Eigen::Quaterniond::Identity());
+    for (const auto& [joint, angles] : p.joints) {
+      const int j = avatar_joint_index(joint);
+      if (j < 0) throw SpecError("unknown joint '" + joint + "'", "poses/" + name);
+      r[j] = rotation_from_degrees(angles);
+    }
+    return r;
+  }
+  throw SpecError("unknown pose '" + name + "'", "poses");
+}
+
+std::vector<GirthResult> measure_girths(const BodyShape& shape, const Eigen::MatrixXd& V,
+                                        const Eigen::MatrixXi& F) {
+  std::vector<GirthResult> out;
+  for (const GirthLandmark& g : shape.landmarks) {
+    GirthResult r;
+    r.name = g.name;
+    r.field = g.field;
+    r.target = g.target;
+    r.center = g.center;
+    r.normal = g.normal;
+    r.measured = mesh_girth(V, F, g.center, g.normal, &r.loop);
+    if (r.measured < 0) throw GeometryError("no cross-section loop around girth landmark '" + g.name + "'");
+    out.push_back(r);
+  }
+  return out;
+}
+
+// Marching tetrahedra may leave specks where a thin part (finger tips) is
+// thinner than the grid; they are dropped if they are tiny, otherwise the
+// construction failed.
+int drop_specks(Mesh& mesh) {
+  Eigen::VectorXi comp;
+  const int n = face_components(mesh.F, comp);
+  if (n <= 1) return 0;
+  std::vector<int> count(n, 0);
+  for (Eigen::Index f = 0; f < comp.size(); ++f) ++count[comp(f)];
+  const int keep = static_cast<int>(std::max_element(count.begin(), count.end()) - count.begin());
+  if (count[keep] < 0.99 * mesh.F.rows())
+    throw GeometryError("isosurface of the body falls apart into " + std::to_string(n) + " pieces");
+  std::vector<int> remap(mesh.V.rows(), -1);
+  Eigen::MatrixXi F(count[keep], 3);
+  int k = 0, nv = 0;
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    if (comp(f) != keep) continue;
+    for (int c = 0; c < 3; ++c) {
+      int& r = remap[mesh.F(f, c)];
+      if (r < 0) r = nv++;
+      F(k, c) = r;
+    }
+    ++k;
+  }
+  Eigen::MatrixXd V(nv, 3);
+  for (Eigen::Index v = 0; v < mesh.V.rows(); ++v)
+    if (remap[v] >= 0) V.row(remap[v]) = mesh.V.row(v);
+  mesh.V = V;
+  mesh.F = F;
+  return n - 1;
+}
+
+OrderedJson vec_json(const Eigen::Vector3d& v) { return OrderedJson::array({v.x(), v.y(), v.z()}); }
+
+}  // namespace
+
+AvatarResult make_avatar(const AvatarSpec& spec, const AvatarOptions& o) {
+  const auto t_start = Clock::now();
+  validate_measurements(spec.measurements, "measurements");
+  if (o.target_vertices < 500 || o.target_vertices > 2000000)
+    throw SpecError("vertex budget " + std::to_string(o.target_vertices) + " outside 500 to 2000000",
+                    "target_vertices");
+  const std::vector<std::string> pose_names = resolve_poses(spec, o);
+
+  AvatarResult res;
+  res.measurements = spec.measurements;
+  auto t = Clock::now();
+  BodyShape shape = build_body_shape(spec.measurements);
+  fit_girths(shape);
+  res.timing.fit += since(t);
+
+  // A finer grid for large budgets, so decimation always has detail to keep.
+  double cell_used = o.cell * shape.scale;
+  if (o.target_vertices > 2 * kAvatarDefaultVertices)
+    cell_used *= std::sqrt(2.0 * kAvatarDefaultVertices / o.target_vertices);
+  std::vector<double> target_scale(shape.landmarks.size(), 1.0);
+  Mesh mesh;
+  for (int round = 0;; ++round) {
+    t = Clock::now();
+    IsosurfaceOptions io;
+    io.cell = cell_used;
+    IsosurfaceStats stats;
+    Mesh iso = marching_tetrahedra([&](const Eigen::Vector3d& p) { return body_field(shape, p); },
+                                   shape.box_min, shape.box_max, io, &stats);
+    res.specks_removed = drop_specks(iso);
+    res.isosurface_vertices = iso.V.rows();
+    check_closed_genus0(iso.F, "isosurface of the body");
+    res.timing.polygonize += since(t);
+    t = Clock::now();
+    mesh = simplify_mesh(iso, o.target_vertices);
+    res.timing.simplify += since(t);
+    t = Clock::now();
+    project_to_surface(shape, mesh.V, 0.5 * cell_used);
+    relax(shape, mesh.V, mesh.F, o.relax_iterations, 0.5 * cell_used);
+    res.timing.project += since(t);
+    t = Clock::now();
+    res.girths = measure_girths(shape, mesh.V, mesh.F);
+    res.timing.measure += since(t);
+    double worst = 0.0;
+    for (const GirthResult& g : res.girths) worst = std::max(worst, std::abs(g.measured - g.target));
+    if (worst <= o.girth_tolerance || round >= o.max_correction_rounds) break;
+    // Aim the implicit surface off target by the mesh's discretization error
+    // and fit again.
+    t = Clock::now();
+    for (size_t i = 0; i < res.girths.size(); ++i)
+      target_scale[i] *= res.girths[i].target / res.girths[i].measured;
+    fit_girths(shape, 2e-4, 12, target_scale);
+    res.timing.fit += since(t);
+    ++res.correction_rounds;
+  }
+  t = Clock::now();
+  check_closed_genus0(mesh.F, "decimated body");
+  if (o.check_self_intersection) res.untangle_rounds = untangle(mesh.V, mesh.F, 8);
+  res.timing.check += since(t);
+
+  t = Clock::now();
+  res.weights = skinning_weights(shape, mesh.V, mesh.F);
+  res.timing.skin += since(t);
+
+  t = Clock::now();
+  const double floor_rest = mesh.V.col(1).minCoeff();
+  res.skeleton = shape.skeleton;
+  res.skeleton.rest.col(1).array() -= floor_rest;
+  res.poses.F = mesh.F;
+  res.poses.reference = "apose";
+  for (const std::string& name : pose_names) {
+    const JointRotations rot = pose_rotations(spec, shape.skeleton, name);
+    const std::vector<RigidTransform> bones = forward_kinematics(shape.skeleton, rot);
+    Eigen::MatrixXd V = name == "apose" ? mesh.V : dual_quaternion_skinning(mesh.V, res.weights, bones);
+    Eigen::MatrixXd J = posed_joints(shape.skeleton, bones);
+    const double floor = V.col(1).minCoeff();
+    V.col(1).array() -= floor;
+    J.col(1).array() -= floor;
+    res.poses.names.push_back(name);
+    res.poses.V.push_back(V);
+    res.joints.push_back(J);
+    res.rotations.push_back(rot);
+    res.volumes.push_back(signed_volume(V, mesh.F));
+  }
+  for (GirthResult& g : res.girths) g.center.y() -= floor_rest;
+  res.height = res.poses.V[0].col(1).maxCoeff();
+  res.timing.pose += since(t);
+  res.timing.total = since(t_start);
+  return res;
+}
+
+OrderedJson avatar_report(const AvatarSpec& spec, const AvatarOptions& o, const AvatarResult& r) {
+  OrderedJson j;
+  j["schema"] = schema_tag("make-avatar-report", 1);
+  j["name"] = spec.name;
+  OrderedJson opt;
+  opt["target_vertices"] = o.target_vertices;
+  opt["poses"] = r.poses.names;
+  opt["cell_m_at_1_70"] = o.cell;
+  opt["girth_tolerance_m"] = o.girth_tolerance;
+  opt["max_correction_rounds"] = o.max_correction_rounds;
+  opt["check_self_intersection"] = o.check_self_intersection;
+  j["options"] = opt;
+  j["measurements"] = to_json(r.measurements);
+  OrderedJson mesh;
+  mesh["vertex_count"] = r.poses.V.empty() ? 0 : r.poses.V[0].rows();
+  mesh["face_count"] = r.poses.F.rows();
+  mesh["isosurface_vertex_count"] = r.isosurface_vertices;
+  mesh["correction_rounds"] = r.correction_rounds;
+  mesh["isosurface_specks_removed"] = r.specks_removed;
+  mesh["untangle_rounds"] = r.untangle_rounds;
+  mesh["height_m"] = r.height;
+  mesh["topology_sha256"] = topology_checksum(r.poses.F);
+  j["mesh"] = mesh;
+  j["girth_method"] =
+      "perimeter of the convex hull of the mesh's cross-section loop around the landmark, as a tape "
+      "measure takes it; horizontal planes for neck, chest, under_bust, waist, hip and thigh, planes "
+      "perpendicular to the arm for upper_arm and wrist (rest pose)";
+  OrderedJson girths = OrderedJson::array();
+  double worst = 0.0;
+  for (const GirthResult& g : r.girths) {
+    OrderedJson e;
+    e["name"] = g.name;
+    e["measurement"] = g.field;
+    e["target_m"] = g.target;
+    e["measured_m"] = g.measured;
+    e["error_m"] = g.measured - g.target;
+    e["loop_length_m"] = g.loop;
+    e["plane_point_m"] = vec_json(g.center);
+    e["plane_normal"] = vec_json(g.normal);
+    girths.push_back(e);
+    worst = std::max(worst, std::abs(g.measured - g.target));
+  }
+  j["girths"] = girths;
+  j["max_girth_error_m"] = worst;
+  OrderedJson poses = OrderedJson::array();
+  const double v_ref = r.volumes.empty() ? 0.0 : r.volumes[0];
+  double vmin = 1e300, vmax = -1e300;
+  for (size_t i = 0; i < r.poses.names.size(); ++i) {
+    OrderedJson e;
+    e["name"] = r.poses.names[i];
+    e["file"] = r.poses.names[i] + ".ply";
+    e["volume_m3"] = r.volumes[i];
+    e["volume_change_vs_reference"] = r.volumes[i] / v_ref - 1.0;
+    poses.push_back(e);
+    vmin = std::min(vmin, r.volumes[i]);
+    vmax = std::max(vmax, r.volumes[i]);
+  }
+  j["poses"] = poses;
+  j["max_pairwise_volume_change"] = vmax / vmin - 1.0;
+  return j;
+}
+
+OrderedJson skeleton_json(const AvatarResult& r) {
+  OrderedJson j;
+  j["schema"] = schema_tag("skeleton", 1);
+  j["units"] = "m";
+  j["up"] = "+y";
+  j["rotation_convention"] =
+      "local rotations about each joint's rest position in the rest pose's axes, composed from the root; "
+      "quaternions as [w, x, y, z]";
+  OrderedJson joints = OrderedJson::array();
+  for (size_t i = 0; i < r.skeleton.names.size(); ++i) {
+    OrderedJson e;
+    e["name"] = r.skeleton.names[i];
+    const int p = r.skeleton.parents[i];
+    e["parent"] = p < 0 ? OrderedJson(nullptr) : OrderedJson(r.skeleton.names[p]);
+    joints.push_back(e);
+  }
+  j["joints"] = joints;
+  OrderedJson poses = OrderedJson::array();
+  for (size_t k = 0; k < r.poses.names.size(); ++k) {
+    OrderedJson e;
+    e["name"] = r.poses.names[k];
+    OrderedJson pos = OrderedJson::array(), rot = OrderedJson::array();
+    for (Eigen::Index i = 0; i < r.joints[k].rows(); ++i) {
+      pos.push_back(vec_json(r.joints[k].row(i).transpose()));
+      const Eigen::Quaterniond& q = r.rotations[k][i];
+      rot.push_back(OrderedJson::array({q.w(), q.x(), q.y(), q.z()}));
+    }
+    e["positions"] = pos;
+    e["rotations"] = rot;
+    poses.push_back(e);
+  }
+  j["poses"] = poses;
+  return j;
+}
+
+}  // namespace gp
