@@ -4,9 +4,9 @@
 // region point becomes the garment region.
 //
 // Method (a deliberate choice over tracing a smoothed polyline across faces):
-// the side of every
-// body vertex is encoded as phi = +1 inside the region (found by a face flood
-// fill that may not cross the edge paths), -1 outside and 0 on the paths. phi
+// the side of every body vertex is encoded as phi = +1 inside the region (found
+// by a face flood fill that may not cross the edge paths), -1 outside and 0 on
+// the paths. phi
 // is smoothed by Jacobi diffusion in a band of rings around the paths, and the
 // curve is the zero level set of the piecewise-linear phi. This smooths the
 // jagged edge path like a curve-shortening flow, and the result is by
