@@ -53,7 +53,11 @@ struct AnchorOptions {
 struct InterpolationOptions {
   InterpolationMethod method = InterpolationMethod::nonlinear;
   AnchorOptions anchor;
-  CholmodOptions solver;  // for the Poisson system (supernodal by default)
+  // Factorization of the Poisson system. Simplicial by default: on the
+  // 27,578-vertex shared body its 3-column back-substitution takes 1.2 ms
+  // against 3.2 ms for the supernodal factor (CPU time, one core), and the
+  // per-frame path is dominated by it.
+  CholmodOptions solver = {CholmodOptions::Method::simplicial};
 };
 
 // What was computed for one pose pair.
