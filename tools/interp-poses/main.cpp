@@ -77,16 +77,16 @@ int main(int argc, char** argv) {
   std::vector<int> frame_list;
   bool keys_only = false, float32 = false, no_timing = false, no_compare = false;
   auto& app = tool.app();
-  app.add_option("inputs", inputs, "poses.json (pose-set/1) or pose mesh files (.ply/.obj, metres)")
+  app.add_option("inputs", inputs, "poses.json (pose-set/1) or pose mesh files, .ply/.obj [m]")
       ->required();
   app.add_option("-m,--motion", motion_path, "Motion spec (motion/1 JSON)")->required();
-  app.add_option("--method", method_name, "Interpolation method [nonlinear|linear]")
+  app.add_option("--method", method_name, "Interpolation method: nonlinear or linear (baseline) [name]")
       ->check(CLI::IsMember({"nonlinear", "linear"}));
-  app.add_option("--frames", frame_list, "Write only these frame numbers (comma separated, from 0)")
+  app.add_option("--frames", frame_list, "Write only these frames, comma separated, numbered from 0 [frame index]")
       ->delimiter(',');
   app.add_flag("--keys-only", keys_only, "Write only the frames that are key poses");
   app.add_flag("--float32", float32, "Write positions as 32-bit floats (half the size; not exact)");
-  app.add_option("--solver", solver_name, "CHOLMOD factorization [supernodal|simplicial]")
+  app.add_option("--solver", solver_name, "CHOLMOD factorization of the Poisson system [name]")
       ->check(CLI::IsMember({"supernodal", "simplicial"}));
   app.add_flag("--no-compare", no_compare,
                "Skip the linear-baseline comparison per frame (nonlinear method only)");

@@ -4,7 +4,9 @@
 #include <sstream>
 #include <string>
 
+#include "core/sha256.h"
 #include "interp_fixtures.h"
+#include "pose/pose_set.h"
 #include "io/mesh_io.h"
 #include "spec/json_file.h"
 #include "testing/command.h"
@@ -100,6 +102,30 @@ TEST_CASE("interp-poses writes frames, a manifest and a report", "[interp][cli]"
   const auto exists = gp::testing::run_command(tool() + " " + inputs + motion + " --out '" +
                                                (dir / "out").string() + "' -q");
   CHECK(exists.exit_code == 2);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("interp-poses reads a poses.json manifest", "[interp][cli]") {
+  const fs::path dir = gp::testing::fresh_temp_dir("interp_cli_manifest");
+  write_inputs(dir);
+  const gp::Mesh down = gp::read_mesh(dir / "down.ply").mesh;
+  gp::PoseSetManifest m;
+  m.vertex_count = down.V.rows();
+  m.face_count = down.F.rows();
+  m.topology_sha256 = gp::topology_checksum(down.F);
+  m.reference = "down";
+  for (const char* name : {"down", "up"})
+    m.poses.push_back({name, std::string(name) + ".ply", gp::sha256_file_hex(dir / (std::string(name) + ".ply")), "test"});
+  gp::write_pose_set_manifest(dir / "poses.json", m);
+  const auto r = gp::testing::run_command(tool() + " '" + (dir / "poses.json").string() + "' --motion '" +
+                                          (dir / "motion.json").string() + "' --keys-only --out '" +
+                                          (dir / "out").string() + "' -q");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const gp::Json manifest = gp::read_json_file(dir / "out" / "motion.json");
+  CHECK(manifest["pose_set"]["names"] == gp::Json::array({"down", "up"}));
+  CHECK(manifest["pose_set"]["topology_sha256"] == m.topology_sha256);
+  CHECK(manifest["frames_written"] == 3);
   fs::remove_all(dir);
 }
 
