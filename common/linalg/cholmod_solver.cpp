@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <utility>
 
 #include <cholmod.h>
 
@@ -85,8 +86,24 @@ void check_square(const Eigen::SparseMatrix<double>& A) {
 CholmodSolver::CholmodSolver(CholmodOptions options)
     : impl_(std::make_unique<Impl>(options)), options_(options) {}
 CholmodSolver::~CholmodSolver() = default;
-CholmodSolver::CholmodSolver(CholmodSolver&&) noexcept = default;
-CholmodSolver& CholmodSolver::operator=(CholmodSolver&&) noexcept = default;
+CholmodSolver::CholmodSolver(CholmodSolver&& other) noexcept { *this = std::move(other); }
+
+CholmodSolver& CholmodSolver::operator=(CholmodSolver&& other) noexcept {
+  if (this == &other) return *this;
+  impl_ = std::move(other.impl_);
+  options_ = other.options_;
+  n_ = other.n_;
+  factorized_ = other.factorized_;
+  analyze_count_ = other.analyze_count_;
+  pattern_outer_ = std::move(other.pattern_outer_);
+  pattern_inner_ = std::move(other.pattern_inner_);
+  // The moved-from solver is empty but usable: it can analyze a new matrix.
+  other.impl_ = std::make_unique<Impl>(other.options_);
+  other.n_ = 0;
+  other.factorized_ = false;
+  other.analyze_count_ = 0;
+  return *this;
+}
 
 bool CholmodSolver::analyzed() const { return impl_ && impl_->L != nullptr; }
 

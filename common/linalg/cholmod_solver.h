@@ -33,6 +33,7 @@ class CholmodSolver {
  public:
   explicit CholmodSolver(CholmodOptions options = {});
   ~CholmodSolver();
+  // Moving transfers the factor; the source is left empty (not factorized) but usable.
   CholmodSolver(CholmodSolver&&) noexcept;
   CholmodSolver& operator=(CholmodSolver&&) noexcept;
   CholmodSolver(const CholmodSolver&) = delete;
