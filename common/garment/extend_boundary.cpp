@@ -282,7 +282,6 @@ ExtendResult extend_boundary(const Mesh& garment, const GarmentFile& file, const
   result.file = out;
   result.mesh.V = V;
   result.mesh.F = F;
-  result.mesh.face_fields.push_back({"paint", paint});
   return result;
 }
 

@@ -36,7 +36,7 @@ ExtendSpec read_extend_spec(const std::filesystem::path& path);
 OrderedJson to_json(const ExtendSpec& spec);
 
 struct ExtendResult {
-  Mesh mesh;          // garment with the band; face field "paint"
+  Mesh mesh;          // garment with the band (paint factors are in `file`)
   GarmentFile file;   // updated (mesh checksum left to the caller)
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // of the old loop
   Eigen::Vector3d axis = Eigen::Vector3d::Zero();      // unit, pointing away from the garment

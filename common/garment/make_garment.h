@@ -14,7 +14,8 @@
 namespace gp {
 
 struct MakeGarmentResult {
-  // The garment in the design pose, offset from the body; face field "paint".
+  // The garment in the design pose, offset from the body (paint factors are
+  // in `file`).
   Mesh mesh;
   // Everything but the fields about input and output files (mesh, body, spec
   // checksums), which the caller fills in.

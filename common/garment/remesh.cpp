@@ -102,13 +102,33 @@ void remesh_patch(Eigen::MatrixXd& V, Eigen::MatrixXi& F,
       CGAL::parameters::number_of_iterations(static_cast<unsigned>(options.iterations))
           .number_of_relaxation_steps(static_cast<unsigned>(options.relaxation_steps))
           .protect_constraints(false)
-          .relax_constraints(true)
+          .relax_constraints(false)
           .projection_functor(project));
   // The last relaxation leaves border vertices where the 1D smoothing put
   // them; one more projection puts them exactly on the curves.
   for (VertexIndex v : mesh.vertices())
     if (mesh.is_border(v)) mesh.point(v) = project(v);
   from_cgal(mesh, V, F);
+
+  // CGAL leaves a few slivers where an interior vertex sits next to a border
+  // vertex and collapsing their edge would make a too long one. Some rounds of
+  // Laplacian smoothing of the interior vertices, each projected back onto the
+  // surface, open them up without touching the boundary.
+  const auto ring = vertex_neighbors(F, static_cast<int>(V.rows()));
+  std::vector<char> border(static_cast<size_t>(V.rows()), 0);
+  for (const auto& loop : boundary_loops(F))
+    for (int v : loop) border[static_cast<size_t>(v)] = 1;
+  for (int round = 0; round < options.final_smoothing_rounds; ++round) {
+    Eigen::MatrixXd next = V;
+    for (Eigen::Index v = 0; v < V.rows(); ++v) {
+      if (border[static_cast<size_t>(v)] || ring[static_cast<size_t>(v)].empty()) continue;
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (int w : ring[static_cast<size_t>(v)]) c += V.row(w).transpose();
+      c /= static_cast<double>(ring[static_cast<size_t>(v)].size());
+      next.row(v) = (project_interior ? project_interior(c) : surface.closest(c).point).transpose();
+    }
+    V = next;
+  }
 }
 
 std::vector<int> remesh_selected_faces(Eigen::MatrixXd& V, Eigen::MatrixXi& F,

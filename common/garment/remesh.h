@@ -12,6 +12,7 @@ struct RemeshOptions {
   double target_edge_length = 0.0;  // metres, must be positive
   int iterations = 8;               // split/collapse/flip/relax rounds
   int relaxation_steps = 2;         // tangential relaxation steps per round
+  int final_smoothing_rounds = 3;   // Laplacian rounds of interior vertices after CGAL (remesh_patch)
 };
 
 // Remeshes the whole open patch (V #V by 3, F #F by 3; replaced by the result)
