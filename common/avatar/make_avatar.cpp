@@ -199,6 +199,71 @@ int drop_specks(Mesh& mesh) {
   return n - 1;
 }
 
+// Direct girth correction on the mesh: around each landmark, vertices are
+// scaled within the landmark plane about its centre by target / measured,
+// blended by their skinning weight on the landmark's part and by a smooth
+// profile along the plane normal, so the body stays smooth. Torso girths
+// share one piecewise-linear profile over the height.
+void correct_girths(const BodyShape& shape, const std::vector<GirthResult>& girths, const Eigen::MatrixXd& W,
+                    Eigen::MatrixXd& V) {
+  const double k = shape.scale;
+  std::vector<std::pair<double, double>> torso;  // (height, factor), ascending
+  for (const GirthResult& g : girths)
+    if (g.field == "chest" || g.field == "under_bust" || g.field == "waist" || g.field == "hip")
+      torso.emplace_back(g.center.y(), g.target / g.measured);
+  std::sort(torso.begin(), torso.end());
+  const double fade = 0.08 * k;
+  torso.insert(torso.begin(), {torso.front().first - fade, 1.0});
+  torso.emplace_back(torso.back().first + fade, 1.0);
+  auto torso_factor = [&](double y) {
+    if (y <= torso.front().first || y >= torso.back().first) return 1.0;
+    size_t i = 0;
+    while (torso[i + 1].first < y) ++i;
+    const double t = (y - torso[i].first) / (torso[i + 1].first - torso[i].first);
+    return torso[i].second + t * (torso[i + 1].second - torso[i].second);
+  };
+  auto hat = [](double t, double w) {
+    const double u = std::abs(t) / w;
+    return u >= 1 ? 0.0 : 0.5 * (1 + std::cos(M_PI * u));
+  };
+  for (Eigen::Index v = 0; v < V.rows(); ++v) {
+    Eigen::Vector3d p = V.row(v).transpose();
+    const double m_torso = W(v, kPelvis) + W(v, kSpine) + W(v, kChest);
+    const double ft = torso_factor(p.y());
+    if (ft != 1.0) {
+      const double f = 1.0 + m_torso * (ft - 1.0);
+      p.x() *= f;
+      p.z() *= f;
+    }
+    for (const GirthResult& g : girths) {
+      double member = 0.0, width = 0.0;
+      const bool left = g.name.find("left") != std::string::npos;
+      if (g.field == "neck") {
+        member = W(v, kNeck) + W(v, kHead) + W(v, kChest);
+        width = 0.04 * k;
+      } else if (g.field == "upper_arm") {
+        member = left ? W(v, kLShoulder) : W(v, kRShoulder);
+        width = 0.08 * k;
+      } else if (g.field == "wrist") {
+        member = left ? W(v, kLElbow) + W(v, kLWrist) : W(v, kRElbow) + W(v, kRWrist);
+        width = 0.04 * k;
+      } else if (g.field == "thigh") {
+        member = left ? W(v, kLHip) : W(v, kRHip);
+        width = 0.06 * k;
+      } else {
+        continue;
+      }
+      const Eigen::Vector3d n = g.normal.normalized();
+      const Eigen::Vector3d r = p - g.center;
+      const double along = r.dot(n);
+      const double f = 1.0 + member * hat(along, width) * (g.target / g.measured - 1.0);
+      if (f == 1.0) continue;
+      p += (f - 1.0) * (r - along * n);
+    }
+    V.row(v) = p.transpose();
+  }
+}
+
 OrderedJson vec_json(const Eigen::Vector3d& v) { return OrderedJson::array({v.x(), v.y(), v.z()}); }
 
 }  // namespace
@@ -218,53 +283,59 @@ AvatarResult make_avatar(const AvatarSpec& spec, const AvatarOptions& o) {
   fit_girths(shape);
   res.timing.fit += since(t);
 
-  // A finer grid for large budgets, so decimation always has detail to keep.
+  // The grid resolves the thinnest parts (finger tips, wrists); decimation
+  // then meets the budget. Small budgets start from a coarser grid (faster,
+  // and less to decimate), large ones from a finer one.
   double cell_used = o.cell * shape.scale;
+  if (o.target_vertices <= kAvatarDefaultVertices / 3) cell_used *= 1.4;
   if (o.target_vertices > 2 * kAvatarDefaultVertices)
     cell_used *= std::sqrt(2.0 * kAvatarDefaultVertices / o.target_vertices);
-  std::vector<double> target_scale(shape.landmarks.size(), 1.0);
-  Mesh mesh;
-  for (int round = 0;; ++round) {
-    t = Clock::now();
-    IsosurfaceOptions io;
-    io.cell = cell_used;
-    IsosurfaceStats stats;
-    Mesh iso = marching_tetrahedra([&](const Eigen::Vector3d& p) { return body_field(shape, p); },
-                                   shape.box_min, shape.box_max, io, &stats);
-    res.specks_removed = drop_specks(iso);
-    res.isosurface_vertices = iso.V.rows();
-    check_closed_genus0(iso.F, "isosurface of the body");
-    res.timing.polygonize += since(t);
-    t = Clock::now();
-    mesh = simplify_mesh(iso, o.target_vertices);
-    res.timing.simplify += since(t);
-    t = Clock::now();
-    project_to_surface(shape, mesh.V, 0.5 * cell_used);
-    relax(shape, mesh.V, mesh.F, o.relax_iterations, 0.5 * cell_used);
-    res.timing.project += since(t);
-    t = Clock::now();
-    res.girths = measure_girths(shape, mesh.V, mesh.F);
-    res.timing.measure += since(t);
-    double worst = 0.0;
-    for (const GirthResult& g : res.girths) worst = std::max(worst, std::abs(g.measured - g.target));
-    if (worst <= o.girth_tolerance || round >= o.max_correction_rounds) break;
-    // Aim the implicit surface off target by the mesh's discretization error
-    // and fit again.
-    t = Clock::now();
-    for (size_t i = 0; i < res.girths.size(); ++i)
-      target_scale[i] *= res.girths[i].target / res.girths[i].measured;
-    fit_girths(shape, 2e-4, 12, target_scale);
-    res.timing.fit += since(t);
-    ++res.correction_rounds;
-  }
+  t = Clock::now();
+  IsosurfaceOptions io;
+  io.cell = cell_used;
+  Mesh iso = marching_tetrahedra([&](const Eigen::Vector3d& p) { return body_field(shape, p); },
+                                 shape.box_min, shape.box_max, io);
+  // Marching tetrahedra gives a closed oriented manifold by construction;
+  // only specks need removing (the decimated mesh is checked below).
+  res.specks_removed = drop_specks(iso);
+  res.isosurface_vertices = iso.V.rows();
+  res.timing.polygonize += since(t);
+  t = Clock::now();
+  Mesh mesh = simplify_mesh(iso, o.target_vertices);
+  res.timing.simplify += since(t);
+  t = Clock::now();
+  project_to_surface(shape, mesh.V, 0.5 * cell_used);
+  relax(shape, mesh.V, mesh.F, o.relax_iterations, 0.5 * cell_used);
+  res.timing.project += since(t);
   t = Clock::now();
   check_closed_genus0(mesh.F, "decimated body");
-  if (o.check_self_intersection) res.untangle_rounds = untangle(mesh.V, mesh.F, 8);
   res.timing.check += since(t);
 
   t = Clock::now();
-  res.weights = skinning_weights(shape, mesh.V, mesh.F);
+  res.weights = skinning_weights(shape, mesh.V, mesh.F, o.skinning);
   res.timing.skin += since(t);
+
+  // Correct the girths, then remove any local fold; smoothing a fold away can
+  // move a girth again, so repeat while folds were found.
+  for (int pass = 0; pass < 3; ++pass) {
+    t = Clock::now();
+    for (int it = 0; it < o.girth_correction_iterations; ++it) {
+      res.girths = measure_girths(shape, mesh.V, mesh.F);
+      double worst = 0.0;
+      for (const GirthResult& g : res.girths) worst = std::max(worst, std::abs(g.measured - g.target));
+      if (worst < 1e-4) break;
+      correct_girths(shape, res.girths, res.weights, mesh.V);
+      ++res.correction_rounds;
+    }
+    res.timing.measure += since(t);
+    if (!o.check_self_intersection) break;
+    t = Clock::now();
+    const int rounds = untangle(mesh.V, mesh.F, 8);
+    res.untangle_rounds += rounds;
+    res.timing.check += since(t);
+    if (rounds == 0) break;
+  }
+  res.girths = measure_girths(shape, mesh.V, mesh.F);
 
   t = Clock::now();
   const double floor_rest = mesh.V.col(1).minCoeff();
@@ -301,8 +372,10 @@ OrderedJson avatar_report(const AvatarSpec& spec, const AvatarOptions& o, const 
   opt["target_vertices"] = o.target_vertices;
   opt["poses"] = r.poses.names;
   opt["cell_m_at_1_70"] = o.cell;
-  opt["girth_tolerance_m"] = o.girth_tolerance;
-  opt["max_correction_rounds"] = o.max_correction_rounds;
+  opt["girth_correction_iterations"] = o.girth_correction_iterations;
+  opt["relax_iterations"] = o.relax_iterations;
+  opt["skinning_falloff_m_at_1_70"] = o.skinning.falloff;
+  opt["skinning_smoothing_iterations"] = o.skinning.smoothing_iterations;
   opt["check_self_intersection"] = o.check_self_intersection;
   j["options"] = opt;
   j["measurements"] = to_json(r.measurements);

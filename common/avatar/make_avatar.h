@@ -14,9 +14,9 @@
 // made of smooth-blended parts; its girth parameters are fitted (ray-cast
 // cross-sections, fixed-point iteration); the zero set is polygonized by
 // marching tetrahedra on a fine grid, decimated to the vertex budget by
-// Lindstrom-Turk edge collapse, and projected back onto the implicit surface;
-// girths are re-measured on the mesh by plane slicing (convex-hull perimeter)
-// and the fit is corrected where the mesh deviates. Poses are made by
+// quadric edge collapse, projected back onto the implicit surface and
+// relaxed; girths are then measured on the mesh by plane slicing
+// (convex-hull perimeter) and corrected by scaling around each landmark. Poses are made by
 // dual-quaternion skinning with smooth part-derived weights, so every pose
 // shares the rest pose's triangles (vertex i is the same body point).
 #include <string>
@@ -27,6 +27,7 @@
 #include "avatar/avatar_spec.h"
 #include "avatar/body_shape.h"
 #include "avatar/skeleton.h"
+#include "avatar/skinning.h"
 #include "pose/pose_set.h"
 #include "spec/json_file.h"
 
@@ -46,10 +47,10 @@ struct AvatarOptions {
   std::vector<std::string> poses;
   // Marching-tetrahedra cell [m at height 1.70 m; scaled with the height].
   double cell = 0.009;
-  // Largest girth error accepted on the mesh before the fit is corrected [m].
-  double girth_tolerance = 0.002;
-  // Extra polygonization rounds allowed for that correction.
-  int max_correction_rounds = 2;
+  // Girth correction passes on the mesh (measure, scale around the landmark).
+  int girth_correction_iterations = 4;
+  // Skinning weights (transition width, smoothing).
+  SkinningOptions skinning;
   // Tangential relaxation passes after decimation (triangle shape).
   int relax_iterations = 3;
   // Verify that the rest pose has no self-intersection (CGAL, a few tens of
@@ -82,7 +83,7 @@ struct AvatarResult {
   std::vector<GirthResult> girths;
   std::vector<double> volumes;  // per pose [m^3]
   double height = 0.0;          // measured top of the rest pose [m]
-  int correction_rounds = 0;    // polygonizations after the first
+  int correction_rounds = 0;    // girth correction passes applied to the mesh
   long long isosurface_vertices = 0;  // before decimation
   int untangle_rounds = 0;            // local smoothing rounds that removed folds
   int specks_removed = 0;             // tiny isosurface pieces dropped (thin tips)

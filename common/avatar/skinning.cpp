@@ -42,7 +42,20 @@ Eigen::MatrixXd skinning_weights(const BodyShape& shape, const Eigen::MatrixXd& 
     }
   }
   const auto nb = vertex_neighbors(F, static_cast<int>(n));
-  for (int it = 0; it < o.smoothing_iterations; ++it) {
+  double edge_sum = 0.0;
+  long long edge_count = 0;
+  for (Eigen::Index v = 0; v < n; ++v)
+    for (int u : nb[v]) {
+      edge_sum += (V.row(u) - V.row(v)).norm();
+      ++edge_count;
+    }
+  const double mean_edge = edge_count ? edge_sum / edge_count : o.reference_edge * shape.scale;
+  const double ratio = o.reference_edge * shape.scale / mean_edge;
+  const int iterations =
+      o.smoothing_iterations == 0
+          ? 0
+          : std::clamp(static_cast<int>(std::lround(o.smoothing_iterations * ratio * ratio)), 1, 40);
+  for (int it = 0; it < iterations; ++it) {
     Eigen::MatrixXd S = W;
     for (Eigen::Index v = 0; v < n; ++v) {
       if (nb[v].empty()) continue;
