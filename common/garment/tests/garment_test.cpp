@@ -12,7 +12,9 @@
 #include "garment/surface_path.h"
 #include "io/mesh_io.h"
 #include "mesh/measures.h"
+#include "core/sha256.h"
 #include "mesh/topology.h"
+#include "pose/pose_set.h"
 #include "testing/command.h"
 #include "testing/test_meshes.h"
 
@@ -349,6 +351,28 @@ TEST_CASE("make-garment and extend-boundary on the command line", "[garment][cli
   CHECK(r.exit_code == 3);
   r = gp::testing::run_command(mg + " " + d + "/shirt.json --out " + d + "/out3");
   CHECK(r.exit_code == 2);
+  // A pose set: the design pose is chosen by name; the body is the same
+  // sphere, so the garment is the same mesh.
+  {
+    gp::Mesh stretched = sphere_body();
+    stretched.V.col(1) *= 1.5;
+    gp::write_mesh(dir / "tall.ply", stretched);
+    gp::PoseSetManifest m;
+    m.vertex_count = stretched.V.rows();
+    m.face_count = stretched.F.rows();
+    m.topology_sha256 = gp::topology_checksum(stretched.F);
+    m.reference = "tall";
+    m.poses.push_back({"tall", "tall.ply", gp::sha256_file_hex(dir / "tall.ply"), "test"});
+    m.poses.push_back({"round", "body.ply", gp::sha256_file_hex(dir / "body.ply"), "test"});
+    gp::write_pose_set_manifest(dir / "poses.json", m);
+  }
+  r = gp::testing::run_command(mg + " " + d + "/shirt.json --poses " + d + "/poses.json --pose round --out " + d + "/out4 -q");
+  REQUIRE(r.exit_code == 0);
+  CHECK(bytes(dir / "out1" / "garment.ply") == bytes(dir / "out4" / "garment.ply"));
+  CHECK(gp::read_garment_file(dir / "out4" / "garment.json").body.design_pose == "round");
+  r = gp::testing::run_command(mg + " " + d + "/shirt.json --poses " + d + "/poses.json --pose sitting --out " + d + "/out5");
+  CHECK(r.exit_code == 4);
+  CHECK(r.err.find("sitting") != std::string::npos);
   // Extension: a wide sleeve from a cuff.
   std::ofstream(dir / "sleeve.json") << Json({{"schema", "extend-spec/1"}, {"loop", "cuff_left"},
                                               {"target", {{"distance", 0.1}}}, {"scale", 1.5}}).dump();
