@@ -14,8 +14,9 @@
 //  - pcg_reused_factor: conjugate gradients warm-started from the previous
 //    velocity, preconditioned by a CHOLMOD factor of an earlier step's matrix
 //    (the symbolic analysis is done once per pin set); the factor is refreshed
-//    when PCG needs more than `refresh_iterations`. The constant part of the
-//    matrix (mass, bending) is assembled once per step size.
+//    when a step's iterations exceed the average cost per step since the last
+//    factorization (which counts as `factorization_cost` iterations). The
+//    constant part of the matrix (mass, bending) is assembled once per step size.
 //  - refactor_every_step: fresh numeric factorization and a direct solve every step.
 //  - pcg_jacobi: conjugate gradients with a diagonal preconditioner (baseline).
 //
@@ -47,7 +48,7 @@ struct SimulatorOptions {
   SolverStrategy strategy = SolverStrategy::pcg_reused_factor;
   double cg_tolerance = 1e-8;            // relative residual |b - A v'| / |b|
   int cg_max_iterations = 200;           // then the step falls back to a fresh factor
-  int refresh_iterations = 8;            // refactor the preconditioner when PCG needs more
+  double factorization_cost = 20.0;      // cost of one factorization in PCG iterations (refresh rule)
   int max_step_halvings = 4;             // retry depth on a rejected step
   double max_speed = 20.0;               // m/s; faster vertices reject the step
   double energy_growth_limit = 10.0;     // rejects a step whose energy grows more than this

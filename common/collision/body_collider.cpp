@@ -1,0 +1,351 @@
+#include "collision/body_collider.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iterator>
+#include <list>
+#include <string>
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+#include <Eigen/Dense>
+
+#include "core/error.h"
+#include "mesh/topology.h"
+
+namespace gp::collision {
+namespace {
+
+using Kernel = CGAL::Simple_cartesian<double>;
+using Point = Kernel::Point_3;
+using Triangle = Kernel::Triangle_3;
+using TriangleIterator = std::vector<Triangle>::const_iterator;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
+using Traits = CGAL::AABB_traits<Kernel, Primitive>;
+using Tree = CGAL::AABB_tree<Traits>;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+Point to_point(const Eigen::Vector3d& p) { return Point(p.x(), p.y(), p.z()); }
+
+// Closest point on triangle (a, b, c) and the feature it lies on (Ericson,
+// "Real-Time Collision Detection", 5.1.5): 0..2 the corners, 3 + k the edge from
+// corner k to corner k+1, 6 the interior.
+struct TriangleClosest {
+  Eigen::Vector3d point;
+  int feature;
+};
+
+TriangleClosest closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                    const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return {a, 0};
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return {b, 1};
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return {a + (d1 / (d1 - d3)) * ab, 3};
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return {c, 2};
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return {a + (d2 / (d2 - d6)) * ac, 5};
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+    return {b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b), 4};
+  }
+  const double denom = 1.0 / (va + vb + vc);
+  return {a + ab * (vb * denom) + ac * (vc * denom), 6};
+}
+
+Eigen::Vector3d barycentric(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                            const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d v0 = b - a, v1 = c - a, v2 = p - a;
+  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1);
+  const double d20 = v2.dot(v0), d21 = v2.dot(v1);
+  const double denom = d00 * d11 - d01 * d01;
+  if (!(std::abs(denom) > 0.0)) return Eigen::Vector3d(1.0, 0.0, 0.0);
+  const double v = (d11 * d20 - d01 * d21) / denom;
+  const double w = (d00 * d21 - d01 * d20) / denom;
+  return Eigen::Vector3d(1.0 - v - w, v, w);
+}
+
+struct VertexCache {
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  double distance = 0.0;  // unsigned distance at the last query
+  double travel = 0.0;    // body travel counter at the last query
+  int face = -1;
+  bool valid = false;
+  bool outside = false;
+};
+
+}  // namespace
+
+std::vector<int> reachable_body_faces(const Eigen::MatrixXd& V_body, const Eigen::MatrixXi& F_body,
+                                      const Eigen::MatrixXd& V_garment, double reach) {
+  if (!(reach >= 0.0)) throw UsageError("reach must be non-negative");
+  std::vector<Triangle> triangles;
+  triangles.reserve(F_body.rows());
+  for (int f = 0; f < F_body.rows(); ++f) {
+    triangles.emplace_back(to_point(V_body.row(F_body(f, 0))), to_point(V_body.row(F_body(f, 1))),
+                           to_point(V_body.row(F_body(f, 2))));
+  }
+  Tree tree(triangles.cbegin(), triangles.cend());
+  std::vector<char> reached(F_body.rows(), 0);
+  std::vector<Tree::Primitive_id> hits;
+  for (int v = 0; v < V_garment.rows(); ++v) {
+    const Eigen::Vector3d p = V_garment.row(v);
+    const CGAL::Bbox_3 box(p.x() - reach, p.y() - reach, p.z() - reach, p.x() + reach, p.y() + reach,
+                           p.z() + reach);
+    hits.clear();
+    tree.all_intersected_primitives(box, std::back_inserter(hits));
+    for (const auto& id : hits) reached[id - triangles.cbegin()] = 1;
+  }
+  std::vector<int> ids;
+  for (int f = 0; f < F_body.rows(); ++f) {
+    if (reached[f]) ids.push_back(f);
+  }
+  return ids;
+}
+
+struct BodyCollider::Impl {
+  Eigen::MatrixXi F;
+  std::vector<int> faces;          // culled faces (full ids)
+  std::vector<int> local_of_face;  // #Fb: index into faces or -1
+  Eigen::MatrixXi adjacency;       // triangle_adjacency of the full body
+  std::vector<std::vector<int>> incident;  // per body vertex: incident faces (only culled vertices filled)
+  std::vector<int> culled_vertices;
+  std::vector<int> normal_faces;   // faces whose normals the pseudo-normals need
+
+  Eigen::MatrixXd V, V_dot;
+  bool has_velocity = false;
+  Eigen::MatrixXd face_normal;    // #Fb by 3 (rows of normal_faces filled)
+  Eigen::MatrixXd vertex_normal;  // #Vb by 3 (rows of culled vertices filled)
+  std::vector<Triangle> triangles;
+  Tree tree;
+  bool built = false;
+  double travel = 0.0;  // accumulated largest body vertex motion between frames
+
+  std::vector<VertexCache> cache;
+  CollisionStats stats;
+
+  Eigen::Vector3d corner(int f, int k) const { return V.row(F(f, k)).transpose(); }
+
+  Eigen::Vector3d pseudo_normal(int f, int feature) const {
+    if (feature == 6) return face_normal.row(f).transpose();
+    if (feature >= 3) {
+      const int k = feature - 3;
+      const int g = adjacency(f, k);
+      Eigen::Vector3d n = face_normal.row(f).transpose();
+      if (g >= 0) n += face_normal.row(g).transpose();
+      return n;
+    }
+    return vertex_normal.row(F(f, feature)).transpose();
+  }
+
+  Proximity query(const Eigen::Vector3d& p, int hint_face) const {
+    if (!built) throw UsageError("BodyCollider::query before set_body");
+    Tree::Point_and_primitive_id result;
+    const Point q = to_point(p);
+    const int hint_local = (hint_face >= 0 && hint_face < static_cast<int>(local_of_face.size()))
+                               ? local_of_face[hint_face]
+                               : -1;
+    if (hint_local >= 0) {
+      const int f = faces[hint_local];
+      const TriangleClosest h = closest_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2));
+      result = tree.closest_point_and_primitive(
+          q, Tree::Point_and_primitive_id(to_point(h.point), triangles.cbegin() + hint_local));
+    } else {
+      result = tree.closest_point_and_primitive(q);
+    }
+    const int local = static_cast<int>(result.second - triangles.cbegin());
+    const int f = faces[local];
+    const TriangleClosest c = closest_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2));
+    const Eigen::Vector3d n = pseudo_normal(f, c.feature);
+    const Eigen::Vector3d d = p - c.point;
+    const double dist = d.norm();
+    Proximity out;
+    out.face = f;
+    out.closest = c.point;
+    const bool inside = d.dot(n) < 0.0;
+    out.signed_distance = inside ? -dist : dist;
+    const double scale = std::max(1.0, p.cwiseAbs().maxCoeff());
+    if (dist > 1e-12 * scale) {
+      out.outward = inside ? Eigen::Vector3d(-d / dist) : Eigen::Vector3d(d / dist);
+    } else {
+      const double len = n.norm();
+      out.outward = len > 0.0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::UnitY();
+    }
+    return out;
+  }
+
+  void resolve(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, const double* offsets, double offset) {
+    const auto t0 = Clock::now();
+    if (!built) throw UsageError("BodyCollider::resolve before set_body");
+    if (Vel.rows() != X.rows() || X.cols() != 3 || Vel.cols() != 3) {
+      throw UsageError("positions and velocities must both be #V by 3");
+    }
+    if (cache.size() != static_cast<size_t>(X.rows())) cache.assign(X.rows(), VertexCache{});
+    int previous_face = -1;
+    for (int i = 0; i < X.rows(); ++i) {
+      const double off = offsets ? offsets[i] : offset;
+      const Eigen::Vector3d x = X.row(i).transpose();
+      VertexCache& c = cache[i];
+      if (c.valid && c.outside) {
+        // Lower bound on the current distance: it can have shrunk at most by the
+        // vertex's own motion plus the body's largest motion since the query.
+        const double bound = c.distance - (x - c.x).norm() - (travel - c.travel);
+        if (bound > off) {
+          ++stats.skipped;
+          continue;
+        }
+      }
+      const Proximity q = query(x, c.valid ? c.face : previous_face);
+      ++stats.queries;
+      previous_face = q.face;
+      c.valid = true;
+      c.face = q.face;
+      c.travel = travel;
+      c.x = x;
+      c.distance = std::abs(q.signed_distance);
+      c.outside = q.signed_distance > 0.0;
+      if (!(q.signed_distance < off)) continue;
+      if (q.signed_distance < 0.0) stats.deepest_penetration = std::max(stats.deepest_penetration, -q.signed_distance);
+      const Eigen::Vector3d x_new = q.closest + off * q.outward;
+      X.row(i) = x_new.transpose();
+      Eigen::Vector3d v_body = Eigen::Vector3d::Zero();
+      if (has_velocity) {
+        const int f = q.face;
+        const Eigen::Vector3d w = barycentric(q.closest, corner(f, 0), corner(f, 1), corner(f, 2));
+        for (int k = 0; k < 3; ++k) v_body += w(k) * V_dot.row(F(f, k)).transpose();
+      }
+      const Eigen::Vector3d v = Vel.row(i).transpose();
+      const double vn = (v - v_body).dot(q.outward);
+      if (vn < 0.0) Vel.row(i) = (v - vn * q.outward).transpose();
+      c.x = x_new;
+      c.distance = off;
+      c.outside = off > 0.0;
+      ++stats.projected;
+    }
+    stats.query_seconds += seconds_since(t0);
+  }
+};
+
+BodyCollider::BodyCollider(const Eigen::MatrixXi& F_body, std::vector<int> face_ids)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& s = *impl_;
+  s.F = F_body;
+  if (face_ids.empty()) {
+    face_ids.resize(F_body.rows());
+    for (int f = 0; f < F_body.rows(); ++f) face_ids[f] = f;
+  }
+  std::sort(face_ids.begin(), face_ids.end());
+  face_ids.erase(std::unique(face_ids.begin(), face_ids.end()), face_ids.end());
+  for (int f : face_ids) {
+    if (f < 0 || f >= F_body.rows()) throw UsageError("body face id out of range");
+  }
+  if (face_ids.empty()) throw UsageError("no body faces to collide with");
+  s.faces = std::move(face_ids);
+  s.local_of_face.assign(F_body.rows(), -1);
+  for (size_t k = 0; k < s.faces.size(); ++k) s.local_of_face[s.faces[k]] = static_cast<int>(k);
+  s.adjacency = triangle_adjacency(F_body);
+  const int nv = F_body.size() ? F_body.maxCoeff() + 1 : 0;
+  const std::vector<std::vector<int>> all_incident = vertex_faces(F_body, nv);
+  s.incident.assign(nv, {});
+  std::vector<char> vertex_used(nv, 0), face_used(F_body.rows(), 0);
+  for (int f : s.faces) {
+    for (int k = 0; k < 3; ++k) vertex_used[F_body(f, k)] = 1;
+  }
+  for (int v = 0; v < nv; ++v) {
+    if (!vertex_used[v]) continue;
+    s.culled_vertices.push_back(v);
+    s.incident[v] = all_incident[v];
+    for (int f : all_incident[v]) face_used[f] = 1;
+  }
+  for (int f = 0; f < F_body.rows(); ++f) {
+    if (face_used[f]) s.normal_faces.push_back(f);
+  }
+  s.triangles.resize(s.faces.size());
+  s.tree.do_not_accelerate_distance_queries();
+}
+
+BodyCollider::~BodyCollider() = default;
+BodyCollider::BodyCollider(BodyCollider&&) noexcept = default;
+BodyCollider& BodyCollider::operator=(BodyCollider&&) noexcept = default;
+
+void BodyCollider::set_body(const Eigen::MatrixXd& V_body, const Eigen::MatrixXd* body_velocity) {
+  const auto t0 = Clock::now();
+  Impl& s = *impl_;
+  const int nv = static_cast<int>(s.incident.size());
+  if (V_body.rows() < nv || V_body.cols() != 3) throw UsageError("body positions do not match the body faces");
+  if (body_velocity && (body_velocity->rows() != V_body.rows() || body_velocity->cols() != 3)) {
+    throw UsageError("body velocities must be #Vb by 3");
+  }
+  for (int v : s.culled_vertices) {
+    if (!V_body.row(v).allFinite()) throw GeometryError("non-finite body vertex", "body vertex " + std::to_string(v));
+  }
+  if (s.built && s.V.rows() == V_body.rows()) {
+    double largest = 0.0;
+    for (int v : s.culled_vertices) largest = std::max(largest, (V_body.row(v) - s.V.row(v)).norm());
+    s.travel += largest;
+  }
+  s.V = V_body;
+  s.has_velocity = body_velocity != nullptr;
+  if (s.has_velocity) s.V_dot = *body_velocity;
+  s.face_normal.resize(s.F.rows(), 3);
+  for (int f : s.normal_faces) {
+    const Eigen::Vector3d n = (s.corner(f, 1) - s.corner(f, 0)).cross(s.corner(f, 2) - s.corner(f, 0));
+    const double len = n.norm();
+    s.face_normal.row(f) = len > 0.0 ? Eigen::RowVector3d((n / len).transpose()) : Eigen::RowVector3d::Zero();
+  }
+  // Angle-weighted vertex pseudo-normals (Baerentzen & Aanaes 2005, eq. 3).
+  s.vertex_normal.resize(nv, 3);
+  for (int v : s.culled_vertices) {
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for (int f : s.incident[v]) {
+      int k = 0;
+      while (s.F(f, k) != v) ++k;
+      const Eigen::Vector3d e1 = s.corner(f, (k + 1) % 3) - s.corner(f, k);
+      const Eigen::Vector3d e2 = s.corner(f, (k + 2) % 3) - s.corner(f, k);
+      const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
+      n += angle * s.face_normal.row(f).transpose();
+    }
+    s.vertex_normal.row(v) = n.transpose();
+  }
+  for (size_t k = 0; k < s.faces.size(); ++k) {
+    const int f = s.faces[k];
+    s.triangles[k] = Triangle(to_point(s.corner(f, 0)), to_point(s.corner(f, 1)), to_point(s.corner(f, 2)));
+  }
+  s.tree.rebuild(s.triangles.cbegin(), s.triangles.cend());
+  s.tree.do_not_accelerate_distance_queries();
+  s.built = true;
+  s.stats.rebuild_seconds += seconds_since(t0);
+}
+
+Proximity BodyCollider::query(const Eigen::Vector3d& p, int hint_face) const {
+  return impl_->query(p, hint_face);
+}
+
+void BodyCollider::resolve(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, double offset) {
+  if (!(offset >= 0.0)) throw UsageError("comfort offset must be non-negative");
+  impl_->resolve(X, Vel, nullptr, offset);
+}
+
+void BodyCollider::resolve(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, const Eigen::VectorXd& offsets) {
+  if (offsets.size() != X.rows()) throw UsageError("one offset per cloth vertex is needed");
+  if (!(offsets.minCoeff() >= 0.0)) throw UsageError("comfort offsets must be non-negative");
+  impl_->resolve(X, Vel, offsets.data(), 0.0);
+}
+
+const std::vector<int>& BodyCollider::face_ids() const { return impl_->faces; }
+const CollisionStats& BodyCollider::stats() const { return impl_->stats; }
+void BodyCollider::reset_stats() { impl_->stats = CollisionStats{}; }
+
+}  // namespace gp::collision

@@ -1,0 +1,179 @@
+// Body proximity: signed distances with pseudo-normal signs (sharp cube edges and
+// corners), culling, warm starts and skips, the collision response, and a cloth
+// draped over a sphere that never sinks into the comfort offset.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "cloth/cloth_simulator.h"
+#include "collision/body_collider.h"
+#include "core/error.h"
+#include "testing/test_meshes.h"
+
+using namespace gp::collision;
+
+namespace {
+
+// Axis-aligned cube [-h, h]^3, outward oriented, 12 triangles.
+gp::Mesh make_cube(double h) {
+  gp::Mesh m;
+  m.V.resize(8, 3);
+  for (int i = 0; i < 8; ++i) m.V.row(i) << (i & 1 ? h : -h), (i & 2 ? h : -h), (i & 4 ? h : -h);
+  m.F.resize(12, 3);
+  m.F << 0, 2, 1, 1, 2, 3,  // z = -h
+      4, 5, 6, 5, 7, 6,     // z = +h
+      0, 1, 4, 1, 5, 4,     // y = -h
+      2, 6, 3, 3, 6, 7,     // y = +h
+      0, 4, 2, 2, 4, 6,     // x = -h
+      1, 3, 5, 3, 7, 5;     // x = +h
+  return m;
+}
+
+double box_signed_distance(const Eigen::Vector3d& p, double h) {
+  const Eigen::Vector3d q = p.cwiseAbs() - Eigen::Vector3d::Constant(h);
+  return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+}
+
+}  // namespace
+
+TEST_CASE("signed distance to a cube is exact, with correct signs at edges and corners", "[collision]") {
+  const gp::Mesh cube = make_cube(0.5);
+  BodyCollider collider(cube.F);
+  collider.set_body(cube.V);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  int wrong_sign = 0;
+  double max_err = 0.0;
+  for (int k = 0; k < 20000; ++k) {
+    Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    // Half of the points near edges and corners, where face normals mislead.
+    if (k % 2) p = p.cwiseSign().cwiseProduct(Eigen::Vector3d::Constant(0.5)) + 0.02 * p;
+    const double exact = box_signed_distance(p, 0.5);
+    const Proximity q = collider.query(p);
+    max_err = std::max(max_err, std::abs(q.signed_distance - exact));
+    if (std::abs(exact) > 1e-9 && (q.signed_distance > 0) != (exact > 0)) ++wrong_sign;
+    CHECK(std::abs(q.outward.norm() - 1.0) < 1e-12);
+  }
+  CHECK(wrong_sign == 0);
+  CHECK(max_err < 1e-12);
+}
+
+TEST_CASE("signed distance to a sphere mesh follows the analytic one", "[collision]") {
+  const double r = 0.3;
+  const gp::Mesh sphere = gp::testing::make_icosphere(4, r);
+  BodyCollider collider(sphere.F);
+  collider.set_body(sphere.V);
+  // Chord error of the level-4 icosphere bounds the difference to the true sphere.
+  const double chord = r * (1.0 - std::cos(0.5 * 1.1 * 3.14159265 / 40.0)) * 4.0;
+  std::mt19937 rng(2);
+  std::normal_distribution<double> n(0.0, 1.0);
+  int wrong_sign = 0;
+  for (int k = 0; k < 5000; ++k) {
+    const Eigen::Vector3d dir = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+    const double radius = r * (0.5 + 1.0 * (k % 100) / 100.0);
+    const Proximity q = collider.query(radius * dir);
+    const double exact = radius - r;
+    CHECK(std::abs(q.signed_distance - exact) <= chord + 1e-12);
+    if (std::abs(exact) > chord && (q.signed_distance > 0) != (exact > 0)) ++wrong_sign;
+  }
+  CHECK(wrong_sign == 0);
+  // Points at the mesh vertices pushed slightly in and out along the normal.
+  for (int v = 0; v < sphere.V.rows(); v += 13) {
+    const Eigen::Vector3d p = sphere.V.row(v);
+    CHECK(collider.query(1.0001 * p).signed_distance > 0.0);
+    CHECK(collider.query(0.9999 * p).signed_distance < 0.0);
+  }
+}
+
+TEST_CASE("culling keeps the faces the garment can reach", "[collision]") {
+  const gp::Mesh sphere = gp::testing::make_icosphere(4, 0.3);
+  // A small patch of points hovering 2 cm above the north pole.
+  Eigen::MatrixXd garment(9, 3);
+  for (int i = 0; i < 9; ++i) garment.row(i) << 0.03 * (i % 3 - 1), 0.32, 0.03 * (i / 3 - 1);
+  const std::vector<int> faces = reachable_body_faces(sphere.V, sphere.F, garment, 0.05);
+  CHECK(faces.size() > 4);
+  CHECK(faces.size() < static_cast<size_t>(sphere.F.rows()) / 10);
+  CHECK(std::is_sorted(faces.begin(), faces.end()));
+  for (int f : faces) {
+    const double y = (sphere.V.row(sphere.F(f, 0)) + sphere.V.row(sphere.F(f, 1)) + sphere.V.row(sphere.F(f, 2))).y() / 3.0;
+    CHECK(y > 0.2);
+  }
+  // Queries against the culled set agree with the full body near the garment.
+  BodyCollider culled(sphere.F, faces), full(sphere.F);
+  culled.set_body(sphere.V);
+  full.set_body(sphere.V);
+  for (int i = 0; i < 9; ++i) {
+    const Proximity a = culled.query(garment.row(i).transpose()), b = full.query(garment.row(i).transpose());
+    CHECK(a.signed_distance == Approx(b.signed_distance).margin(1e-14));
+    CHECK((a.closest - b.closest).norm() < 1e-14);
+  }
+  CHECK_THROWS_AS(BodyCollider(sphere.F, {-1}), gp::UsageError);
+  CHECK_THROWS_AS(reachable_body_faces(sphere.V, sphere.F, garment, -1.0), gp::UsageError);
+}
+
+TEST_CASE("resolve projects to the offset, removes inward velocity, and skips far vertices", "[collision]") {
+  const gp::Mesh cube = make_cube(0.5);
+  BodyCollider collider(cube.F);
+  collider.set_body(cube.V);
+  Eigen::MatrixXd X(3, 3), Vel(3, 3);
+  X << 0.1, 0.45, 0.0,   // inside, 5 cm under the top face
+      0.0, 0.505, 0.2,   // outside but within the 1 cm offset
+      0.0, 2.0, 0.0;     // far away
+  Vel << 0.3, -1.0, 0.0, 0.0, 0.5, 0.0, 0.0, -1.0, 0.0;
+  collider.resolve(X, Vel, 0.01);
+  CHECK(X.row(0).isApprox(Eigen::RowVector3d(0.1, 0.51, 0.0), 1e-12));
+  CHECK(X.row(1).isApprox(Eigen::RowVector3d(0.0, 0.51, 0.2), 1e-12));
+  CHECK(X.row(2) == Eigen::RowVector3d(0.0, 2.0, 0.0));
+  CHECK(Vel.row(0).isApprox(Eigen::RowVector3d(0.3, 0.0, 0.0), 1e-12));  // tangential kept
+  CHECK(Vel.row(1).isApprox(Eigen::RowVector3d(0.0, 0.5, 0.0), 1e-12));  // separating kept
+  CHECK(Vel.row(2) == Eigen::RowVector3d(0.0, -1.0, 0.0));
+  CHECK(collider.stats().projected == 2);
+  CHECK(collider.stats().deepest_penetration == Approx(0.05).epsilon(1e-12));
+  // Second call: the far vertex is skipped by the motion bound; the near ones re-queried.
+  collider.resolve(X, Vel, 0.01);
+  CHECK(collider.stats().skipped == 1);
+  CHECK(collider.stats().queries == 5);
+  // A body moving fast enough invalidates the bound: a 1.6 m jump makes it query again.
+  Eigen::MatrixXd moved = cube.V;
+  moved.col(1).array() += 1.6;
+  Eigen::MatrixXd body_velocity = Eigen::MatrixXd::Zero(8, 3);
+  body_velocity.col(1).setConstant(2.0);
+  collider.set_body(moved, &body_velocity);
+  Eigen::MatrixXd X2 = X, V2 = Vel;
+  collider.resolve(X2, V2, 0.01);
+  CHECK(collider.stats().skipped == 1);
+  // The far vertex is now inside the moved cube (y from 1.1 to 2.1): pushed out
+  // through the top and given the body's upward speed.
+  CHECK(X2(2, 1) == Approx(2.11).epsilon(1e-12));
+  CHECK(V2(2, 1) == Approx(2.0).epsilon(1e-12));
+  CHECK_THROWS_AS(collider.set_body(Eigen::MatrixXd::Zero(3, 3)), gp::UsageError);
+}
+
+TEST_CASE("a cloth falling on a sphere stays outside the comfort offset", "[collision][simulator]") {
+  const double r = 0.2, offset = 0.01;
+  const gp::Mesh sphere = gp::testing::make_icosphere(4, r);
+  gp::Mesh cloth = gp::testing::make_grid(30, 30, 0.6, 0.6);
+  cloth.V.rowwise() += Eigen::RowVector3d(-0.3, r + 0.05, -0.3);
+  BodyCollider collider(sphere.F, reachable_body_faces(sphere.V, sphere.F, cloth.V, 0.5));
+  collider.set_body(sphere.V);
+  gp::cloth::ClothSimulator sim(cloth.V, cloth.F);
+  sim.set_collision_handler([&](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider.resolve(X, Vel, offset); });
+  BodyCollider checker(sphere.F);
+  checker.set_body(sphere.V);
+  double worst = 1e9;
+  for (int s = 0; s < 400; ++s) {
+    sim.step();
+    for (int v = 0; v < sim.positions().rows(); ++v) {
+      worst = std::min(worst, checker.query(sim.positions().row(v).transpose()).signed_distance);
+    }
+  }
+  INFO("closest approach " << worst << " m, queries " << collider.stats().queries << ", skipped "
+                           << collider.stats().skipped);
+  CHECK(worst >= offset - 0.002);
+  // The cloth drapes: the centre rests on top of the sphere, the corners hang low.
+  const int centre = 15 * 31 + 15;
+  CHECK(sim.positions()(centre, 1) == Approx(r + offset).margin(0.003));
+  CHECK(sim.positions()(0, 1) < 0.05);
+  CHECK(sim.positions().allFinite());
+}
