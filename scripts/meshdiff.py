@@ -8,6 +8,9 @@ between the two surfaces, measured from dense point samples of each surface
 other; it overestimates the true Hausdorff distance by at most half the
 sample spacing, which is reported.
 
+PLY files (ASCII or binary, with any extra vertex or face properties) are
+read by a small reader here; other formats through meshio.
+
 Tolerances are in metres, or fractions of the first mesh's bounding-box
 diagonal with --relative. Prints one summary line; exit 0 equal within
 tolerance, 1 different, 2 usage or unreadable input.
@@ -25,6 +28,83 @@ except ImportError:  # pragma: no cover - reported as a usage problem
     sys.exit(2)
 
 
+PLY_TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2",
+             "ushort": "u2", "uint16": "u2", "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
+             "float": "f4", "float32": "f4", "double": "f8", "float64": "f8"}
+
+
+def read_ply(path):
+    """Vertices and triangles of a PLY file, ASCII or binary, with any extra
+    vertex or face properties (meshio cannot read binary faces that carry
+    scalar properties, which the pipeline writes for stretch maps)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.find(b"end_header")
+    if not data.startswith(b"ply") or end < 0:
+        raise ValueError("not a PLY file")
+    body_start = data.index(b"\n", end) + 1
+    fmt, elements = None, []
+    for line in data[:end].decode("ascii", "replace").splitlines()[1:]:
+        tok = line.split()
+        if not tok or tok[0] in ("comment", "obj_info"):
+            continue
+        if tok[0] == "format":
+            fmt = tok[1]
+        elif tok[0] == "element":
+            elements.append((tok[1], int(tok[2]), []))
+        elif tok[0] == "property":
+            elements[-1][2].append(tok[1:])
+    order = {"binary_little_endian": "<", "binary_big_endian": ">"}.get(fmt)
+    points, faces = None, None
+    if order is None:  # ASCII
+        words = data[body_start:].split()
+        pos = 0
+        for name, count, props in elements:
+            rows = []
+            for _ in range(count):
+                row = []
+                for prop in props:
+                    if prop[0] == "list":
+                        n = int(words[pos]); pos += 1
+                        row.append([int(w) for w in words[pos:pos + n]]); pos += n
+                    else:
+                        row.append(float(words[pos])); pos += 1
+                rows.append(row)
+            if name == "vertex":
+                names = [p[-1] for p in props]
+                points = np.array([[r[names.index(a)] for a in "xyz"] for r in rows], dtype=np.float64)
+            elif name == "face":
+                li = next(i for i, p in enumerate(props) if p[0] == "list")
+                faces = np.array([r[li] for r in rows], dtype=np.int64)
+        return points, faces
+    pos = body_start
+    for name, count, props in elements:
+        if all(p[0] != "list" for p in props):
+            dtype = np.dtype([(p[-1], order + PLY_TYPES[p[0]]) for p in props])
+            arr = np.frombuffer(data, dtype=dtype, count=count, offset=pos)
+            pos += dtype.itemsize * count
+            if name == "vertex":
+                points = np.stack([arr[a].astype(np.float64) for a in "xyz"], axis=1)
+            continue
+        # Lists: assume triangles (checked), which makes every record the same size.
+        fields = []
+        for p in props:
+            if p[0] == "list":
+                fields += [("n", order + PLY_TYPES[p[1]]), ("idx", order + PLY_TYPES[p[2]], (3,))]
+            else:
+                fields.append((p[-1], order + PLY_TYPES[p[0]]))
+        dtype = np.dtype(fields)
+        arr = np.frombuffer(data, dtype=dtype, count=count, offset=pos)
+        if count and not np.all(arr["n"] == 3):
+            raise ValueError(f"element '{name}' has lists that are not triangles")
+        pos += dtype.itemsize * count
+        if name == "face":
+            faces = arr["idx"].astype(np.int64)
+    if points is None:
+        raise ValueError("no vertex element")
+    return points, faces if faces is not None else np.zeros((0, 3), np.int64)
+
+
 def load(path):
     import contextlib
     import io
@@ -32,18 +112,26 @@ def load(path):
 
     if not os.path.isfile(path):
         raise SystemExit(f"meshdiff: error[input]: no such file ({path})")
-    # meshio prints its own complaints and may even call sys.exit on a file it
-    # cannot parse; catch both and report one clear line.
-    chatter = io.StringIO()
-    try:
-        with contextlib.redirect_stdout(chatter), contextlib.redirect_stderr(chatter):
-            mesh = meshio.read(path)
-    except (Exception, SystemExit) as e:
-        detail = str(e) if str(e) not in ("", "1") else chatter.getvalue().strip().replace("\n", "; ")
-        raise SystemExit(f"meshdiff: error[input]: cannot read mesh: {detail} ({path})")
-    tris = [c.data for c in mesh.cells if c.type == "triangle"]
-    faces = np.concatenate(tris).astype(np.int64) if tris else np.zeros((0, 3), np.int64)
-    points = np.asarray(mesh.points, dtype=np.float64)[:, :3]
+    if path.lower().endswith(".ply"):
+        try:
+            points, faces = read_ply(path)
+        except (ValueError, IndexError, KeyError, StopIteration, TypeError) as e:
+            raise SystemExit(f"meshdiff: error[input]: cannot read mesh: {e} ({path})")
+    else:
+        # meshio prints its own complaints and may even call sys.exit on a file
+        # it cannot parse; catch both and report one clear line.
+        chatter = io.StringIO()
+        try:
+            with contextlib.redirect_stdout(chatter), contextlib.redirect_stderr(chatter):
+                mesh = meshio.read(path)
+        except (Exception, SystemExit) as e:
+            detail = str(e) if str(e) not in ("", "1") else chatter.getvalue().strip().replace("\n", "; ")
+            raise SystemExit(f"meshdiff: error[input]: cannot read mesh: {detail} ({path})")
+        tris = [c.data for c in mesh.cells if c.type == "triangle"]
+        faces = np.concatenate(tris).astype(np.int64) if tris else np.zeros((0, 3), np.int64)
+        points = np.asarray(mesh.points, dtype=np.float64)[:, :3]
+    if faces.size and (faces.min() < 0 or faces.max() >= len(points)):
+        raise SystemExit(f"meshdiff: error[input]: face index out of range ({path})")
     if not np.all(np.isfinite(points)):
         raise SystemExit(f"meshdiff: error[input]: non-finite coordinates ({path})")
     return points, faces

@@ -77,6 +77,23 @@ class MeshDiffTest(unittest.TestCase):
         code, out = run(self.a, self.path("c.ply", lifted, tris), "--tol", "0.01")
         self.assertEqual(code, 1, out)
 
+    def test_binary_ply_with_face_and_vertex_fields(self):
+        import struct
+        pts, tris = self.pts, self.tris
+        header = ("ply\nformat binary_little_endian 1.0\n"
+                  f"element vertex {len(pts)}\nproperty double x\nproperty double y\nproperty double z\n"
+                  "property double w\n"
+                  f"element face {len(tris)}\nproperty list uchar int vertex_indices\nproperty double stretch\n"
+                  "end_header\n").encode()
+        body = b"".join(struct.pack("<4d", *p, 1.0) for p in pts)
+        body += b"".join(struct.pack("<B3id", 3, *t, 1.05) for t in tris)
+        b = os.path.join(self.dir, "fields.ply")
+        with open(b, "wb") as f:
+            f.write(header + body)
+        code, out = run(self.a, b)
+        self.assertEqual(code, 0, out)
+        self.assertIn("same topology, max 0 m", out)
+
     def test_unreadable_input_is_exit_2(self):
         bad = os.path.join(self.dir, "bad.ply")
         with open(bad, "w") as f:
