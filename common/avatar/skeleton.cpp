@@ -147,7 +147,7 @@ JointRotations builtin_pose(const Skeleton& s, const std::string& name) {
     // (scapulohumeral rhythm) drags the whole shoulder girdle with skinning
     // and inflates the volume by about 4 %.
     for (const Arm& a : arms) {
-      const Eigen::Vector3d up(a.side * std::sin(15.0 * kDeg), std::cos(15.0 * kDeg), 0.0);
+      const Eigen::Vector3d up(a.side * std::sin(30.0 * kDeg), std::cos(30.0 * kDeg), 0.0);
       b.set_global(a.shoulder, swing(s, a.shoulder, a.elbow, up));
     }
   } else if (name == "armsforward") {

@@ -16,12 +16,12 @@ namespace gp {
 struct SkinningOptions {
   // Width of the weight transition between neighbouring parts, as a fraction
   // of the body scale (height / 1.70 m) [m at 1.70 m].
-  double falloff = 0.045;
+  double falloff = 0.035;
   // Jacobi smoothing passes of the weights over the mesh (each mixes half of
   // the one-ring average in) for a mesh of mean edge `reference_edge`; the
   // count scales with (reference_edge / mean edge)^2 so the smoothing radius
   // stays the same in metres at every resolution.
-  int smoothing_iterations = 6;
+  int smoothing_iterations = 4;
   double reference_edge = 0.016;  // [m at 1.70 m]
 };
 
