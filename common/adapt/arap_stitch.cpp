@@ -1,0 +1,239 @@
+#include "adapt/arap_stitch.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCore>
+
+#include "core/error.h"
+
+namespace gp::adapt {
+namespace {
+
+using Matrix32d = Eigen::Matrix<double, 3, 2>;
+
+// Target corner k of face f (t0 = origin).
+Eigen::Vector2d target_corner(const Eigen::Matrix2d& T, int k) {
+  return k == 0 ? Eigen::Vector2d::Zero() : Eigen::Vector2d(T.col(k - 1));
+}
+
+// Closest 3x2 matrix with orthonormal columns to S (polar factor
+// S (S^T S)^-1/2, closed form through the 2x2 eigen decomposition; SVD where S is
+// (nearly) rank deficient).
+Matrix32d polar_factor(const Matrix32d& S) {
+  const Eigen::Matrix2d C = S.transpose() * S;
+  const double tr = C.trace();
+  const double det = C.determinant();
+  const double disc = std::sqrt(std::max(0.25 * tr * tr - det, 0.0));
+  const double l1 = 0.5 * tr + disc, l2 = 0.5 * tr - disc;
+  if (l2 > 1e-10 * l1 && l1 > 0.0) {
+    Eigen::Vector2d e1(C(0, 1), l1 - C(0, 0));
+    const Eigen::Vector2d e1b(l1 - C(1, 1), C(0, 1));
+    if (e1b.squaredNorm() > e1.squaredNorm()) e1 = e1b;
+    if (e1.squaredNorm() < 1e-300) e1 = Eigen::Vector2d(1.0, 0.0);
+    e1.normalize();
+    const Eigen::Vector2d e2(-e1.y(), e1.x());
+    const Eigen::Matrix2d inv_sqrt =
+        e1 * e1.transpose() / std::sqrt(l1) + e2 * e2.transpose() / std::sqrt(l2);
+    return S * inv_sqrt;
+  }
+  const Eigen::JacobiSVD<Matrix32d> svd(S, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Matrix32d U = svd.matrixU().leftCols<2>();
+  if (svd.singularValues()(1) <= 1e-12 * std::max(svd.singularValues()(0), 1e-300)) {
+    // Rank one or zero: complete U's second column to an orthonormal pair.
+    Eigen::Vector3d u0 = U.col(0);
+    if (!(u0.norm() > 0.5)) u0 = Eigen::Vector3d::UnitX();
+    Eigen::Vector3d u1 = u0.unitOrthogonal();
+    U.col(0) = u0;
+    U.col(1) = u1;
+  }
+  return U * svd.matrixV().transpose();
+}
+
+}  // namespace
+
+ArapStitcher::ArapStitcher(const Eigen::MatrixXd& V_reference, const Eigen::MatrixXi& F) : F_(F) {
+  n_ = static_cast<int>(V_reference.rows());
+  if (V_reference.cols() != 3 || F.cols() != 3 || n_ == 0) throw UsageError("ARAP needs #V by 3 and #F by 3");
+  weights_.resize(F.rows(), 3);
+  diagonal_ = Eigen::VectorXd::Zero(n_);
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(F.rows() * 12 + n_);
+  for (int f = 0; f < F.rows(); ++f) {
+    Eigen::Matrix3d X;
+    for (int k = 0; k < 3; ++k) {
+      if (F(f, k) < 0 || F(f, k) >= n_) throw UsageError("vertex id out of range", "face " + std::to_string(f));
+      X.col(k) = V_reference.row(F(f, k)).transpose();
+    }
+    const double area = 0.5 * (X.col(1) - X.col(0)).cross(X.col(2) - X.col(0)).norm();
+    double longest2 = 0.0;
+    for (int k = 0; k < 3; ++k) longest2 = std::max(longest2, (X.col((k + 1) % 3) - X.col(k)).squaredNorm());
+    if (!X.allFinite() || !(2.0 * area >= 1e-12 * longest2) || !(longest2 > 0.0)) {
+      throw GeometryError("degenerate reference triangle for ARAP weights", "face " + std::to_string(f));
+    }
+    for (int k = 0; k < 3; ++k) {
+      const int i = F(f, k), j = F(f, (k + 1) % 3);
+      const double w = area / (X.col((k + 1) % 3) - X.col(k)).squaredNorm();
+      weights_(f, k) = w;
+      triplets.emplace_back(i, i, w);
+      triplets.emplace_back(j, j, w);
+      triplets.emplace_back(i, j, -w);
+      triplets.emplace_back(j, i, -w);
+      diagonal_(i) += w;
+      diagonal_(j) += w;
+    }
+  }
+  for (int v = 0; v < n_; ++v) {
+    // Isolated vertices keep their place: give them a unit diagonal.
+    if (diagonal_(v) == 0.0) diagonal_(v) = 1.0;
+    triplets.emplace_back(v, v, epsilon_ * diagonal_(v));
+  }
+  Eigen::SparseMatrix<double> L(n_, n_);
+  L.setFromTriplets(triplets.begin(), triplets.end());
+  solver_.compute(L);
+  ++factorizations_;
+}
+
+double ArapStitcher::energy(const std::vector<Eigen::Matrix2d>& targets, const Eigen::MatrixXd& V) const {
+  double e = 0.0;
+  for (int f = 0; f < F_.rows(); ++f) {
+    Matrix32d S = Matrix32d::Zero();
+    for (int k = 0; k < 3; ++k) {
+      const int i = F_(f, k), j = F_(f, (k + 1) % 3);
+      const Eigen::Vector3d dx = (V.row(j) - V.row(i)).transpose();
+      const Eigen::Vector2d dt = target_corner(targets[f], (k + 1) % 3) - target_corner(targets[f], k);
+      S += weights_(f, k) * dx * dt.transpose();
+    }
+    const Matrix32d R = polar_factor(S);
+    for (int k = 0; k < 3; ++k) {
+      const int i = F_(f, k), j = F_(f, (k + 1) % 3);
+      const Eigen::Vector3d dx = (V.row(j) - V.row(i)).transpose();
+      const Eigen::Vector2d dt = target_corner(targets[f], (k + 1) % 3) - target_corner(targets[f], k);
+      e += weights_(f, k) * (dx - R * dt).squaredNorm();
+    }
+  }
+  return e;
+}
+
+ArapReport ArapStitcher::stitch(const std::vector<Eigen::Matrix2d>& targets, Eigen::MatrixXd& V,
+                                const ArapOptions& options) const {
+  if (static_cast<int>(targets.size()) != F_.rows()) throw UsageError("one ARAP target per face is needed");
+  if (V.rows() != n_ || V.cols() != 3) throw UsageError("ARAP start shape must be #V by 3");
+  if (!V.allFinite()) throw NumericalError("ARAP start shape is not finite");
+  double edge_sum = 0.0, norm2 = 0.0;
+  for (int f = 0; f < F_.rows(); ++f) {
+    if (!targets[f].allFinite()) throw NumericalError("ARAP target is not finite", "face " + std::to_string(f));
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d dt = target_corner(targets[f], (k + 1) % 3) - target_corner(targets[f], k);
+      edge_sum += dt.norm();
+      norm2 += weights_(f, k) * dt.squaredNorm();
+    }
+  }
+  const double mean_edge = edge_sum / std::max<Eigen::Index>(1, 3 * F_.rows());
+  if (!(mean_edge > 0.0)) throw GeometryError("ARAP targets have no extent");
+
+  ArapReport report;
+  Eigen::MatrixXd B(n_, 3), G(n_, 3), G_previous;
+  std::vector<Matrix32d> R(F_.rows());
+  // Anderson acceleration of the local/global fixed-point map X -> G(X) (Peng,
+  // Deng, Zhang, Liu 2018, "Anderson acceleration for geometry optimization and
+  // physics simulation"), with their energy safeguard: an accelerated iterate
+  // whose energy is not lower than the previous one is replaced by the plain
+  // local/global result and the history is cleared. Plain local/global ARAP
+  // converges linearly and slowly in the nearly isometric (bending) modes.
+  const int depth = 5;
+  const Eigen::Index size = 3 * static_cast<Eigen::Index>(n_);
+  Eigen::MatrixXd dF(size, depth), dG(size, depth);
+  Eigen::VectorXd f_previous, g_previous_flat;
+  int history = 0, column = 0;
+  double energy_previous = std::numeric_limits<double>::infinity();
+  bool accelerated = false;
+
+  auto local_step = [&](const Eigen::MatrixXd& X) {
+    double e = 0.0;
+    for (int f = 0; f < F_.rows(); ++f) {
+      Matrix32d S = Matrix32d::Zero();
+      Eigen::Vector3d dx[3];
+      Eigen::Vector2d dt[3];
+      for (int k = 0; k < 3; ++k) {
+        const int i = F_(f, k), j = F_(f, (k + 1) % 3);
+        dx[k] = (X.row(j) - X.row(i)).transpose();
+        dt[k] = target_corner(targets[f], (k + 1) % 3) - target_corner(targets[f], k);
+        S += weights_(f, k) * dx[k] * dt[k].transpose();
+      }
+      R[f] = polar_factor(S);
+      for (int k = 0; k < 3; ++k) e += weights_(f, k) * (dx[k] - R[f] * dt[k]).squaredNorm();
+    }
+    return e;
+  };
+  auto global_step = [&](const Eigen::MatrixXd& X, Eigen::MatrixXd& out) {
+    B = epsilon_ * diagonal_.asDiagonal() * X;
+    for (int f = 0; f < F_.rows(); ++f) {
+      for (int k = 0; k < 3; ++k) {
+        const int i = F_(f, k), j = F_(f, (k + 1) % 3);
+        const Eigen::Vector2d dt = target_corner(targets[f], (k + 1) % 3) - target_corner(targets[f], k);
+        const Eigen::RowVector3d r = (weights_(f, k) * (R[f] * dt)).transpose();
+        B.row(j) += r;
+        B.row(i) -= r;
+      }
+    }
+    solver_.solve(B, out);
+  };
+
+  for (int it = 0; it < options.max_iterations; ++it) {
+    double e = local_step(V);
+    if (accelerated && !(e < energy_previous)) {
+      V = G_previous;
+      e = local_step(V);
+      history = 0;
+      column = 0;
+    }
+    energy_previous = e;
+    global_step(V, G);
+    report.iterations = it + 1;
+    report.residual = (G - V).rowwise().norm().maxCoeff() / mean_edge;
+    if (report.residual <= options.tolerance) {
+      V = G;
+      report.converged = true;
+      break;
+    }
+    const Eigen::Map<const Eigen::VectorXd> g(G.data(), size);
+    const Eigen::VectorXd f = g - Eigen::Map<const Eigen::VectorXd>(V.data(), size);
+    if (it > 0) {
+      dF.col(column) = f - f_previous;
+      dG.col(column) = g - g_previous_flat;
+      column = (column + 1) % depth;
+      history = std::min(history + 1, depth);
+    }
+    f_previous = f;
+    g_previous_flat = g;
+    G_previous = G;
+    if (history == 0) {
+      V = G;
+      accelerated = false;
+      continue;
+    }
+    // gamma = argmin |f - dF gamma|, by the normal equations (m <= 5 columns).
+    const Eigen::MatrixXd Fh = dF.leftCols(history), Gh = dG.leftCols(history);
+    Eigen::MatrixXd normal = Fh.transpose() * Fh;
+    normal.diagonal().array() += 1e-12 * normal.diagonal().maxCoeff() + 1e-300;
+    const Eigen::VectorXd gamma = normal.ldlt().solve(Fh.transpose() * f);
+    const Eigen::VectorXd x_next = g - Gh * gamma;
+    if (!x_next.allFinite()) {
+      V = G;
+      history = 0;
+      column = 0;
+      accelerated = false;
+      continue;
+    }
+    V = Eigen::Map<const Eigen::MatrixXd>(x_next.data(), n_, 3);
+    accelerated = true;
+  }
+  report.misfit = std::sqrt(energy(targets, V) / std::max(norm2, 1e-300));
+  return report;
+}
+
+}  // namespace gp::adapt

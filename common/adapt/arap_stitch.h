@@ -1,0 +1,69 @@
+#pragma once
+// As-rigid-as-possible stitching of per-triangle 2D targets into one 3D rest
+// mesh (Wolff et al. 2023, appendix B; local/global iterations of Sorkine &
+// Alexa 2007, here with one rotation per triangle as in Liu et al. 2008):
+//   E(X, R) = sum_f sum_{edges (i,j) of f} w_fe |(x_j - x_i) - R_f (t_j - t_i)|^2
+// with t the target corners of face f (2D), R_f a 3x2 matrix with orthonormal
+// columns. Local step: R_f = polar factor of sum w (x_j - x_i)(t_j - t_i)^T.
+// Global step: a Poisson-like solve (L + eps D) X = B(R) + eps D X_k, where L is
+// the weighted graph Laplacian, D its diagonal and eps = 1e-5 (a proximal term
+// that fixes the free translation and vanishes at the fixed point).
+//
+// The weights w_fe = A_f / l_fe^2 come from a reference rest shape (the garment's
+// design) and stay fixed, so L does not depend on the targets: it is factored by
+// CHOLMOD once per connectivity and reused across iterations and adaptations.
+// The energy is then the area-weighted squared relative edge misfit.
+//
+// Convergence: iterate until the largest vertex displacement of one iteration,
+// divided by the mean target edge length, falls below `tolerance`.
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "linalg/cholmod_solver.h"
+
+namespace gp::adapt {
+
+struct ArapOptions {
+  double tolerance = 1e-7;   // relative: max displacement per iteration / mean target edge length
+  int max_iterations = 2000;
+};
+
+struct ArapReport {
+  int iterations = 0;
+  double residual = 0.0;  // last iteration's max displacement / mean target edge length
+  double misfit = 0.0;    // sqrt(E / sum w |t_j - t_i|^2): RMS relative edge misfit at the end
+  bool converged = false;
+};
+
+class ArapStitcher {
+ public:
+  ArapStitcher() = default;
+  // Fixed weights from the reference shape V_reference (#V by 3) with faces F
+  // (#F by 3); factors the global matrix. Throws GeometryError for degenerate
+  // reference triangles, NumericalError if the factorization fails.
+  ArapStitcher(const Eigen::MatrixXd& V_reference, const Eigen::MatrixXi& F);
+
+  // Stitches `targets` (#F edge matrices [t1-t0, t2-t0], 2D) starting from V (the
+  // current rest shape, #V by 3); V is overwritten with the result. Throws
+  // UsageError for mismatched sizes, NumericalError for non-finite input.
+  ArapReport stitch(const std::vector<Eigen::Matrix2d>& targets, Eigen::MatrixXd& V,
+                    const ArapOptions& options = {}) const;
+
+  // E(X, R) at the optimal rotations, and the normalization sum w |t_j - t_i|^2.
+  double energy(const std::vector<Eigen::Matrix2d>& targets, const Eigen::MatrixXd& V) const;
+
+  const Eigen::MatrixXi& faces() const { return F_; }
+  int factorizations() const { return factorizations_; }
+
+ private:
+  Eigen::MatrixXi F_;
+  Eigen::MatrixXd weights_;  // #F by 3: weight of edge k = (corner k -> corner k+1)
+  Eigen::VectorXd diagonal_;  // D (#V)
+  double epsilon_ = 1e-5;
+  CholmodSolver solver_;
+  int factorizations_ = 0;
+  int n_ = 0;
+};
+
+}  // namespace gp::adapt

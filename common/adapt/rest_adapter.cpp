@@ -1,0 +1,46 @@
+#include "adapt/rest_adapter.h"
+
+#include <Eigen/Dense>
+
+#include "core/error.h"
+
+namespace gp::adapt {
+
+double mesh_area(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  double area = 0.0;
+  for (int f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    area += 0.5 * (b - a).cross(c - a).norm();
+  }
+  return area;
+}
+
+RestShapeAdapter::RestShapeAdapter(const Eigen::MatrixXd& V_reference, const Eigen::MatrixXi& F,
+                                   AdaptOptions options)
+    : F_(F), options_(options), stitcher_(V_reference, F) {
+  if (!(options.delta >= 0.0)) throw UsageError("stretch limit delta must be non-negative");
+  if (!(options.arap.tolerance > 0.0) || options.arap.max_iterations < 1) {
+    throw UsageError("ARAP tolerance must be positive and the iteration cap at least 1");
+  }
+}
+
+AdaptReport RestShapeAdapter::adapt(const Eigen::MatrixXd& V_sim, Eigen::MatrixXd& V_rest,
+                                    const Eigen::VectorXd* area_factors) const {
+  AdaptReport report;
+  report.area_before = mesh_area(V_rest, F_);
+  const std::vector<Eigen::Matrix2d> targets =
+      clipped_targets(V_rest, V_sim, F_, options_.delta, area_factors, &report.clip);
+  if (report.clip.clipped_faces == 0 && area_factors == nullptr) {
+    report.area_after = report.area_before;
+    return report;
+  }
+  Eigen::MatrixXd V = V_rest;
+  report.arap = stitcher_.stitch(targets, V, options_.arap);
+  if (!V.allFinite()) throw NumericalError("ARAP stitching produced non-finite positions");
+  V_rest = V;
+  report.changed = true;
+  report.area_after = mesh_area(V_rest, F_);
+  return report;
+}
+
+}  // namespace gp::adapt

@@ -1,0 +1,55 @@
+#pragma once
+// Rest-shape adaptation (Wolff et al. 2023, sec. 5 and appendices A-B): clip the
+// stretch of every simulated triangle at 1 + delta into per-triangle rest targets
+// (stretch_clip.h) and stitch them into one rest mesh by ARAP (arap_stitch.h),
+// whose global matrix is factored once per connectivity and reused by every call.
+//
+// When no triangle is stretched beyond 1 + delta and no paint is applied, the
+// targets are exactly the current rest triangles, which the current rest mesh
+// already stitches with zero misfit: the rest shape is returned unchanged (zero
+// iterations). This is what makes a settled garment a fixed point.
+#include <Eigen/Core>
+
+#include "adapt/arap_stitch.h"
+#include "adapt/stretch_clip.h"
+
+namespace gp::adapt {
+
+struct AdaptOptions {
+  double delta = 0.1;  // stretch limit: principal stretches above 1 + delta are clipped (paper value)
+  ArapOptions arap;    // stitching tolerance and iteration cap
+};
+
+struct AdaptReport {
+  ClipStats clip;            // before the adaptation
+  ArapReport arap;           // stitching (iterations 0 when nothing changed)
+  double area_before = 0.0;  // rest area [m^2]
+  double area_after = 0.0;
+  bool changed = false;      // false when the rest shape was left as it was
+};
+
+class RestShapeAdapter {
+ public:
+  // V_reference: the design rest shape (#V by 3, metres) whose triangles fix the
+  // ARAP weights; F: #F by 3. Factors the ARAP matrix once.
+  RestShapeAdapter(const Eigen::MatrixXd& V_reference, const Eigen::MatrixXi& F, AdaptOptions options = {});
+
+  // Adapts V_rest (in/out) to the simulated positions V_sim (#V by 3).
+  // area_factors (#F, optional) scale the target areas (paint); pass them once,
+  // e.g. at the first adaptation, since the rest shape keeps them afterwards.
+  AdaptReport adapt(const Eigen::MatrixXd& V_sim, Eigen::MatrixXd& V_rest,
+                    const Eigen::VectorXd* area_factors = nullptr) const;
+
+  const AdaptOptions& options() const { return options_; }
+  const ArapStitcher& stitcher() const { return stitcher_; }
+
+ private:
+  Eigen::MatrixXi F_;
+  AdaptOptions options_;
+  ArapStitcher stitcher_;
+};
+
+// Total area of the mesh (V, F) [m^2].
+double mesh_area(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+
+}  // namespace gp::adapt

@@ -1,0 +1,118 @@
+#include "adapt/stretch_clip.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <Eigen/Dense>
+
+#include "core/error.h"
+
+namespace gp::adapt {
+namespace {
+
+Eigen::Matrix3d face_positions(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int f) {
+  Eigen::Matrix3d X;
+  for (int k = 0; k < 3; ++k) X.col(k) = V.row(F(f, k)).transpose();
+  return X;
+}
+
+void check_rest_triangle(const Eigen::Matrix3d& X_rest) {
+  const Eigen::Vector3d e1 = X_rest.col(1) - X_rest.col(0), e2 = X_rest.col(2) - X_rest.col(0);
+  const double longest2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (e2 - e1).squaredNorm()});
+  if (!X_rest.allFinite() || !(e1.cross(e2).norm() >= 1e-12 * longest2) || !(longest2 > 0.0)) {
+    throw GeometryError("degenerate (zero-area) rest triangle");
+  }
+}
+
+}  // namespace
+
+Eigen::Matrix2d triangle_frame_edges(const Eigen::Matrix3d& X) {
+  const Eigen::Vector3d e1 = X.col(1) - X.col(0), e2 = X.col(2) - X.col(0);
+  const double l1 = e1.norm();
+  Eigen::Matrix2d D;
+  if (l1 > 0.0) {
+    const Eigen::Vector3d u = e1 / l1;
+    D << l1, e2.dot(u), 0.0, e2.cross(u).norm();
+  } else {
+    // x1 on x0: the triangle is at most a segment along e2.
+    D << 0.0, e2.norm(), 0.0, 0.0;
+  }
+  return D;
+}
+
+Eigen::Matrix2d deformation_gradient(const Eigen::Matrix3d& X_rest, const Eigen::Matrix3d& X_sim) {
+  check_rest_triangle(X_rest);
+  const Eigen::Matrix2d D_rest = triangle_frame_edges(X_rest);
+  // D_rest is upper triangular with a positive diagonal: invert directly.
+  Eigen::Matrix2d D_inv;
+  D_inv << 1.0 / D_rest(0, 0), -D_rest(0, 1) / (D_rest(0, 0) * D_rest(1, 1)), 0.0, 1.0 / D_rest(1, 1);
+  return triangle_frame_edges(X_sim) * D_inv;
+}
+
+Eigen::MatrixXd principal_stretches(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V_sim,
+                                    const Eigen::MatrixXi& F) {
+  Eigen::MatrixXd S(F.rows(), 2);
+  for (int f = 0; f < F.rows(); ++f) {
+    Eigen::Matrix2d G;
+    try {
+      G = deformation_gradient(face_positions(V_rest, F, f), face_positions(V_sim, F, f));
+    } catch (const GeometryError& e) {
+      throw GeometryError(e.what(), "face " + std::to_string(f));
+    }
+    S.row(f) = Eigen::JacobiSVD<Eigen::Matrix2d>(G).singularValues().transpose();
+  }
+  return S;
+}
+
+Eigen::Matrix2d clipped_target(const Eigen::Matrix2d& D_rest, const Eigen::Matrix2d& F, double delta) {
+  const Eigen::JacobiSVD<Eigen::Matrix2d> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::Vector2d s = svd.singularValues();
+  const double limit = 1.0 + delta;
+  if (!(s(0) > limit)) return D_rest;  // nothing to clip: the rest triangle is its own target
+  // s_i / min(s_i, limit), with the pseudo-inverse convention (factor 1) at s_i = 0.
+  Eigen::Vector2d factor;
+  for (int i = 0; i < 2; ++i) factor(i) = s(i) > limit ? s(i) / limit : 1.0;
+  const Eigen::Matrix2d& Vm = svd.matrixV();
+  return Vm * factor.asDiagonal() * Vm.transpose() * D_rest;
+}
+
+std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V_sim,
+                                             const Eigen::MatrixXi& F, double delta,
+                                             const Eigen::VectorXd* area_factors, ClipStats* stats) {
+  if (V_rest.rows() != V_sim.rows() || V_rest.cols() != 3 || V_sim.cols() != 3) {
+    throw UsageError("rest and simulated positions must both be #V by 3");
+  }
+  if (!(delta >= 0.0)) throw UsageError("stretch limit delta must be non-negative");
+  if (area_factors) {
+    if (area_factors->size() != F.rows()) throw UsageError("one area factor per face is needed");
+    for (int f = 0; f < F.rows(); ++f) {
+      if (!((*area_factors)(f) > 0.0) || !std::isfinite((*area_factors)(f))) {
+        throw UsageError("area factors must be positive", "face " + std::to_string(f));
+      }
+    }
+  }
+  if (!V_sim.allFinite()) throw NumericalError("simulated positions are not finite");
+  std::vector<Eigen::Matrix2d> targets(F.rows());
+  ClipStats local;
+  for (int f = 0; f < F.rows(); ++f) {
+    const Eigen::Matrix3d X_rest = face_positions(V_rest, F, f);
+    Eigen::Matrix2d G;
+    try {
+      G = deformation_gradient(X_rest, face_positions(V_sim, F, f));
+    } catch (const GeometryError& e) {
+      throw GeometryError(e.what(), "face " + std::to_string(f));
+    }
+    const double s_max = Eigen::JacobiSVD<Eigen::Matrix2d>(G).singularValues()(0);
+    local.max_stretch = std::max(local.max_stretch, s_max);
+    if (s_max > 1.0 + delta) ++local.clipped_faces;
+    Eigen::Matrix2d T = clipped_target(triangle_frame_edges(X_rest), G, delta);
+    if (area_factors) T *= std::sqrt((*area_factors)(f));
+    targets[f] = T;
+    local.target_area += 0.5 * T.determinant();
+  }
+  if (stats) *stats = local;
+  return targets;
+}
+
+}  // namespace gp::adapt

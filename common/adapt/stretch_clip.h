@@ -1,0 +1,56 @@
+#pragma once
+// Per-triangle stretch measure and clipped rest targets (Wolff et al. 2023,
+// appendix A).
+//
+// Every 3D triangle is laid out in its own 2D frame: x0 at the origin, the edge
+// x0->x1 along the first axis, x2 with a non-negative second coordinate. Its
+// edge matrix D = [x1-x0, x2-x0] in that frame is upper triangular with
+// det D >= 0. The deformation gradient from a rest triangle to a simulated one is
+// the 2x2 matrix F = D_sim D_rest^-1; its singular values are the principal
+// stretches (rotation invariant, independent of the frames).
+//
+// Clipping: with F = U S V^T and S = diag(s1, s2), the clipped gradient is
+// G = U min(S, 1+delta) V^T, and the target rest triangle is G^-1 D_sim =
+// V diag(s_i / min(s_i, 1+delta)) V^T D_rest, i.e. the rest triangle stretched by
+// max(1, s_i/(1+delta)) along each principal direction: stretch above 1+delta is
+// taken into the rest shape, compression is left untouched. Where s_i = 0 (a
+// collapsed simulated triangle) the pseudo-inverse of S_clipped is used and the
+// factor on that direction is 1 (untouched), so a target is never degenerate and,
+// since the factors are positive, never flipped.
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace gp::adapt {
+
+// 2D edge matrix [x1-x0, x2-x0] of the triangle X = [x0 x1 x2] (columns, metres)
+// in its own frame (upper triangular, det >= 0; zero rows for collapsed edges).
+Eigen::Matrix2d triangle_frame_edges(const Eigen::Matrix3d& X);
+
+// F = D_sim D_rest^-1. Throws GeometryError for a zero-area rest triangle
+// (2 A / longest edge^2 < 1e-12).
+Eigen::Matrix2d deformation_gradient(const Eigen::Matrix3d& X_rest, const Eigen::Matrix3d& X_sim);
+
+// Singular values (descending) of F for every face: #F by 2.
+Eigen::MatrixXd principal_stretches(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V_sim,
+                                    const Eigen::MatrixXi& F);
+
+// Target rest edge matrix (2D, columns t1-t0, t2-t0) from the rest edge matrix
+// D_rest and the deformation gradient F, with stretch clipped at 1 + delta.
+Eigen::Matrix2d clipped_target(const Eigen::Matrix2d& D_rest, const Eigen::Matrix2d& F, double delta);
+
+struct ClipStats {
+  int clipped_faces = 0;      // faces with a principal stretch above 1 + delta
+  double max_stretch = 0.0;   // largest principal stretch before clipping
+  double target_area = 0.0;   // sum of the target areas [m^2]
+};
+
+// Targets for all faces. area_factors (#F, > 0, optional: nullptr for none)
+// scale the target areas (paint, T3). Throws GeometryError for degenerate rest
+// triangles, UsageError for bad sizes or non-positive factors.
+std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V_sim,
+                                             const Eigen::MatrixXi& F, double delta,
+                                             const Eigen::VectorXd* area_factors = nullptr,
+                                             ClipStats* stats = nullptr);
+
+}  // namespace gp::adapt

@@ -1,0 +1,233 @@
+// Stretch clipping and ARAP stitching: clipped stretch, untouched compression,
+// the pseudo-inverse path, exact reproduction of compatible targets, a converged
+// fixed point for incompatible ones, paint, and the adaptation's fixed point on a
+// settled cloth under gravity.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include <Eigen/Dense>
+
+#include "adapt/rest_adapter.h"
+#include "cloth/cloth_simulator.h"
+#include "core/error.h"
+#include "testing/test_meshes.h"
+
+using namespace gp::adapt;
+
+namespace {
+
+Eigen::Matrix3d face(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int f) {
+  Eigen::Matrix3d X;
+  for (int k = 0; k < 3; ++k) X.col(k) = V.row(F(f, k)).transpose();
+  return X;
+}
+
+std::vector<Eigen::Matrix2d> own_triangles(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  std::vector<Eigen::Matrix2d> T(F.rows());
+  for (int f = 0; f < F.rows(); ++f) T[f] = triangle_frame_edges(face(V, F, f));
+  return T;
+}
+
+double max_relative_edge_error(const Eigen::MatrixXd& V, const Eigen::MatrixXd& V_ref, const Eigen::MatrixXi& F) {
+  double err = 0.0;
+  for (int f = 0; f < F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int i = F(f, k), j = F(f, (k + 1) % 3);
+      const double l = (V.row(j) - V.row(i)).norm(), l_ref = (V_ref.row(j) - V_ref.row(i)).norm();
+      err = std::max(err, std::abs(l - l_ref) / l_ref);
+    }
+  }
+  return err;
+}
+
+}  // namespace
+
+TEST_CASE("a uniformly stretched patch gets a rest shape with stretch clipped to 1.1", "[adapt]") {
+  const gp::Mesh grid = gp::testing::make_grid(12, 12, 0.4, 0.4);
+  Eigen::MatrixXd V_sim = grid.V;
+  V_sim.col(0) *= 1.3;  // F = diag(1.3, 1.0)
+  RestShapeAdapter adapter(grid.V, grid.F);
+  Eigen::MatrixXd V_rest = grid.V;
+  const AdaptReport r = adapter.adapt(V_sim, V_rest);
+  INFO("ARAP iterations " << r.arap.iterations << ", residual " << r.arap.residual << ", misfit " << r.arap.misfit);
+  CHECK(r.changed);
+  CHECK(r.clip.clipped_faces == grid.F.rows());
+  CHECK(r.clip.max_stretch == Approx(1.3).epsilon(1e-12));
+  CHECK(r.arap.converged);
+  CHECK(r.arap.misfit < 1e-6);
+  const Eigen::MatrixXd S = principal_stretches(V_rest, V_sim, grid.F);
+  CHECK(S.col(0).maxCoeff() == Approx(1.1).epsilon(1e-6));
+  CHECK(S.col(0).minCoeff() == Approx(1.1).epsilon(1e-6));
+  CHECK(S.col(1).maxCoeff() == Approx(1.0).epsilon(1e-6));
+  CHECK(S.col(1).minCoeff() == Approx(1.0).epsilon(1e-6));
+  CHECK(r.area_after / r.area_before == Approx(1.3 / 1.1).epsilon(1e-6));
+}
+
+TEST_CASE("a compressed patch is left alone", "[adapt]") {
+  const gp::Mesh grid = gp::testing::make_grid(8, 8, 0.3, 0.3);
+  Eigen::MatrixXd V_sim = grid.V;
+  V_sim.col(0) *= 0.8;
+  V_sim.col(2) *= 0.9;
+  // Slightly stretched but under the limit, in the other direction elsewhere: still no change.
+  RestShapeAdapter adapter(grid.V, grid.F);
+  Eigen::MatrixXd V_rest = grid.V;
+  const AdaptReport r = adapter.adapt(V_sim, V_rest);
+  CHECK_FALSE(r.changed);
+  CHECK(r.clip.clipped_faces == 0);
+  CHECK(r.arap.iterations == 0);
+  CHECK(V_rest == grid.V);
+  V_sim = grid.V;
+  V_sim.col(2) *= 1.09;
+  CHECK_FALSE(adapter.adapt(V_sim, V_rest).changed);
+  // Single-triangle level: targets equal the rest triangle bit for bit.
+  const Eigen::Matrix2d D = triangle_frame_edges(face(grid.V, grid.F, 3));
+  CHECK(clipped_target(D, Eigen::Vector2d(0.5, 0.9).asDiagonal(), 0.1) == D);
+}
+
+TEST_CASE("a zero singular value takes the pseudo-inverse path without NaN", "[adapt]") {
+  const gp::Mesh grid = gp::testing::make_grid(6, 6, 0.3, 0.3);
+  Eigen::MatrixXd V_sim = grid.V;
+  V_sim.col(0) *= 1.3;
+  V_sim.col(2).setZero();  // every triangle collapsed onto the x axis: s = (1.3, 0)
+  ClipStats stats;
+  const std::vector<Eigen::Matrix2d> T = clipped_targets(grid.V, V_sim, grid.F, 0.1, nullptr, &stats);
+  CHECK(stats.clipped_faces == grid.F.rows());
+  for (const Eigen::Matrix2d& t : T) {
+    CHECK(t.allFinite());
+    CHECK(t.determinant() > 0.0);  // never degenerate nor flipped
+  }
+  CHECK(stats.target_area == Approx(0.09 * 1.3 / 1.1).epsilon(1e-9));
+  RestShapeAdapter adapter(grid.V, grid.F);
+  Eigen::MatrixXd V_rest = grid.V;
+  const AdaptReport r = adapter.adapt(V_sim, V_rest);
+  CHECK(V_rest.allFinite());
+  CHECK(r.arap.converged);
+  CHECK(r.area_after == Approx(0.09 * 1.3 / 1.1).epsilon(1e-6));
+  // A triangle collapsed to a point has F = 0: its target is the rest triangle.
+  const Eigen::Matrix2d D = triangle_frame_edges(face(grid.V, grid.F, 0));
+  CHECK(clipped_target(D, Eigen::Matrix2d::Zero(), 0.1) == D);
+  CHECK(deformation_gradient(face(grid.V, grid.F, 0), Eigen::Matrix3d::Zero()).norm() == 0.0);
+  // Degenerate rest triangles are rejected.
+  Eigen::Matrix3d flat = Eigen::Matrix3d::Zero();
+  flat.col(1) << 1, 0, 0;
+  flat.col(2) << 2, 0, 0;
+  CHECK_THROWS_AS(deformation_gradient(flat, flat), gp::GeometryError);
+}
+
+TEST_CASE("ARAP stitching reproduces compatible targets exactly", "[adapt][arap]") {
+  // Curved truth: a cylinder whose radius grew by 20% (girth stretched), its
+  // triangles rotated at random in 2D; the stitching starts from the original
+  // cylinder, as an adaptation starts from the current rest shape.
+  const gp::Mesh cyl = gp::testing::make_open_cylinder(24, 8, 0.15, 0.3);
+  const gp::Mesh wide = gp::testing::make_open_cylinder(24, 8, 0.18, 0.3);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Eigen::Matrix2d> T = own_triangles(wide.V, wide.F);
+  for (Eigen::Matrix2d& t : T) t = Eigen::Rotation2Dd(3.0 * u(rng)).toRotationMatrix() * t;
+  const ArapStitcher stitcher(cyl.V, cyl.F);
+  ArapOptions options;
+  options.tolerance = 1e-9;
+  Eigen::MatrixXd V = cyl.V;
+  const ArapReport r = stitcher.stitch(T, V, options);
+  INFO("iterations " << r.iterations << " residual " << r.residual << " misfit " << r.misfit);
+  CHECK(r.converged);
+  CHECK(r.misfit < 1e-7);
+  CHECK(max_relative_edge_error(V, wide.V, cyl.F) < 1e-7);
+  // From a noisy start (0.5 mm on 4 cm edges) the same targets are found again.
+  Eigen::MatrixXd W = wide.V;
+  for (int i = 0; i < W.size(); ++i) W(i) += 0.0005 * u(rng);
+  const ArapReport rn = stitcher.stitch(T, W, options);
+  INFO("noisy start: iterations " << rn.iterations << " misfit " << rn.misfit);
+  CHECK(rn.converged);
+  CHECK(max_relative_edge_error(W, wide.V, cyl.F) < 1e-6);
+  CHECK(stitcher.factorizations() == 1);
+  CHECK_THROWS_AS(stitcher.stitch(std::vector<Eigen::Matrix2d>(3), V), gp::UsageError);
+}
+
+TEST_CASE("ARAP stitching of incompatible targets converges to a fixed point", "[adapt][arap]") {
+  const gp::Mesh grid = gp::testing::make_grid(20, 20, 0.5, 0.5);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(0.8, 1.25);
+  std::vector<Eigen::Matrix2d> T = own_triangles(grid.V, grid.F);
+  for (Eigen::Matrix2d& t : T) t *= std::sqrt(u(rng));
+  const ArapStitcher stitcher(grid.V, grid.F);
+  Eigen::MatrixXd V = grid.V;
+  ArapOptions options;
+  options.tolerance = 1e-8;
+  const ArapReport r = stitcher.stitch(T, V, options);
+  INFO("iterations " << r.iterations << " residual " << r.residual << " misfit " << r.misfit);
+  CHECK(r.converged);
+  CHECK(r.residual <= 1e-8);
+  CHECK(r.misfit > 0.01);  // truly incompatible
+  CHECK(r.misfit < 0.2);
+  // Restarting from the result moves nothing: a fixed point.
+  Eigen::MatrixXd W = V;
+  const ArapReport again = stitcher.stitch(T, W, options);
+  CHECK(again.iterations <= 2);
+  CHECK((W - V).cwiseAbs().maxCoeff() < 1e-8 * 0.025);
+  CHECK(again.misfit == Approx(r.misfit).epsilon(1e-6));
+  // The energy is lower than at the start.
+  CHECK(stitcher.energy(T, V) < stitcher.energy(T, grid.V));
+}
+
+TEST_CASE("paint factors scale target areas through the stitching", "[adapt]") {
+  const gp::Mesh grid = gp::testing::make_grid(10, 10, 0.3, 0.3);
+  RestShapeAdapter adapter(grid.V, grid.F);
+  Eigen::MatrixXd V_rest = grid.V;
+  Eigen::VectorXd paint = Eigen::VectorXd::Constant(grid.F.rows(), 1.21);
+  const AdaptReport r = adapter.adapt(grid.V, V_rest, &paint);
+  CHECK(r.changed);
+  CHECK(r.area_after == Approx(1.21 * 0.09).epsilon(1e-6));
+  CHECK(max_relative_edge_error(V_rest, 1.1 * grid.V, grid.F) < 1e-6);
+  paint(0) = -1.0;
+  CHECK_THROWS_AS(adapter.adapt(grid.V, V_rest, &paint), gp::UsageError);
+  CHECK(adapter.stitcher().factorizations() == 1);
+}
+
+TEST_CASE("adaptation reaches a fixed point on a settled cloth under gravity", "[adapt][simulator]") {
+  // A 0.5 m square hanging from its two top corners, which are pulled apart to
+  // 0.7 m over 0.25 s: the top is stretched up to 1.4, far beyond 1.1. Adapting
+  // every 8 steps grows the rest shape there; once the cloth has settled, the rest
+  // shape must stop changing.
+  const int n = 16;
+  gp::Mesh m = gp::testing::make_grid(n, n, 0.5, 0.5);
+  for (int v = 0; v < m.V.rows(); ++v) m.V.row(v) = Eigen::RowVector3d(m.V(v, 0), -m.V(v, 2), 0.0);
+  gp::cloth::ClothSimulator sim(m.V, m.F);
+  sim.set_pinned({0, n});
+  RestShapeAdapter adapter(m.V, m.F);
+  Eigen::MatrixXd V_rest = m.V;
+  int total_iterations = 0, adaptations = 0, max_iterations = 0;
+  double area_settled = 0.0, max_residual = 0.0;
+  const int settle_steps = 1200, extra_steps = 100;
+  for (int s = 1; s <= settle_steps + extra_steps; ++s) {
+    const double t = std::min(1.0, s * 0.0025 / 0.25);
+    Eigen::MatrixXd targets(2, 3);
+    targets << -0.1 * t, 0.0, 0.0, 0.5 + 0.1 * t, 0.0, 0.0;
+    sim.set_pin_targets(targets);
+    sim.step();
+    if (s % 8 == 0) {
+      const AdaptReport r = adapter.adapt(sim.positions(), V_rest);
+      if (r.changed) {
+        sim.set_rest_shape(V_rest);
+        ++adaptations;
+        total_iterations += r.arap.iterations;
+        max_iterations = std::max(max_iterations, r.arap.iterations);
+        max_residual = std::max(max_residual, r.arap.residual);
+        CHECK(r.arap.converged);
+      }
+    }
+    if (s == settle_steps) area_settled = mesh_area(V_rest, m.F);
+  }
+  const double area_final = mesh_area(V_rest, m.F);
+  const Eigen::MatrixXd S = principal_stretches(V_rest, sim.positions(), m.F);
+  INFO("adaptations " << adaptations << ", ARAP iterations total " << total_iterations << " max "
+                      << max_iterations << ", max residual " << max_residual << ", area growth "
+                      << area_final / 0.25 << ", final max stretch " << S.col(0).maxCoeff());
+  CHECK(area_final > 0.25 * 1.01);  // the adaptation did grow the rest shape
+  CHECK(std::abs(area_final - area_settled) / area_settled < 1e-3);
+  CHECK(S.col(0).maxCoeff() < 1.13);
+  CHECK(sim.max_speed() < 0.05);
+  CHECK(adapter.stitcher().factorizations() == 1);
+}
