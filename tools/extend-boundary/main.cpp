@@ -65,8 +65,11 @@ int main(int argc, char** argv) {
                         {"garment_faces", result.mesh.F.rows()},
                         {"band_faces", result.band_faces},
                         {"band_flipped_faces", result.band_flipped_faces}};
-    report["timing_seconds"] = {
-        {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
+    gp::OrderedJson timing;
+    timing["schema"] = gp::schema_tag("timing", 1);
+    timing["tool"] = "extend-boundary";
+    timing["total_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    gp::write_json_file(out.file("timing.json"), timing);
     gp::write_json_file(out.file("report.json"), report);
     out.commit();
     tool.log().info("wrote " + tool.common().out_dir + " (loop '" + spec.loop + "' girth " +

@@ -111,10 +111,13 @@ int main(int argc, char** argv) {
                          {"offset_mean_error", result.offset_error.mean_error},
                          {"binding_max_deviation", result.binding_max_deviation},
                          {"curves", curves}};
-    // Timing is the only part of the outputs that differs between runs.
-    gp::OrderedJson timing = result.timing;
-    timing["total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    report["timing_seconds"] = timing;
+    // Timings differ between runs, so they live apart from the report.
+    gp::OrderedJson timing;
+    timing["schema"] = gp::schema_tag("timing", 1);
+    timing["tool"] = "make-garment";
+    for (auto it = result.timing.begin(); it != result.timing.end(); ++it) timing[it.key() + "_s"] = it.value();
+    timing["total_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    gp::write_json_file(out.file("timing.json"), timing);
     gp::write_json_file(out.file("report.json"), report);
     out.commit();
     tool.log().info("wrote " + tool.common().out_dir + " (" + std::to_string(result.mesh.V.rows()) +
