@@ -1,0 +1,352 @@
+#include "pattern/auto_cut.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <set>
+
+#include <Eigen/Geometry>
+
+#include "core/error.h"
+#include "mesh/topology.h"
+
+namespace gp {
+namespace {
+
+std::string percent(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.2f %%", 100.0 * x);
+  return buf;
+}
+
+// Multi-source Dijkstra over the piece's edges (3D lengths); ties broken by
+// vertex id through the (distance, id) order of the queue.
+void dijkstra(const Eigen::MatrixXd& V, const std::vector<std::vector<int>>& neighbors,
+              const std::vector<int>& sources, std::vector<double>& dist, std::vector<int>& parent,
+              const std::function<bool(int)>& stop = {}) {
+  const size_t n = neighbors.size();
+  dist.assign(n, std::numeric_limits<double>::infinity());
+  parent.assign(n, -1);
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  for (int s : sources) {
+    dist[static_cast<size_t>(s)] = 0.0;
+    queue.push({0.0, s});
+  }
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > dist[static_cast<size_t>(v)]) continue;
+    if (stop && stop(v)) return;
+    for (int w : neighbors[static_cast<size_t>(v)]) {
+      const double nd = d + (V.row(v) - V.row(w)).norm();
+      if (nd < dist[static_cast<size_t>(w)]) {
+        dist[static_cast<size_t>(w)] = nd;
+        parent[static_cast<size_t>(w)] = v;
+        queue.push({nd, w});
+      }
+    }
+  }
+}
+
+std::vector<int> trace(const std::vector<int>& parent, int to) {
+  std::vector<int> path;
+  for (int v = to; v != -1; v = parent[static_cast<size_t>(v)]) path.push_back(v);
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
+struct PieceTopology {
+  std::vector<std::vector<int>> loops;
+  int euler = 0;
+};
+
+std::vector<CutPath> cut_paths(const std::vector<PatternSeam>& seams) {
+  std::vector<CutPath> paths;
+  for (size_t i = 0; i < seams.size(); ++i)
+    paths.push_back({static_cast<int>(i), seams[i].vertex_ids, seams[i].closed});
+  return paths;
+}
+
+double path_length(const Eigen::MatrixXd& V, const std::vector<int>& path) {
+  double s = 0.0;
+  for (size_t k = 0; k + 1 < path.size(); ++k) s += (V.row(path[k]) - V.row(path[k + 1])).norm();
+  return s;
+}
+
+}  // namespace
+
+bool meets_limit(const FlattenResult& flat, const PatternOptions& options) {
+  return flat.stats.flipped_triangles == 0 && !flat.boundary_overlaps &&
+         flat.stats.p95_error <= options.p95_limit && flat.stats.max_error <= options.max_limit;
+}
+
+Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SeamPath>& user_seams,
+                     const PatternOptions& options, const std::map<int, std::string>& boundary_names) {
+  Pattern pattern;
+  for (const auto& s : user_seams) pattern.seams.push_back({s.name, "user", "", s.vertex_ids, s.closed});
+  // Flattenings of pieces that a round left unchanged are reused; the key is
+  // the piece's faces and the cut edges inside it.
+  std::map<std::vector<int>, FlattenResult> cache;
+  std::set<std::vector<int>> stuck;  // pieces where no further cut can be placed
+  int added_distortion_cuts = 0, topology_cuts = 0;
+
+  auto loop_name = [&](const PatternPiece& piece, const std::vector<int>& loop) {
+    for (int v : loop) {
+      const auto it = boundary_names.find(piece.rest_vertex_ids[v]);
+      if (it != boundary_names.end()) return "'" + it->second + "'";
+    }
+    return std::string("through rest vertex ") + std::to_string(piece.rest_vertex_ids[loop.front()]);
+  };
+
+  for (;;) {
+    pattern.cut = cut_mesh(V, F, cut_paths(pattern.seams));
+    const CutMesh& cut = pattern.cut;
+    Eigen::VectorXi component;
+    const int count = face_components(cut.F, component);
+    pattern.pieces.assign(static_cast<size_t>(count), PatternPiece{});
+    pattern.piece_of_face.assign(static_cast<size_t>(F.rows()), -1);
+    pattern.local_vertex.assign(static_cast<size_t>(cut.V.rows()), -1);
+    std::vector<int> vertex_count(static_cast<size_t>(count), 0);
+    for (int f = 0; f < F.rows(); ++f) {
+      const int c = component[f];
+      pattern.piece_of_face[static_cast<size_t>(f)] = c;
+      pattern.pieces[static_cast<size_t>(c)].face_ids.push_back(f);
+    }
+    for (int c = 0; c < count; ++c) {
+      PatternPiece& p = pattern.pieces[static_cast<size_t>(c)];
+      p.name = "P" + std::to_string(c + 1);
+      std::vector<int> cut_ids;
+      for (int f : p.face_ids)
+        for (int k = 0; k < 3; ++k) {
+          const int v = cut.F(f, k);
+          if (pattern.local_vertex[static_cast<size_t>(v)] < 0) {
+            pattern.local_vertex[static_cast<size_t>(v)] = static_cast<int>(cut_ids.size());
+            cut_ids.push_back(v);
+          }
+        }
+      // Local ids in ascending cut-vertex order, for a stable numbering.
+      std::vector<int> sorted = cut_ids;
+      std::sort(sorted.begin(), sorted.end());
+      for (size_t i = 0; i < sorted.size(); ++i) pattern.local_vertex[static_cast<size_t>(sorted[i])] = static_cast<int>(i);
+      const int nv = static_cast<int>(sorted.size());
+      p.V.resize(nv, 3);
+      p.cut_vertex_ids.resize(nv);
+      p.rest_vertex_ids.resize(nv);
+      for (int i = 0; i < nv; ++i) {
+        p.cut_vertex_ids[i] = sorted[static_cast<size_t>(i)];
+        p.rest_vertex_ids[i] = cut.origin[sorted[static_cast<size_t>(i)]];
+        p.V.row(i) = cut.V.row(sorted[static_cast<size_t>(i)]);
+      }
+      p.F.resize(static_cast<int>(p.face_ids.size()), 3);
+      for (size_t i = 0; i < p.face_ids.size(); ++i)
+        for (int k = 0; k < 3; ++k)
+          p.F(static_cast<int>(i), k) = pattern.local_vertex[static_cast<size_t>(cut.F(p.face_ids[i], k))];
+    }
+
+    // Topology first: every piece must be a disk before it can be flattened.
+    bool added_topology = false;
+    for (PatternPiece& p : pattern.pieces) {
+      const auto loops = boundary_loops(p.F);
+      const int euler = euler_characteristic(p.F);
+      if (loops.size() == 1 && euler == 1) {
+        p.boundary = loops.front();
+        continue;
+      }
+      const int genus2 = 2 - euler - static_cast<int>(loops.size());
+      if (genus2 != 0)
+        throw GeometryError("piece " + p.name + " has genus " + std::to_string(genus2 / 2) +
+                            " (a handle); add seams that cut through its handles");
+      const auto neighbors = vertex_neighbors(p.F, static_cast<int>(p.V.rows()));
+      std::vector<double> dist;
+      std::vector<int> parent;
+      std::vector<int> path;
+      std::string reason;
+      if (loops.empty()) {
+        dijkstra(p.V, neighbors, {0}, dist, parent);
+        int far = 0;
+        for (int v = 0; v < static_cast<int>(dist.size()); ++v)
+          if (dist[static_cast<size_t>(v)] > dist[static_cast<size_t>(far)]) far = v;
+        dijkstra(p.V, neighbors, {far}, dist, parent);
+        int other = far;
+        for (int v = 0; v < static_cast<int>(dist.size()); ++v)
+          if (dist[static_cast<size_t>(v)] > dist[static_cast<size_t>(other)]) other = v;
+        path = trace(parent, other);
+        reason = "piece " + p.name + " is closed: opened along a shortest path between its two farthest points";
+      } else {
+        std::vector<int> loop_of(static_cast<size_t>(p.V.rows()), -1);
+        for (size_t l = 0; l < loops.size(); ++l)
+          for (int v : loops[l]) loop_of[static_cast<size_t>(v)] = static_cast<int>(l);
+        int reached = -1;
+        dijkstra(p.V, neighbors, loops.front(), dist, parent, [&](int v) {
+          if (loop_of[static_cast<size_t>(v)] > 0) {
+            reached = v;
+            return true;
+          }
+          return false;
+        });
+        if (reached < 0) throw GeometryError("piece " + p.name + " has boundary loops that no path joins");
+        path = trace(parent, reached);
+        reason = "piece " + p.name + " has " + std::to_string(loops.size()) +
+                 " boundary loops and must be a disk to be flattened: joins the boundary " +
+                 loop_name(p, loops.front()) + " to the boundary " +
+                 loop_name(p, loops[static_cast<size_t>(loop_of[static_cast<size_t>(reached)])]) +
+                 " along a shortest path";
+      }
+      PatternSeam seam;
+      seam.name = "join" + std::to_string(++topology_cuts);
+      seam.kind = "topology";
+      seam.reason = reason;
+      for (int v : path) seam.vertex_ids.push_back(p.rest_vertex_ids[v]);
+      pattern.seams.push_back(seam);
+      added_topology = true;
+    }
+    if (added_topology) continue;
+
+    // Flatten every piece (or reuse an unchanged one).
+    ++pattern.rounds;
+    std::vector<std::vector<int>> keys(pattern.pieces.size());
+    for (size_t c = 0; c < pattern.pieces.size(); ++c) {
+      PatternPiece& p = pattern.pieces[c];
+      std::vector<int>& key = keys[c];
+      key = p.face_ids;
+      key.push_back(-1);
+      for (const CutEdge& e : cut.edges)
+        if (pattern.piece_of_face[static_cast<size_t>(e.left_face)] == static_cast<int>(c) &&
+            pattern.piece_of_face[static_cast<size_t>(e.right_face)] == static_cast<int>(c)) {
+          key.push_back(std::min(e.a, e.b));
+          key.push_back(std::max(e.a, e.b));
+        }
+      auto it = cache.find(key);
+      if (it == cache.end()) {
+        it = cache.emplace(key, flatten_piece(p.V, p.F, options.flatten, &p.rest_vertex_ids)).first;
+        ++pattern.flattenings;
+      }
+      p.flat = it->second;
+      p.meets_limit = meets_limit(p.flat, options);
+    }
+    pattern.meets_limit = std::all_of(pattern.pieces.begin(), pattern.pieces.end(),
+                                      [](const PatternPiece& p) { return p.meets_limit; });
+    if (pattern.meets_limit || added_distortion_cuts >= options.max_added_cuts) break;
+
+    bool added = false;
+    for (size_t c = 0; c < pattern.pieces.size() && added_distortion_cuts < options.max_added_cuts; ++c) {
+      const PatternPiece& p = pattern.pieces[c];
+      if (p.meets_limit || stuck.count(keys[c])) continue;
+      const int nv = static_cast<int>(p.V.rows());
+      std::vector<char> on_boundary(static_cast<size_t>(nv), 0);
+      for (int v : p.boundary) on_boundary[static_cast<size_t>(v)] = 1;
+      // Vertex error: area-weighted mean of its triangles' errors.
+      const Eigen::MatrixXd S = principal_stretches(p.V, p.F, p.flat.UV);
+      std::vector<double> num(static_cast<size_t>(nv), 0.0), den(static_cast<size_t>(nv), 0.0);
+      for (int f = 0; f < p.F.rows(); ++f) {
+        const Eigen::Vector3d e1 = p.V.row(p.F(f, 1)) - p.V.row(p.F(f, 0));
+        const Eigen::Vector3d e2 = p.V.row(p.F(f, 2)) - p.V.row(p.F(f, 0));
+        const double a = 0.5 * e1.cross(e2).norm();
+        const double err = std::max(std::abs(S(f, 0) - 1.0), std::abs(S(f, 1) - 1.0));
+        for (int k = 0; k < 3; ++k) {
+          num[static_cast<size_t>(p.F(f, k))] += a * err;
+          den[static_cast<size_t>(p.F(f, k))] += a;
+        }
+      }
+      std::string kind = "distortion";
+      int worst = 0;
+      double worst_err = -1.0;
+      // An overlap is a cut reason of its own only when the distortion is
+      // within the limit; a strongly distorted piece overlaps as a symptom.
+      const bool distorted = p.flat.stats.p95_error > options.p95_limit || p.flat.stats.max_error > options.max_limit ||
+                             p.flat.stats.flipped_triangles > 0;
+      if (!distorted && p.flat.boundary_overlaps && !p.flat.overlap_vertex_ids.empty()) {
+        kind = "overlap";
+        worst = p.flat.overlap_vertex_ids.front();
+        worst_err = den[static_cast<size_t>(worst)] > 0.0 ? num[static_cast<size_t>(worst)] / den[static_cast<size_t>(worst)] : 0.0;
+      } else {
+        for (int v = 0; v < nv; ++v) {
+          const double e = den[static_cast<size_t>(v)] > 0.0 ? num[static_cast<size_t>(v)] / den[static_cast<size_t>(v)] : 0.0;
+          if (e > worst_err) worst_err = e, worst = v;
+        }
+      }
+      const auto neighbors = vertex_neighbors(p.F, nv);
+      std::vector<double> depth, dist;
+      std::vector<int> parent_b, parent;
+      std::vector<int> path;
+      std::string how;
+      if (kind == "overlap") {
+        // The flat outline crosses itself: split the piece by the shortest
+        // path from the crossing to a boundary vertex that is far from it
+        // along the outline (more than three times the path's length), so
+        // that the two overlapping flaps end up in different pieces.
+        std::vector<double> arc(static_cast<size_t>(nv), 0.0);
+        double perimeter = 0.0;
+        for (size_t k = 0; k < p.boundary.size(); ++k) {
+          arc[static_cast<size_t>(p.boundary[k])] = perimeter;
+          perimeter += (p.V.row(p.boundary[k]) - p.V.row(p.boundary[(k + 1) % p.boundary.size()])).norm();
+        }
+        const double s0 = arc[static_cast<size_t>(worst)];
+        int reached = -1;
+        dijkstra(p.V, neighbors, {worst}, dist, parent, [&](int v) {
+          if (v == worst || !on_boundary[static_cast<size_t>(v)]) return false;
+          const double along = std::abs(arc[static_cast<size_t>(v)] - s0);
+          if (std::min(along, perimeter - along) > 3.0 * dist[static_cast<size_t>(v)]) {
+            reached = v;
+            return true;
+          }
+          return false;
+        });
+        if (reached >= 0) path = trace(parent, reached);
+        how = "split the piece along a shortest path from it to its opposite edge";
+      }
+      if (path.size() < 2 && !on_boundary[static_cast<size_t>(worst)]) {
+        int reached = -1;
+        dijkstra(p.V, neighbors, {worst}, dist, parent, [&](int v) {
+          if (on_boundary[static_cast<size_t>(v)]) {
+            reached = v;
+            return true;
+          }
+          return false;
+        });
+        if (reached >= 0) path = trace(parent, reached);
+        std::reverse(path.begin(), path.end());
+        how = "cut from the boundary to it along a shortest path";
+      } else if (path.size() < 2) {
+        dijkstra(p.V, neighbors, p.boundary, depth, parent_b);
+        dijkstra(p.V, neighbors, {worst}, dist, parent);
+        int tip = worst;
+        double best = 0.0;
+        for (int v = 0; v < nv; ++v) {
+          const double score = depth[static_cast<size_t>(v)] - options.tip_weight * dist[static_cast<size_t>(v)];
+          if (score > best) best = score, tip = v;
+        }
+        if (tip != worst) path = trace(parent, tip);
+        how = "dart from it into the piece, to the point farthest from the piece's edges";
+      }
+      if (path.size() < 2) {
+        stuck.insert(keys[c]);
+        continue;
+      }
+      PatternSeam seam;
+      seam.name = "cut" + std::to_string(added_distortion_cuts + 1);
+      seam.kind = kind;
+      for (int v : path) seam.vertex_ids.push_back(p.rest_vertex_ids[v]);
+      const std::string where = std::string(on_boundary[static_cast<size_t>(worst)] ? "boundary" : "inner") +
+                                " rest vertex " + std::to_string(p.rest_vertex_ids[worst]);
+      if (kind == "overlap")
+        seam.reason = "piece " + p.name + ": its flat outline overlaps itself at " + where + "; " + how;
+      else
+        seam.reason = "piece " + p.name + ": distortion p95 " + percent(p.flat.stats.p95_error) + ", max " +
+                      percent(p.flat.stats.max_error) + " exceeds the limit (" + percent(options.p95_limit) +
+                      ", " + percent(options.max_limit) + "); worst at " + where + " (" + percent(worst_err) +
+                      "): " + how + " (" + std::to_string(path_length(p.V, path)) + " m)";
+      pattern.seams.push_back(seam);
+      ++added_distortion_cuts;
+      added = true;
+    }
+    if (!added) break;
+  }
+  return pattern;
+}
+
+}  // namespace gp

@@ -1,0 +1,189 @@
+#include "pattern/export_report.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <set>
+
+#include "pattern/svg_writer.h"
+
+namespace gp {
+namespace {
+
+std::string g17(double x) {
+  char buf[40];
+  std::snprintf(buf, sizeof(buf), "%.17g", x);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<SeamMeasure> measure_seams(const Pattern& pattern, const Layout& layout, const SeamTolerance& tol) {
+  std::vector<SeamMeasure> m(pattern.seams.size());
+  std::vector<std::set<int>> left(pattern.seams.size()), right(pattern.seams.size());
+  for (const CutEdge& e : pattern.cut.edges) {
+    SeamMeasure& s = m[static_cast<size_t>(e.seam)];
+    s.length_3d += e.length;
+    for (int side = 0; side < 2; ++side) {
+      const int face = side == 0 ? e.left_face : e.right_face;
+      const int piece = pattern.piece_of_face[static_cast<size_t>(face)];
+      const auto& UV = layout.pieces[static_cast<size_t>(piece)].UV;
+      const int a = pattern.local_vertex[static_cast<size_t>(side == 0 ? e.left_a : e.right_a)];
+      const int b = pattern.local_vertex[static_cast<size_t>(side == 0 ? e.left_b : e.right_b)];
+      (side == 0 ? s.left_2d : s.right_2d) += (UV.row(a) - UV.row(b)).norm();
+      (side == 0 ? left : right)[static_cast<size_t>(e.seam)].insert(piece);
+    }
+  }
+  for (size_t i = 0; i < m.size(); ++i) {
+    m[i].mismatch = std::abs(m[i].left_2d - m[i].right_2d);
+    m[i].ok = m[i].mismatch <= std::max(tol.absolute, tol.relative * m[i].length_3d);
+    for (int p : left[i]) m[i].left_pieces.push_back(pattern.pieces[static_cast<size_t>(p)].name);
+    for (int p : right[i]) m[i].right_pieces.push_back(pattern.pieces[static_cast<size_t>(p)].name);
+  }
+  return m;
+}
+
+Mesh flat_pieces_mesh(const Pattern& pattern, const Layout& layout) {
+  int nv = 0, nf = 0;
+  for (const auto& p : pattern.pieces) nv += static_cast<int>(p.V.rows()), nf += static_cast<int>(p.F.rows());
+  Mesh mesh;
+  mesh.V.setZero(nv, 3);
+  mesh.F.resize(nf, 3);
+  Eigen::VectorXd piece_field(nf), rest_field(nv);
+  int vo = 0, fo = 0;
+  for (size_t i = 0; i < pattern.pieces.size(); ++i) {
+    const PatternPiece& p = pattern.pieces[i];
+    const auto& UV = layout.pieces[i].UV;
+    for (int v = 0; v < p.V.rows(); ++v) {
+      mesh.V(vo + v, 0) = UV(v, 0);
+      mesh.V(vo + v, 1) = UV(v, 1);
+      rest_field[vo + v] = p.rest_vertex_ids[v];
+    }
+    for (int f = 0; f < p.F.rows(); ++f) {
+      mesh.F.row(fo + f) = p.F.row(f).array() + vo;
+      piece_field[fo + f] = static_cast<double>(i);
+    }
+    vo += static_cast<int>(p.V.rows());
+    fo += static_cast<int>(p.F.rows());
+  }
+  mesh.face_fields.push_back({"piece", piece_field});
+  mesh.vertex_fields.push_back({"rest_vertex", rest_field});
+  return mesh;
+}
+
+void write_pieces_obj(std::ostream& out, const Pattern& pattern, const Layout& layout) {
+  out << "# export-rest: pattern pieces in 3D (metres), texture coordinates = flat sheet positions (metres)\n";
+  int vo = 1;
+  for (size_t i = 0; i < pattern.pieces.size(); ++i) {
+    const PatternPiece& p = pattern.pieces[i];
+    const auto& UV = layout.pieces[i].UV;
+    out << "o " << p.name << "\n";
+    for (int v = 0; v < p.V.rows(); ++v)
+      out << "v " << g17(p.V(v, 0)) << " " << g17(p.V(v, 1)) << " " << g17(p.V(v, 2)) << "\n";
+    for (int v = 0; v < p.V.rows(); ++v) out << "vt " << g17(UV(v, 0)) << " " << g17(UV(v, 1)) << "\n";
+    for (int f = 0; f < p.F.rows(); ++f) {
+      out << "f";
+      for (int k = 0; k < 3; ++k) out << " " << p.F(f, k) + vo << "/" << p.F(f, k) + vo;
+      out << "\n";
+    }
+    vo += static_cast<int>(p.V.rows());
+  }
+}
+
+OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const PatternOptions& options,
+                           const SeamTolerance& tol) {
+  OrderedJson j;
+  const std::vector<SeamMeasure> seams = measure_seams(pattern, layout, tol);
+  double area_3d = 0.0, area_2d = 0.0, worst_p95 = 0.0, worst_max = 0.0, seam_length = 0.0, added_length = 0.0;
+  int flipped = 0, overlapping = 0, seams_ok = 0;
+  for (const auto& p : pattern.pieces) {
+    area_3d += p.flat.stats.area_3d;
+    area_2d += p.flat.stats.area_2d;
+    worst_p95 = std::max(worst_p95, p.flat.stats.p95_error);
+    worst_max = std::max(worst_max, p.flat.stats.max_error);
+    flipped += p.flat.stats.flipped_triangles;
+    overlapping += p.flat.boundary_overlaps ? 1 : 0;
+  }
+  for (size_t i = 0; i < seams.size(); ++i) {
+    seam_length += seams[i].length_3d;
+    if (pattern.seams[i].kind != "user") added_length += seams[i].length_3d;
+    seams_ok += seams[i].ok ? 1 : 0;
+  }
+  j["summary"] = {{"pieces", pattern.pieces.size()},
+                  {"seams", pattern.seams.size()},
+                  {"added_cuts", std::count_if(pattern.seams.begin(), pattern.seams.end(),
+                                               [](const PatternSeam& s) { return s.kind != "user"; })},
+                  {"total_seam_length", seam_length},
+                  {"added_seam_length", added_length},
+                  {"area_3d", area_3d},
+                  {"area_2d", area_2d},
+                  {"worst_p95_error", worst_p95},
+                  {"worst_max_error", worst_max},
+                  {"meets_distortion_limit", pattern.meets_limit},
+                  {"flipped_triangles", flipped},
+                  {"overlapping_pieces", overlapping},
+                  {"seams_within_tolerance", seams_ok == static_cast<int>(seams.size())},
+                  {"flatten_rounds", pattern.rounds},
+                  {"flattenings", pattern.flattenings},
+                  {"sheet_width", layout.width},
+                  {"sheet_height", layout.height}};
+  OrderedJson pieces = OrderedJson::array();
+  for (size_t i = 0; i < pattern.pieces.size(); ++i) {
+    const PatternPiece& p = pattern.pieces[i];
+    const DistortionStats& s = p.flat.stats;
+    const LaidOutPiece& lp = layout.pieces[i];
+    pieces.push_back({{"name", p.name},
+                      {"vertices", p.V.rows()},
+                      {"faces", p.F.rows()},
+                      {"area_3d", s.area_3d},
+                      {"area_2d", s.area_2d},
+                      {"outline_length", polygon_perimeter(lp.outline)},
+                      {"cutting_line_length", lp.allowance.empty() ? 0.0 : polygon_perimeter(lp.allowance.front())},
+                      {"distortion",
+                       {{"p95_error", s.p95_error},
+                        {"max_error", s.max_error},
+                        {"mean_error", s.mean_error},
+                        {"p95_stretch", s.p95_stretch},
+                        {"max_stretch", s.max_stretch},
+                        {"p95_compression", s.p95_compression},
+                        {"max_compression", s.max_compression}}},
+                      {"meets_limit", p.meets_limit},
+                      {"flipped_triangles", s.flipped_triangles},
+                      {"boundary_overlaps", p.flat.boundary_overlaps},
+                      {"initialization", p.flat.initialization},
+                      {"arap_iterations", p.flat.iterations},
+                      {"rotation_rad", lp.rotation},
+                      {"grain", lp.grain_from_body_vertical ? "body vertical" : "longest axis"}});
+  }
+  j["pieces"] = pieces;
+  OrderedJson seam_list = OrderedJson::array();
+  for (size_t i = 0; i < seams.size(); ++i) {
+    const SeamMeasure& m = seams[i];
+    const PatternSeam& s = pattern.seams[i];
+    int notches = 0;
+    for (const auto& n : layout.notches)
+      if (n.seam == static_cast<int>(i)) ++notches;
+    seam_list.push_back({{"name", s.name},
+                         {"kind", s.kind},
+                         {"length_3d", m.length_3d},
+                         {"left", {{"pieces", m.left_pieces}, {"length_2d", m.left_2d}}},
+                         {"right", {{"pieces", m.right_pieces}, {"length_2d", m.right_2d}}},
+                         {"mismatch", m.mismatch},
+                         {"mismatch_relative", m.length_3d > 0.0 ? m.mismatch / m.length_3d : 0.0},
+                         {"within_tolerance", m.ok},
+                         {"notches", notches},
+                         {"vertex_ids", s.vertex_ids}});
+  }
+  j["seams"] = seam_list;
+  OrderedJson added = OrderedJson::array();
+  for (size_t i = 0; i < pattern.seams.size(); ++i)
+    if (pattern.seams[i].kind != "user")
+      added.push_back({{"name", pattern.seams[i].name},
+                       {"kind", pattern.seams[i].kind},
+                       {"length_3d", seams[i].length_3d},
+                       {"reason", pattern.seams[i].reason}});
+  j["added_cuts"] = added;
+  j["summary"]["limit"] = {{"p95_error", options.p95_limit}, {"max_error", options.max_limit}};
+  return j;
+}
+
+}  // namespace gp

@@ -1,0 +1,43 @@
+#pragma once
+// What export-rest writes besides the sheets: the pieces as meshes and the
+// report's figures (schema "export-rest-report/1", assembled by the tool).
+#include <filesystem>
+#include <ostream>
+
+#include "io/mesh.h"
+#include "pattern/auto_cut.h"
+#include "pattern/layout.h"
+#include "spec/json_file.h"
+
+namespace gp {
+
+// Seam mismatch tolerance: the two sides' flat lengths may differ by at most
+// max(2 mm, 0.5 % of the seam's length).
+struct SeamTolerance {
+  double absolute = 0.002;   // metres
+  double relative = 0.005;   // fraction of the 3D length
+};
+
+struct SeamMeasure {
+  double length_3d = 0.0;                   // metres, cut edges of the seam
+  double left_2d = 0.0, right_2d = 0.0;     // flat lengths of its two sides, metres
+  double mismatch = 0.0;                    // |left_2d - right_2d|, metres
+  bool ok = true;
+  std::vector<std::string> left_pieces, right_pieces;
+};
+std::vector<SeamMeasure> measure_seams(const Pattern& pattern, const Layout& layout, const SeamTolerance& tol);
+
+// All pieces as one 2D mesh in sheet coordinates (z = 0, metres), one
+// connected component per piece, with a face field "piece" (index) and a
+// vertex field "rest_vertex" (vertex of the rest shape).
+Mesh flat_pieces_mesh(const Pattern& pattern, const Layout& layout);
+
+// All pieces in 3D (rest positions, cut along the seams) with texture
+// coordinates = sheet positions in metres, one OBJ group per piece.
+void write_pieces_obj(std::ostream& out, const Pattern& pattern, const Layout& layout);
+
+// The report body: pieces, seams, added cuts, totals (without options and timing).
+OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const PatternOptions& options,
+                           const SeamTolerance& tol);
+
+}  // namespace gp

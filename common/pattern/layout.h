@@ -1,0 +1,68 @@
+#pragma once
+// Layout of the flat pieces on one sheet: each piece turned so that its
+// grain line (the body's vertical, +y of the rest shape, as seen on the flat
+// piece) points up the sheet, then packed in shelves without overlap; and
+// everything a pattern sheet carries besides the outlines: seam allowance,
+// notches (every `notch_spacing` along each seam and at its ends, at the same
+// material points on both sides), labels.
+//
+// All coordinates in metres, sheet frame: x to the right, y up, origin at the
+// lower left corner of the sheet. Pieces are seen from the outside (the right
+// side of the fabric) and keep their orientation (rotations only).
+#include <string>
+#include <vector>
+#include <Eigen/Core>
+
+#include "pattern/auto_cut.h"
+#include "pattern/seam_allowance.h"
+
+namespace gp {
+
+struct LayoutOptions {
+  double seam_allowance = 0.01;  // metres; 0 for none
+  double gap = 0.01;             // metres between the cutting lines of neighbouring pieces
+  double sheet_width = 1.5;      // metres: width of the fabric / paper roll
+  double margin = 0.01;          // metres around the layout
+  double notch_spacing = 0.1;    // metres along a seam
+  double notch_length = 0.006;   // metres, into the seam allowance
+  double simplify_tolerance = 1e-4;  // metres, outline simplification before offsetting
+};
+
+struct Notch {
+  int seam = -1;
+  int piece = -1;
+  Eigen::Vector2d at = Eigen::Vector2d::Zero();       // on the sewing line
+  Eigen::Vector2d outward = Eigen::Vector2d::Zero();  // unit, away from the piece
+  Eigen::Vector2d tip = Eigen::Vector2d::Zero();      // at + notch_length * outward
+  double arc = 0.0;  // 3D arc length along the seam, metres
+  int side = 0;      // 0: left of the seam's direction, 1: right
+};
+
+struct SeamLabel {
+  int seam = -1;
+  int piece = -1;
+  int side = 0;
+  Eigen::Vector2d at = Eigen::Vector2d::Zero();  // inside the piece, near the middle of its side
+};
+
+struct LaidOutPiece {
+  Eigen::MatrixXd UV;             // #Vp by 2, sheet positions (metres)
+  Polygon2 outline;               // sewing line, counter-clockwise (the piece's boundary loop)
+  std::vector<Polygon2> allowance;  // cutting line(s), empty when seam_allowance is 0
+  double rotation = 0.0;          // radians applied to the flattening
+  Eigen::Vector2d label_at = Eigen::Vector2d::Zero();
+  double label_room = 0.0;        // radius of a disc inside the piece around label_at
+  Eigen::Vector2d grain_from = Eigen::Vector2d::Zero(), grain_to = Eigen::Vector2d::Zero();
+  bool grain_from_body_vertical = true;  // false: the piece is horizontal, grain along its longest axis
+};
+
+struct Layout {
+  std::vector<LaidOutPiece> pieces;
+  std::vector<Notch> notches;
+  std::vector<SeamLabel> seam_labels;
+  double width = 0.0, height = 0.0;  // sheet size, metres
+};
+
+Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options);
+
+}  // namespace gp

@@ -1,0 +1,113 @@
+#include "pattern/seam_allowance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_2.h>
+#include <CGAL/create_offset_polygons_2.h>
+
+#include "core/error.h"
+
+namespace gp {
+
+double polygon_area(const Polygon2& polygon) {
+  double a = 0.0;
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const auto& p = polygon[i];
+    const auto& q = polygon[(i + 1) % polygon.size()];
+    a += p.x() * q.y() - q.x() * p.y();
+  }
+  return 0.5 * a;
+}
+
+double polygon_perimeter(const Polygon2& polygon) {
+  double s = 0.0;
+  for (size_t i = 0; i < polygon.size(); ++i) s += (polygon[(i + 1) % polygon.size()] - polygon[i]).norm();
+  return s;
+}
+
+Polygon2 simplify_polygon(const Polygon2& polygon, double tolerance) {
+  const size_t n = polygon.size();
+  if (n <= 3 || tolerance <= 0.0) return polygon;
+  // Split the closed polygon at vertex 0 and the vertex farthest from it,
+  // then simplify both chains (Douglas and Peucker 1973).
+  size_t far = 0;
+  for (size_t i = 1; i < n; ++i)
+    if ((polygon[i] - polygon[0]).squaredNorm() > (polygon[far] - polygon[0]).squaredNorm()) far = i;
+  std::vector<char> keep(n, 0);
+  keep[0] = keep[far] = 1;
+  auto segment_distance = [](const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    const Eigen::Vector2d ab = b - a;
+    const double l2 = ab.squaredNorm();
+    const double t = l2 > 0.0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+    return (a + t * ab - p).norm();
+  };
+  std::vector<std::pair<size_t, size_t>> stack{{0, far}, {far, n}};
+  while (!stack.empty()) {
+    const auto [i, j] = stack.back();
+    stack.pop_back();
+    if (j <= i + 1) continue;
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[j % n];
+    double best = -1.0;
+    size_t best_k = i;
+    for (size_t k = i + 1; k < j; ++k) {
+      const double d = segment_distance(polygon[k], a, b);
+      if (d > best) best = d, best_k = k;
+    }
+    if (best > tolerance) {
+      keep[best_k] = 1;
+      stack.push_back({i, best_k});
+      stack.push_back({best_k, j});
+    }
+  }
+  Polygon2 out;
+  for (size_t i = 0; i < n; ++i)
+    if (keep[i]) out.push_back(polygon[i]);
+  if (out.size() < 3) return polygon;
+  return out;
+}
+
+std::vector<Polygon2> offset_polygon(const Polygon2& polygon, double distance, double simplify_tolerance,
+                                     const std::string& what) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  auto to_cgal = [](const Polygon2& in) {
+    CGAL::Polygon_2<K> out;
+    for (const auto& p : in) out.push_back(K::Point_2(p.x(), p.y()));
+    return out;
+  };
+  // Simplification can make a narrow outline touch itself; then the outline
+  // is offset as it is.
+  CGAL::Polygon_2<K> poly = to_cgal(simplify_polygon(polygon, simplify_tolerance));
+  if (!poly.is_simple()) poly = to_cgal(polygon);
+  if (!poly.is_simple())
+    throw GeometryError("the outline of the piece is not a simple polygon, no seam allowance can be drawn", what);
+  if (poly.orientation() != CGAL::COUNTERCLOCKWISE) poly.reverse_orientation();
+  const auto offsets = CGAL::create_exterior_skeleton_and_offset_polygons_2(distance, poly, K());
+  // The exterior skeleton is built inside a bounding frame whose offset comes
+  // back as the largest polygon; the others are the offset outlines.
+  std::vector<Polygon2> result;
+  double frame_area = 0.0;
+  size_t frame = offsets.size();
+  for (size_t i = 0; i < offsets.size(); ++i) {
+    const double a = std::abs(CGAL::to_double(offsets[i]->area()));
+    if (frame == offsets.size() || a > frame_area) frame_area = a, frame = i;
+  }
+  for (size_t i = 0; i < offsets.size(); ++i) {
+    if (i == frame) continue;
+    Polygon2 out;
+    for (auto it = offsets[i]->vertices_begin(); it != offsets[i]->vertices_end(); ++it)
+      out.emplace_back(CGAL::to_double(it->x()), CGAL::to_double(it->y()));
+    if (polygon_area(out) < 0.0) std::reverse(out.begin(), out.end());
+    result.push_back(out);
+  }
+  if (result.empty()) throw GeometryError("the seam allowance of the piece could not be built", what);
+  // Largest first, so that result.front() is the piece's cutting line.
+  std::stable_sort(result.begin(), result.end(),
+                   [](const Polygon2& a, const Polygon2& b) { return polygon_area(a) > polygon_area(b); });
+  return result;
+}
+
+}  // namespace gp

@@ -1,0 +1,158 @@
+// export-rest: cuts the garment's rest shape along the user's seams (seam
+// spec, tool T6) and where the flattening would distort too much, flattens
+// the pieces and writes sewing patterns: pattern.svg (1:1, mm), pattern.dxf
+// (R12, mm), pieces.obj (3D + flat texture coordinates), pieces_flat.ply
+// (2D pieces), timing.json and report.json ("export-rest-report/1", last).
+#include <chrono>
+#include <filesystem>
+#include <map>
+
+#include "cli/tool.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/sha256.h"
+#include "garment/garment_file.h"
+#include "io/mesh_io.h"
+#include "pattern/auto_cut.h"
+#include "pattern/dxf_writer.h"
+#include "pattern/export_report.h"
+#include "pattern/layout.h"
+#include "pattern/seam_spec.h"
+#include "pattern/svg_writer.h"
+#include "spec/json_file.h"
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+int main(int argc, char** argv) {
+  gp::Tool tool("export-rest", "Cut the rest shape into flat sewing-pattern pieces (SVG, DXF, meshes)");
+  std::string mesh_path, garment_path, seams_path, body_path;
+  gp::PatternOptions pattern_options;
+  gp::LayoutOptions layout_options;
+  gp::SeamTolerance tolerance;
+  auto& app = tool.app();
+  app.add_option("rest", mesh_path, "Rest-shape mesh (PLY/OBJ, metres)")->required();
+  app.add_option("--garment", garment_path, "Garment file (garment.json, schema garment/1): name, boundary names, body binding");
+  app.add_option("--seams", seams_path, "Seam spec (JSON, schema seam-spec/1); none: only automatic cuts");
+  app.add_option("--body", body_path, "Body for seams given on the body (poses.json or mesh) [default: the garment file's body source]");
+  app.add_option("--p95-limit", pattern_options.p95_limit, "Principal-stretch error allowed on 95 % of the area [fraction]")
+      ->capture_default_str()->check(CLI::Range(1e-6, 1.0));
+  app.add_option("--max-limit", pattern_options.max_limit, "Principal-stretch error allowed everywhere [fraction]")
+      ->capture_default_str()->check(CLI::Range(1e-6, 1.0));
+  app.add_option("--max-cuts", pattern_options.max_added_cuts, "Most extra cuts added for distortion [count]")
+      ->capture_default_str()->check(CLI::Range(0, 100000));
+  app.add_option("--arap-iterations", pattern_options.flatten.max_iterations, "Most ARAP iterations per piece [count]")
+      ->capture_default_str()->check(CLI::Range(1, 1000000));
+  app.add_option("--seam-allowance", layout_options.seam_allowance, "Seam allowance around every piece [m]")
+      ->capture_default_str()->check(CLI::Range(0.0, 0.2));
+  app.add_option("--notch-spacing", layout_options.notch_spacing, "Distance between notches along a seam [m]")
+      ->capture_default_str()->check(CLI::Range(0.01, 10.0));
+  app.add_option("--sheet-width", layout_options.sheet_width, "Width of the sheet the pieces are laid out on [m]")
+      ->capture_default_str()->check(CLI::Range(0.1, 100.0));
+  tool.add_common_options();
+
+  return tool.run(argc, argv, [&] {
+    gp::set_thread_count(tool.common().threads);
+    const auto start = Clock::now();
+    gp::OrderedJson timing;
+    auto lap = [&, last = start](const char* phase) mutable {
+      const auto now = Clock::now();
+      timing[phase] = std::chrono::duration<double>(now - last).count();
+      last = now;
+    };
+    if (pattern_options.p95_limit > pattern_options.max_limit)
+      throw gp::UsageError("--p95-limit must not exceed --max-limit", "--p95-limit");
+
+    gp::MeshReadResult read = gp::read_mesh(mesh_path);
+    for (const auto& w : read.warnings) tool.log().warning(w);
+    const gp::Mesh& rest = read.mesh;
+    if (rest.F.rows() == 0) throw gp::GeometryError("the rest shape has no triangles", mesh_path);
+    if (!rest.V.allFinite()) throw gp::GeometryError("the rest shape has non-finite vertex coordinates", mesh_path);
+
+    gp::GarmentFile garment;
+    bool have_garment = !garment_path.empty();
+    std::string name = fs::path(mesh_path).stem().string();
+    std::map<int, std::string> boundary_names;
+    if (have_garment) {
+      garment = gp::read_garment_file(garment_path);
+      name = garment.name;
+      if (garment.vertex_count != rest.V.rows() || garment.face_count != rest.F.rows())
+        throw gp::GeometryError("the rest shape has " + std::to_string(rest.V.rows()) + " vertices and " +
+                                    std::to_string(rest.F.rows()) + " triangles, the garment file " +
+                                    std::to_string(garment.vertex_count) + " and " +
+                                    std::to_string(garment.face_count),
+                                mesh_path);
+      for (const auto& loop : garment.loops)
+        for (int v : loop.vertex_ids) boundary_names.emplace(v, loop.name);
+    }
+    std::vector<gp::SeamPath> seams;
+    gp::SeamSpec spec;
+    if (!seams_path.empty()) {
+      spec = gp::read_seam_spec(seams_path);
+      bool on_body = false;
+      for (const auto& s : spec.seams) on_body = on_body || s.on_body;
+      gp::DesignBody body;
+      if (on_body) {
+        if (!have_garment)
+          throw gp::UsageError("seams on the body need the garment file (--garment) for its binding", seams_path);
+        body = gp::load_design_body(garment, garment_path, body_path);
+      }
+      seams = gp::resolve_seams(rest.V, rest.F, spec, have_garment ? &garment : nullptr, on_body ? &body : nullptr);
+    }
+    lap("read");
+
+    const gp::Pattern pattern = gp::make_pattern(rest.V, rest.F, seams, pattern_options, boundary_names);
+    lap("cut_and_flatten");
+    const gp::Layout layout = gp::layout_pattern(pattern, layout_options);
+    lap("layout");
+    if (!pattern.meets_limit)
+      tool.log().warning("the distortion limit is not met after " + std::to_string(pattern_options.max_added_cuts) +
+                         " extra cuts (see report.json)");
+
+    gp::StagedOutputDir out(tool.common().out_dir, tool.common().force);
+    gp::write_file_atomic(out.file("pattern.svg"), [&](std::ostream& s) { gp::write_svg(s, pattern, layout, {name}); }, false);
+    gp::write_file_atomic(out.file("pattern.dxf"), [&](std::ostream& s) { gp::write_dxf(s, pattern, layout, name); }, false);
+    gp::write_file_atomic(out.file("pieces.obj"), [&](std::ostream& s) { gp::write_pieces_obj(s, pattern, layout); }, false);
+    gp::write_mesh(out.file("pieces_flat.ply"), gp::flat_pieces_mesh(pattern, layout));
+    lap("write");
+
+    gp::OrderedJson report;
+    report["schema"] = gp::schema_tag("export-rest-report", 1);
+    report["input"] = {{"rest", mesh_path},
+                       {"rest_sha256", gp::sha256_file_hex(mesh_path)},
+                       {"garment", garment_path},
+                       {"seams", seams_path},
+                       {"vertices", rest.V.rows()},
+                       {"faces", rest.F.rows()}};
+    report["options"] = {{"p95_limit", pattern_options.p95_limit},
+                         {"max_limit", pattern_options.max_limit},
+                         {"max_cuts", pattern_options.max_added_cuts},
+                         {"tip_weight", pattern_options.tip_weight},
+                         {"arap_iterations", pattern_options.flatten.max_iterations},
+                         {"arap_tolerance", pattern_options.flatten.tolerance},
+                         {"line_search_margin", pattern_options.flatten.line_search_margin},
+                         {"seam_allowance", layout_options.seam_allowance},
+                         {"notch_spacing", layout_options.notch_spacing},
+                         {"notch_length", layout_options.notch_length},
+                         {"sheet_width", layout_options.sheet_width},
+                         {"gap", layout_options.gap},
+                         {"margin", layout_options.margin},
+                         {"seam_mismatch_tolerance", {{"absolute", tolerance.absolute}, {"relative", tolerance.relative}}},
+                         {"threads", tool.common().threads},
+                         {"seam_spec", seams_path.empty() ? gp::OrderedJson() : gp::to_json(spec)}};
+    report["round_trip"] = {{"checked", false},
+                            {"why", "needs the simulation stage (simulate-adapt), which does not exist yet"}};
+    const gp::OrderedJson body = gp::pattern_report(pattern, layout, pattern_options, tolerance);
+    for (auto it = body.begin(); it != body.end(); ++it) report[it.key()] = it.value();
+    timing["total"] = std::chrono::duration<double>(Clock::now() - start).count();
+    gp::write_json_file(out.file("timing.json"), {{"schema", gp::schema_tag("timing", 1)}, {"seconds", timing}});
+    gp::write_json_file(out.file("report.json"), report);
+    out.commit();
+    const auto& sum = report["summary"];
+    tool.log().info("wrote " + tool.common().out_dir + ": " + std::to_string(pattern.pieces.size()) + " pieces, " +
+                    std::to_string(pattern.seams.size()) + " seams, worst p95 " +
+                    gp::format_fixed(100.0 * sum["worst_p95_error"].get<double>(), 2) + " %, max " +
+                    gp::format_fixed(100.0 * sum["worst_max_error"].get<double>(), 2) + " %");
+    return 0;
+  });
+}
