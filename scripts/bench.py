@@ -101,7 +101,63 @@ def bench_register_check(run, rows, notes):
                      f"self-intersections {t['self_intersections_s']:.3f} s (target < 2 s)"))
 
 
-BENCHES = [bench_register_check]
+def bench_interp_poses(run, rows, notes):
+    if not os.path.isdir(SHARED):
+        notes.append("interp-poses on the shared avatars: skipped (../shared/avatars not found)")
+        return
+    poses = [os.path.join(SHARED, f"slim_{p}.ply") for p in ("apose", "armsup")]
+    motion = os.path.join(ROOT, "testdata", "motions", "apose_armsup.json")
+    for method in ("nonlinear", "linear"):
+        med, lo, hi, out, mem = run.measure(
+            [run.tool("interp-poses"), *poses, "--motion", motion, "--method", method, "--keys-only",
+             "--threads", "1"], f"interp-{method}")
+        t = load_json(os.path.join(out, "timing.json"))
+        r = load_json(os.path.join(out, "report.json"))
+        summary = r["summary"]
+        detail = (f"factorization {t['factorization_ms']:.1f} ms, {t['ms_per_frame_mean']:.2f} ms/frame wall "
+                  f"({t['cpu_ms_per_frame_mean']:.2f} ms CPU; target < 15 ms), 61 frames; edge-length "
+                  f"excursion beyond the keys' range max {100 * summary['edge_excess_max']:.1f} %, volume "
+                  f"{100 * summary['volume_excess_max']:.2f} %")
+        if "linear_vs_nonlinear" in summary:
+            d = summary["linear_vs_nonlinear"]
+            detail += (f"; linear baseline against it: edge deviation max {100 * d['edge_deviation_max']:.0f} % "
+                       f"/ mean {100 * d['edge_deviation_mean']:.1f} %, volume {100 * d['volume_error']:.1f} %, "
+                       f"vertex distance {d['vertex_distance_max_m']:.3f} m")
+        rows.append(("interp-poses", f"shared body A-pose -> arms up, 60 steps, {method}", 1, med, lo, hi, mem,
+                     detail))
+
+
+def bench_make_garment(run, rows, notes):
+    if not os.path.isdir(SHARED):
+        notes.append("make-garment on the shared avatars: skipped (../shared/avatars not found)")
+        return
+    rc = os.path.join(run.work, "poses")
+    subprocess.run([run.tool("register-check"), SHARED, "--reference", "slim_apose", "--out", rc, "--force",
+                    "--quiet", "--no-self-intersections"], check=True)
+    for name in ("shirt", "dress"):
+        spec = os.path.join(ROOT, "pipelines", "specs", f"{name}.json")
+        med, lo, hi, out, mem = run.measure(
+            [run.tool("make-garment"), spec, "--poses", os.path.join(rc, "poses.json")], f"garment-{name}")
+        r = load_json(os.path.join(out, "report.json"))
+        q = r["quality"]
+        t = load_json(os.path.join(out, "timing.json"))
+        phases = ", ".join(f"{k[:-2]} {v:.2f} s" for k, v in t.items() if k.endswith("_s") and k != "total_s")
+        g = load_json(os.path.join(out, "garment.json"))
+        rows.append(("make-garment", f"{name} on the shared body, {g['mesh']['vertex_count']} garment vertices", 1,
+                     med, lo, hi, mem,
+                     f"{phases}; min angle > 20 deg for {100 * q['fraction_min_angle_over_20_deg']:.1f} % of "
+                     f"triangles, edges within 30 % for {100 * q['fraction_edges_within_30_percent']:.1f} %, "
+                     f"offset error max {1000 * q['offset_max_error']:.2f} mm (target < 3 s)"))
+        if name == "dress":
+            ext = os.path.join(ROOT, "pipelines", "specs", "dress-extend.json")
+            med, lo, hi, eout, mem = run.measure(
+                [run.tool("extend-boundary"), os.path.join(out, "garment.json"), ext], "extend-dress")
+            e = load_json(os.path.join(eout, "report.json"))["extension"]
+            rows.append(("extend-boundary", "dress waist -> skirt hem on the shared body", 1, med, lo, hi, mem,
+                         f"hem girth {e['new_girth']:.3f} m"))
+
+
+BENCHES = [bench_register_check, bench_interp_poses, bench_make_garment]
 
 
 def main():
