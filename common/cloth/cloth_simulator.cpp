@@ -68,6 +68,10 @@ struct ClothSimulator::Impl {
   bool factor_valid = false;
   bool refresh_needed = true;
   long iterations_since_factor = 0;  // CG iterations since the last factorization
+  std::vector<Eigen::Matrix3d> frames_at_factor, warp;  // per vertex / per free vertex
+  bool warp_active = false;
+  Eigen::VectorXi neighbour_ids;  // a fixed neighbour per vertex (-1 if isolated)
+  int neighbour(int v) const { return neighbour_ids(v); }
   long steps_since_factor = 0;
 
   CollisionHandler collision_handler;
@@ -144,6 +148,10 @@ struct ClothSimulator::Impl {
           }
         }
       }
+    }
+    neighbour_ids = Eigen::VectorXi::Constant(X.rows(), -1);
+    for (int f = F.rows() - 1; f >= 0; --f) {
+      for (int k = 0; k < 3; ++k) neighbour_ids(F(f, k)) = F(f, (k + 1) % 3);
     }
     mass_positions.resize(n);
     for (int i = 0; i < n; ++i) mass_positions[i] = value_position(i, i);
@@ -259,9 +267,40 @@ struct ClothSimulator::Impl {
     return energy;
   }
 
+  // Per-vertex orthonormal frames [t, n x t, n] of positions Xc: n the (area
+  // weighted) vertex normal, t the direction to a fixed neighbour projected into
+  // the tangent plane. Used to rotate a stale factor along with the cloth.
+  void vertex_frames(const Eigen::MatrixXd& Xc, std::vector<Eigen::Matrix3d>& frames) const {
+    Eigen::MatrixXd N = Eigen::MatrixXd::Zero(Xc.rows(), 3);
+    for (int f = 0; f < F.rows(); ++f) {
+      const Eigen::RowVector3d a = Xc.row(F(f, 0)), b = Xc.row(F(f, 1)), c = Xc.row(F(f, 2));
+      const Eigen::RowVector3d n = (b - a).cross(c - a);
+      for (int k = 0; k < 3; ++k) N.row(F(f, k)) += n;
+    }
+    frames.resize(Xc.rows());
+    for (int v = 0; v < Xc.rows(); ++v) {
+      Eigen::Matrix3d B = Eigen::Matrix3d::Identity();
+      const double ln = N.row(v).norm();
+      if (ln > 0.0 && neighbour(v) >= 0) {
+        const Eigen::Vector3d n = N.row(v).transpose() / ln;
+        Eigen::Vector3d t = (Xc.row(neighbour(v)) - Xc.row(v)).transpose();
+        t -= t.dot(n) * n;
+        const double lt = t.norm();
+        if (lt > 0.0) {
+          t /= lt;
+          B.col(0) = t;
+          B.col(1) = n.cross(t);
+          B.col(2) = n;
+        }
+      }
+      frames[v] = B;
+    }
+  }
+
   void factorize() {
     const auto t0 = Clock::now();
     solver.factorize(A);
+    if (options.warp_preconditioner) vertex_frames(X, frames_at_factor);
     times.factorization += seconds_since(t0);
     ++counters.factorizations;
     factor_valid = true;
@@ -272,8 +311,32 @@ struct ClothSimulator::Impl {
 
   void apply_factor(const Eigen::VectorXd& in, Eigen::VectorXd& out) {
     rhs_buffer = in;
+    if (warp_active) {
+      // P^-1 = Q A_old^-1 Q^T with Q = blockdiag(R_i): under a rigid rotation of
+      // the cloth the system matrix transforms exactly like this (every term is
+      // rotation invariant and the mass isotropic), so the stale factor follows
+      // the cloth's local rotations instead of going stale with them.
+      for (int i = 0; i < n_free; ++i) rhs_buffer.block<3, 1>(3 * i, 0) = warp[i].transpose() * in.segment<3>(3 * i);
+      solver.solve(rhs_buffer, sol_buffer);
+      out.resize(in.size());
+      for (int i = 0; i < n_free; ++i) out.segment<3>(3 * i) = warp[i] * sol_buffer.block<3, 1>(3 * i, 0);
+      return;
+    }
     solver.solve(rhs_buffer, sol_buffer);
     out = sol_buffer.col(0);
+  }
+
+  // Rotations R_i = B_now B_at_factor^T of the free vertices' frames.
+  void update_warp() {
+    warp_active = false;
+    if (!options.warp_preconditioner || steps_since_factor == 0 || frames_at_factor.empty()) return;
+    std::vector<Eigen::Matrix3d> now;
+    vertex_frames(X, now);
+    warp.resize(n_free);
+    for (int v = 0; v < X.rows(); ++v) {
+      if (free_id(v) >= 0) warp[free_id(v)] = now[v] * frames_at_factor[v].transpose();
+    }
+    warp_active = true;
   }
 
   // Preconditioned conjugate gradients on A sol = b from the current sol.
@@ -338,11 +401,13 @@ struct ClothSimulator::Impl {
         auto by_factor = [this](const Eigen::VectorXd& in, Eigen::VectorXd& out) { apply_factor(in, out); };
         if (!factor_valid || refresh_needed) factorize();
         auto t0 = Clock::now();
+        update_warp();
         iterations = pcg(by_factor, converged);
         times.solve += seconds_since(t0);
         if (!converged) {
           // A stale preconditioner: refresh it and solve directly.
           factorize();
+          warp_active = false;
           t0 = Clock::now();
           apply_factor(b, sol);
           counters.last_residual = relative_residual();

@@ -17,6 +17,10 @@
 //    when a step's iterations exceed the average cost per step since the last
 //    factorization (which counts as `factorization_cost` iterations). The
 //    constant part of the matrix (mass, bending) is assembled once per step size.
+//    With `warp_preconditioner`, the stale factor A_old is applied as
+//    Q A_old^-1 Q^T, Q the per-vertex rotations of the cloth since the
+//    factorization (exact for rigid rotations, which otherwise make a factor of
+//    this strongly anisotropic system go stale fastest).
 //  - refactor_every_step: fresh numeric factorization and a direct solve every step.
 //  - pcg_jacobi: conjugate gradients with a diagonal preconditioner (baseline).
 //
@@ -49,6 +53,7 @@ struct SimulatorOptions {
   double cg_tolerance = 1e-8;            // relative residual |b - A v'| / |b|
   int cg_max_iterations = 200;           // then the step falls back to a fresh factor
   double factorization_cost = 20.0;      // cost of one factorization in PCG iterations (refresh rule)
+  bool warp_preconditioner = true;       // rotate the reused factor with the cloth's local frames
   int max_step_halvings = 4;             // retry depth on a rejected step
   double max_speed = 20.0;               // m/s; faster vertices reject the step
   double energy_growth_limit = 10.0;     // rejects a step whose energy grows more than this
