@@ -242,6 +242,7 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
       // Vertex error: area-weighted mean of its triangles' errors.
       const Eigen::MatrixXd S = principal_stretches(p.V, p.F, p.flat.UV);
       std::vector<double> num(static_cast<size_t>(nv), 0.0), den(static_cast<size_t>(nv), 0.0);
+      std::vector<double> stretch(static_cast<size_t>(nv), 0.0), squeeze(static_cast<size_t>(nv), 0.0);
       for (int f = 0; f < p.F.rows(); ++f) {
         const Eigen::Vector3d e1 = p.V.row(p.F(f, 1)) - p.V.row(p.F(f, 0));
         const Eigen::Vector3d e2 = p.V.row(p.F(f, 2)) - p.V.row(p.F(f, 0));
@@ -249,6 +250,8 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
         const double err = std::max(std::abs(S(f, 0) - 1.0), std::abs(S(f, 1) - 1.0));
         for (int k = 0; k < 3; ++k) {
           num[static_cast<size_t>(p.F(f, k))] += a * err;
+          stretch[static_cast<size_t>(p.F(f, k))] += a * std::max(0.0, S(f, 0) - 1.0);
+          squeeze[static_cast<size_t>(p.F(f, k))] += a * std::max(0.0, 1.0 - S(f, 1));
           den[static_cast<size_t>(p.F(f, k))] += a;
         }
       }
@@ -274,11 +277,15 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
       std::vector<int> parent_b, parent;
       std::vector<int> path;
       std::string how;
-      if (kind == "overlap") {
-        // The flat outline crosses itself: split the piece by the shortest
-        // path from the crossing to a boundary vertex that is far from it
-        // along the outline (more than three times the path's length), so
-        // that the two overlapping flaps end up in different pieces.
+      // Where the flat boundary is compressed (too much cloth: negative
+      // curvature, or an outline that overlaps) a dart cannot help, its sides
+      // would have to overlap; the piece is split instead, by the shortest
+      // path from the vertex to a boundary vertex that is far from it along
+      // the outline (more than three times the path's length), so that the
+      // two parts can turn apart.
+      const bool split = kind == "overlap" || (on_boundary[static_cast<size_t>(worst)] &&
+                                               squeeze[static_cast<size_t>(worst)] > stretch[static_cast<size_t>(worst)]);
+      if (split) {
         std::vector<double> arc(static_cast<size_t>(nv), 0.0);
         double perimeter = 0.0;
         for (size_t k = 0; k < p.boundary.size(); ++k) {
@@ -297,7 +304,9 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
           return false;
         });
         if (reached >= 0) path = trace(parent, reached);
-        how = "split the piece along a shortest path from it to its opposite edge";
+        how = kind == "overlap" ? "split the piece along a shortest path from it to its opposite edge"
+                                : "the outline is compressed there: split the piece along a shortest path from it "
+                                  "to its opposite edge";
       }
       if (path.size() < 2 && !on_boundary[static_cast<size_t>(worst)]) {
         int reached = -1;

@@ -32,7 +32,7 @@ struct PatternOptions {
   // max_limit everywhere (fractions: 0.02 = 2 %).
   double p95_limit = 0.02;
   double max_limit = 0.05;
-  int max_added_cuts = 60;   // stop adding distortion cuts after this many
+  int max_added_cuts = 200;  // stop adding distortion cuts after this many
   double tip_weight = 0.5;   // weight of the distance from the worst vertex when placing a dart's tip
   FlattenOptions flatten;
 };

@@ -392,8 +392,40 @@ FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     lscm_solved = false;
   }
 
+  // Boundary edges (i -> j, 3D length l, weight w): the term
+  // w |u_i - u_j - l d|^2 with d the current unit direction of the flat edge
+  // joins ARAP's local step (d) and global step (a constant matrix), like the
+  // edge springs of a local/global solver (Liu et al. 2008; Bouaziz et al.
+  // 2014, projective dynamics).
+  struct BoundaryEdge {
+    int i, j;
+    double length, weight;
+  };
+  std::vector<BoundaryEdge> edges;
+  if (options.boundary_weight > 0.0) {
+    const Eigen::MatrixXi TT = triangle_adjacency(F);
+    for (int f = 0; f < F.rows(); ++f)
+      for (int k = 0; k < 3; ++k)
+        if (TT(f, k) < 0 && !T[static_cast<size_t>(f)].degenerate) {
+          const int i = F(f, k), j = F(f, (k + 1) % 3);
+          const double l = (V.row(i) - V.row(j)).norm();
+          if (l > 0.0) edges.push_back({i, j, l, options.boundary_weight * T[static_cast<size_t>(f)].area / (l * l)});
+        }
+  }
   // ARAP: one pinned vertex removes the translation; L is factorized once.
-  const Eigen::SparseMatrix<double> L = dirichlet_matrix(T, F, n);
+  Eigen::SparseMatrix<double> L = dirichlet_matrix(T, F, n);
+  if (!edges.empty()) {
+    std::vector<Triplet> extra;
+    for (const auto& e : edges) {
+      extra.emplace_back(e.i, e.i, e.weight);
+      extra.emplace_back(e.j, e.j, e.weight);
+      extra.emplace_back(e.i, e.j, -e.weight);
+      extra.emplace_back(e.j, e.i, -e.weight);
+    }
+    Eigen::SparseMatrix<double> E(n, n);
+    E.setFromTriplets(extra.begin(), extra.end());
+    L += E;
+  }
   const int pin = loop.front();
   std::vector<int> free_index(static_cast<size_t>(n), -1);
   int m = 0;
@@ -424,6 +456,16 @@ FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
       if (rhs) {
         const Eigen::Matrix<double, 3, 2> b = t.area * t.D.transpose() * R.transpose();
         for (int k = 0; k < 3; ++k) rhs->row(F(f, k)) += b.row(k);
+      }
+    }
+    for (const auto& e : edges) {
+      const Eigen::RowVector2d x = UV.row(e.i) - UV.row(e.j);
+      const double len = x.norm();
+      const Eigen::RowVector2d target = len > 0.0 ? Eigen::RowVector2d(e.length * x / len) : Eigen::RowVector2d(e.length, 0.0);
+      energy += e.weight * (x - target).squaredNorm();
+      if (rhs) {
+        rhs->row(e.i) += e.weight * target;
+        rhs->row(e.j) -= e.weight * target;
       }
     }
     return energy;

@@ -21,6 +21,10 @@ struct FlattenOptions {
   int max_iterations = 500;          // ARAP local/global iterations
   double tolerance = 1e-6;           // stop when the relative energy decrease is below this
   double line_search_margin = 0.9;   // fraction of the largest flip-free step taken
+  // Weight of keeping boundary edges at their 3D length, relative to the ARAP
+  // energy of the triangle beside them (dimensionless). Seams are sewn edge to
+  // edge, so the two sides of a seam must keep their length; 0 is plain ARAP.
+  double boundary_weight = 10.0;
 };
 
 // Distortion statistics of a flattening. All area-weighted over 3D area.
@@ -50,7 +54,7 @@ struct FlattenResult {
   Eigen::MatrixXd UV;          // #V by 2, metres, counter-clockwise where F is
   std::string initialization;  // "lscm", or "lscm, injective" / "tutte, injective" when plain ARAP flipped triangles
   int iterations = 0;
-  double energy = 0.0;         // ARAP energy sum_t A_t |J_t - R_t|^2 (m^2)
+  double energy = 0.0;         // ARAP energy sum_t A_t |J_t - R_t|^2 plus the boundary-length term (m^2)
   DistortionStats stats;
   bool boundary_overlaps = false;                 // the flat boundary crosses itself
   std::vector<int> overlap_vertex_ids;            // boundary vertices at a crossing

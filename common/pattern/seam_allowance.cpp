@@ -70,6 +70,63 @@ Polygon2 simplify_polygon(const Polygon2& polygon, double tolerance) {
   return out;
 }
 
+namespace {
+
+// First pair of non-adjacent segments (i, i+1) and (j, j+1), i < j, that
+// cross or touch, and the crossing point; false if the polygon is simple.
+bool first_crossing(const Polygon2& P, size_t& si, size_t& sj, Eigen::Vector2d& x) {
+  const size_t n = P.size();
+  auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); };
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 2; j < n; ++j) {
+      if (i == 0 && j == n - 1) continue;
+      const Eigen::Vector2d a = P[i], b = P[(i + 1) % n], c = P[j], d = P[(j + 1) % n];
+      const Eigen::Vector2d r = b - a, q = d - c;
+      const double den = cross(r, q);
+      if (std::abs(den) <= 1e-300) {
+        // Parallel: touching only if collinear and overlapping.
+        if (std::abs(cross(c - a, r)) > 1e-18) continue;
+        const double rr = r.squaredNorm();
+        if (rr <= 0.0) continue;
+        const double t0 = (c - a).dot(r) / rr, t1 = (d - a).dot(r) / rr;
+        if (std::max(t0, t1) < 0.0 || std::min(t0, t1) > 1.0) continue;
+        x = a + std::clamp(std::max(std::min(t0, t1), 0.0), 0.0, 1.0) * r;
+      } else {
+        const double t = cross(c - a, q) / den, u = cross(c - a, r) / den;
+        if (t < 0.0 || t > 1.0 || u < 0.0 || u > 1.0) continue;
+        x = a + t * r;
+      }
+      si = i;
+      sj = j;
+      return true;
+    }
+  return false;
+}
+
+// Cuts off the loops of a self-crossing outline (each time the part with
+// less area goes), which removes dart sides that cross or touch.
+Polygon2 remove_loops(Polygon2 P) {
+  size_t i = 0, j = 0;
+  Eigen::Vector2d x;
+  for (int guard = 0; guard < 1000 && P.size() > 3 && first_crossing(P, i, j, x); ++guard) {
+    Polygon2 inner{x}, outer;
+    for (size_t k = i + 1; k <= j; ++k) inner.push_back(P[k]);
+    for (size_t k = 0; k <= i; ++k) outer.push_back(P[k]);
+    outer.push_back(x);
+    for (size_t k = j + 1; k < P.size(); ++k) outer.push_back(P[k]);
+    P = std::abs(polygon_area(inner)) > std::abs(polygon_area(outer)) ? inner : outer;
+    // Drop repeated points left by the cut.
+    Polygon2 clean;
+    for (const auto& p : P)
+      if (clean.empty() || (p - clean.back()).norm() > 1e-12) clean.push_back(p);
+    while (clean.size() > 1 && (clean.front() - clean.back()).norm() <= 1e-12) clean.pop_back();
+    P = clean;
+  }
+  return P;
+}
+
+}  // namespace
+
 std::vector<Polygon2> offset_polygon(const Polygon2& polygon, double distance, double simplify_tolerance,
                                      const std::string& what) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
@@ -82,6 +139,7 @@ std::vector<Polygon2> offset_polygon(const Polygon2& polygon, double distance, d
   // is offset as it is.
   CGAL::Polygon_2<K> poly = to_cgal(simplify_polygon(polygon, simplify_tolerance));
   if (!poly.is_simple()) poly = to_cgal(polygon);
+  if (!poly.is_simple()) poly = to_cgal(simplify_polygon(remove_loops(polygon), simplify_tolerance));
   if (!poly.is_simple())
     throw GeometryError("the outline of the piece is not a simple polygon, no seam allowance can be drawn", what);
   if (poly.orientation() != CGAL::COUNTERCLOCKWISE) poly.reverse_orientation();

@@ -15,7 +15,9 @@ Polygon2 simplify_polygon(const Polygon2& polygon, double tolerance);
 
 // The outward offset of a simple counter-clockwise polygon by `distance`
 // (metres, > 0), simplified first by `simplify_tolerance`. Returns the offset
-// outline(s), counter-clockwise. Throws GeometryError naming `what` if the
+// outline(s), counter-clockwise. An outline that touches or crosses itself
+// (dart sides that meet) is offset without its loops (each crossing cuts off
+// the part with less area). Throws GeometryError naming `what` if the
 // skeleton cannot be built.
 std::vector<Polygon2> offset_polygon(const Polygon2& polygon, double distance, double simplify_tolerance,
                                      const std::string& what);

@@ -43,6 +43,9 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(0, 100000));
   app.add_option("--arap-iterations", pattern_options.flatten.max_iterations, "Most ARAP iterations per piece [count]")
       ->capture_default_str()->check(CLI::Range(1, 1000000));
+  app.add_option("--boundary-weight", pattern_options.flatten.boundary_weight,
+                 "Weight of keeping seam edges at their 3D length, relative to ARAP [dimensionless]")
+      ->capture_default_str()->check(CLI::Range(0.0, 1e6));
   app.add_option("--seam-allowance", layout_options.seam_allowance, "Seam allowance around every piece [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.2));
   app.add_option("--notch-spacing", layout_options.notch_spacing, "Distance between notches along a seam [m]")
@@ -131,6 +134,7 @@ int main(int argc, char** argv) {
                          {"arap_iterations", pattern_options.flatten.max_iterations},
                          {"arap_tolerance", pattern_options.flatten.tolerance},
                          {"line_search_margin", pattern_options.flatten.line_search_margin},
+                         {"boundary_weight", pattern_options.flatten.boundary_weight},
                          {"seam_allowance", layout_options.seam_allowance},
                          {"notch_spacing", layout_options.notch_spacing},
                          {"notch_length", layout_options.notch_length},
