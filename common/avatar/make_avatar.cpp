@@ -6,6 +6,7 @@
 #include <set>
 
 #include "avatar/body_checks.h"
+#include "avatar/flips.h"
 #include "avatar/girth.h"
 #include "avatar/isosurface.h"
 #include "avatar/simplify.h"
@@ -105,6 +106,41 @@ int untangle(Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int max_rounds) {
   if (!self_intersecting_faces(V, F).empty())
     throw GeometryError("the generated rest pose intersects itself; try another resolution");
   return max_rounds;
+}
+
+// Skinning shears a few triangles in extreme poses (front of the shoulder
+// with the arms forward) into needles. Their vertices are moved half-way to
+// their neighbours' centroid, which restores the angles and changes the
+// pose by well under a millimetre elsewhere. Returns the vertices moved.
+int smooth_needles(Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<std::vector<int>>& nb,
+                   double min_angle_degrees) {
+  const double limit = min_angle_degrees * M_PI / 180.0;
+  int moved = 0;
+  for (int pass = 0; pass < 6; ++pass) {
+    std::vector<char> mark(V.rows(), 0);
+    bool any = false;
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d a = V.row(F(f, k)).transpose();
+        const Eigen::Vector3d u = V.row(F(f, (k + 1) % 3)).transpose() - a;
+        const Eigen::Vector3d w = V.row(F(f, (k + 2) % 3)).transpose() - a;
+        if (std::atan2(u.cross(w).norm(), u.dot(w)) < limit) {
+              for (int m = 0; m < 3; ++m) mark[F(f, m)] = 1;
+          any = true;
+        }
+      }
+    }
+    if (!any) break;
+    const Eigen::MatrixXd U = V;
+    for (Eigen::Index v = 0; v < V.rows(); ++v) {
+      if (!mark[v] || nb[v].empty()) continue;
+      Eigen::RowVector3d c = Eigen::RowVector3d::Zero();
+      for (int u : nb[v]) c += U.row(u);
+      V.row(v) = 0.5 * U.row(v) + 0.5 * c / static_cast<double>(nb[v].size());
+      ++moved;
+    }
+  }
+  return moved;
 }
 
 std::vector<std::string> resolve_poses(const AvatarSpec& spec, const AvatarOptions& o) {
@@ -305,7 +341,9 @@ AvatarResult make_avatar(const AvatarSpec& spec, const AvatarOptions& o) {
   res.timing.simplify += since(t);
   t = Clock::now();
   project_to_surface(shape, mesh.V, 0.5 * cell_used);
+  res.flips = flip_for_angles(mesh.V, mesh.F);
   relax(shape, mesh.V, mesh.F, o.relax_iterations, 0.5 * cell_used);
+  res.flips += flip_for_angles(mesh.V, mesh.F);
   res.timing.project += since(t);
   t = Clock::now();
   check_closed_genus0(mesh.F, "decimated body");
@@ -343,10 +381,15 @@ AvatarResult make_avatar(const AvatarSpec& spec, const AvatarOptions& o) {
   res.skeleton.rest.col(1).array() -= floor_rest;
   res.poses.F = mesh.F;
   res.poses.reference = "apose";
+  const auto neighbours = vertex_neighbors(mesh.F, static_cast<int>(mesh.V.rows()));
   for (const std::string& name : pose_names) {
     const JointRotations rot = pose_rotations(spec, shape.skeleton, name);
     const std::vector<RigidTransform> bones = forward_kinematics(shape.skeleton, rot);
-    Eigen::MatrixXd V = name == "apose" ? mesh.V : dual_quaternion_skinning(mesh.V, res.weights, bones);
+    Eigen::MatrixXd V = mesh.V;
+    if (name != "apose") {
+      V = dual_quaternion_skinning(mesh.V, res.weights, bones);
+      res.needle_vertices_smoothed += smooth_needles(V, mesh.F, neighbours, o.posed_min_angle);
+    }
     Eigen::MatrixXd J = posed_joints(shape.skeleton, bones);
     const double floor = V.col(1).minCoeff();
     V.col(1).array() -= floor;
@@ -374,8 +417,10 @@ OrderedJson avatar_report(const AvatarSpec& spec, const AvatarOptions& o, const 
   opt["cell_m_at_1_70"] = o.cell;
   opt["girth_correction_iterations"] = o.girth_correction_iterations;
   opt["relax_iterations"] = o.relax_iterations;
+  opt["posed_min_angle_degrees"] = o.posed_min_angle;
   opt["skinning_falloff_m_at_1_70"] = o.skinning.falloff;
   opt["skinning_smoothing_iterations"] = o.skinning.smoothing_iterations;
+  opt["skinning_hip_falloff_scale"] = o.skinning.hip_falloff_scale;
   opt["check_self_intersection"] = o.check_self_intersection;
   j["options"] = opt;
   j["measurements"] = to_json(r.measurements);
@@ -386,6 +431,18 @@ OrderedJson avatar_report(const AvatarSpec& spec, const AvatarOptions& o, const 
   mesh["correction_rounds"] = r.correction_rounds;
   mesh["isosurface_specks_removed"] = r.specks_removed;
   mesh["untangle_rounds"] = r.untangle_rounds;
+  mesh["edge_flips"] = r.flips;
+  mesh["posed_needle_vertices_smoothed"] = r.needle_vertices_smoothed;
+  double min_angle = 180.0;
+  if (!r.poses.V.empty())
+    for (Eigen::Index f = 0; f < r.poses.F.rows(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d a = r.poses.V[0].row(r.poses.F(f, k)).transpose();
+        const Eigen::Vector3d u = r.poses.V[0].row(r.poses.F(f, (k + 1) % 3)).transpose() - a;
+        const Eigen::Vector3d v = r.poses.V[0].row(r.poses.F(f, (k + 2) % 3)).transpose() - a;
+        min_angle = std::min(min_angle, std::atan2(u.cross(v).norm(), u.dot(v)) * 180.0 / M_PI);
+      }
+  mesh["min_angle_degrees"] = min_angle;
   mesh["height_m"] = r.height;
   mesh["topology_sha256"] = topology_checksum(r.poses.F);
   j["mesh"] = mesh;

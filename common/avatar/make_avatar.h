@@ -49,6 +49,9 @@ struct AvatarOptions {
   double cell = 0.009;
   // Girth correction passes on the mesh (measure, scale around the landmark).
   int girth_correction_iterations = 4;
+  // Triangles that skinning shears below this angle in a pose get their
+  // corners smoothed locally [degrees].
+  double posed_min_angle = 3.0;
   // Skinning weights (transition width, smoothing).
   SkinningOptions skinning;
   // Tangential relaxation passes after decimation (triangle shape).
@@ -85,6 +88,8 @@ struct AvatarResult {
   double height = 0.0;          // measured top of the rest pose [m]
   int correction_rounds = 0;    // girth correction passes applied to the mesh
   long long isosurface_vertices = 0;  // before decimation
+  int needle_vertices_smoothed = 0;   // over all posed meshes (see posed_min_angle)
+  int flips = 0;                      // edge flips for better angles
   int untangle_rounds = 0;            // local smoothing rounds that removed folds
   int specks_removed = 0;             // tiny isosurface pieces dropped (thin tips)
   AvatarTiming timing;

@@ -167,9 +167,12 @@ JointRotations builtin_pose(const Skeleton& s, const std::string& name) {
     b.set_global(kRKnee, about(X, 18.0));
     b.set_global(kRAnkle, Eigen::Quaterniond::Identity());
   } else if (name == "seated") {
-    // Thighs horizontal, shins vertical, feet flat: a chair of knee height.
+    // Torso reclined 15 degrees against a backrest, thighs sloping 10 degrees
+    // down to the knees, shins vertical, feet flat: 65 degrees of hip flexion,
+    // which skinning folds without crushing the groin.
+    b.set_global(kPelvis, about(X, -15.0));
     for (const Leg& l : legs) {
-      b.set_global(l.hip, about(X, -90.0));
+      b.set_global(l.hip, about(X, -80.0));
       b.set_global(l.knee, Eigen::Quaterniond::Identity());
       b.set_global(l.ankle, Eigen::Quaterniond::Identity());
     }

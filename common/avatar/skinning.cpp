@@ -28,7 +28,9 @@ Eigen::MatrixXd skinning_weights(const BodyShape& shape, const Eigen::MatrixXd& 
       const bool limb_root = i == kLUpperArm || i == kRUpperArm || i == kLThigh || i == kRThigh;
       const bool allowed = c == chain || c == 0 || (chain == 0 && limb_root);
       if (!allowed) continue;
-      const double t = 1.0 - (d[i] - d[nearest]) / falloff;
+      const bool hip_pair = (i == kLThigh || i == kRThigh || nearest == kLThigh || nearest == kRThigh) &&
+                            (i == kTorso || nearest == kTorso);
+      const double t = 1.0 - (d[i] - d[nearest]) / (hip_pair ? o.hip_falloff_scale * falloff : falloff);
       if (t <= 0) continue;
       const double w = t * t;
       if (i == kTorso) {

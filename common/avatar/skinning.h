@@ -16,13 +16,17 @@ namespace gp {
 struct SkinningOptions {
   // Width of the weight transition between neighbouring parts, as a fraction
   // of the body scale (height / 1.70 m) [m at 1.70 m].
-  double falloff = 0.035;
+  double falloff = 0.05;
   // Jacobi smoothing passes of the weights over the mesh (each mixes half of
   // the one-ring average in) for a mesh of mean edge `reference_edge`; the
   // count scales with (reference_edge / mean edge)^2 so the smoothing radius
   // stays the same in metres at every resolution.
   int smoothing_iterations = 4;
   double reference_edge = 0.016;  // [m at 1.70 m]
+  // The hip folds far more than the shoulder in common poses (sitting); a
+  // wider transition between pelvis and thigh spreads the crease over more
+  // skin (factor on `falloff` for the torso-thigh pair).
+  double hip_falloff_scale = 2.5;
 };
 
 // #V by kJointCount weights, rows summing to 1. Each vertex is weighted by
