@@ -130,3 +130,30 @@ TEST_CASE("make-avatar --help lists options with defaults and units", "[avatar][
   for (const char* s : {"--resolution", "default", "[preset]", "--vertices", "[vertices]", "--poses", "--out"})
     CHECK(r.out.find(s) != std::string::npos);
 }
+
+TEST_CASE("the generated pose set passes register-check", "[avatar][cli]") {
+  const std::string rc = gp::testing::tool_path("register-check");
+  if (!fs::exists(rc.substr(1, rc.size() - 2))) {
+    WARN("skipped: register-check is not built");
+    return;
+  }
+  const fs::path dir = gp::testing::fresh_temp_dir("make_avatar_rc");
+  const fs::path spec = gp::testing::source_dir() / "testdata" / "avatars" / "maternity.json";
+  const auto made = gp::testing::run_command(run_tool("'" + spec.string() + "' --resolution small --out '" +
+                                                      (dir / "body").string() + "'"));
+  REQUIRE(made.exit_code == 0);
+  std::string files;
+  for (const char* p : {"apose", "tpose", "armsup", "armsforward", "elbowsbent", "stepforward", "seated"})
+    files += " '" + (dir / "body" / (std::string(p) + ".ply")).string() + "'";
+  const auto r = gp::testing::run_command(rc + files + " --out '" + (dir / "checked").string() + "'");
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  const gp::Json rep = gp::read_json_file(dir / "checked" / "report.json");
+  for (const auto& p : rep["poses"]) {
+    INFO(p["name"]);
+    CHECK(p["checks"]["self_intersecting_pairs"] == 0);
+    CHECK(p["checks"]["nonmanifold_edges"] == 0);
+    CHECK(p["checks"]["boundary_loops"] == 0);
+    CHECK(p["checks"]["components"] == 1);
+  }
+}
