@@ -18,12 +18,12 @@ std::string metres(double v) {
   return s.str();
 }
 
-// A girth or length checked against fractions of the height: bounds taken
+// A girth or length checked against fractions of the height (NaN fails too): bounds taken
 // wide around anthropometric survey ranges (adults 1.2 to 2.1 m) so that real
 // customers pass and typing errors (cm for m, a swapped field) do not.
 void check_relative(double value, const char* field, double lo, double hi, double height,
                     const std::string& where) {
-  if (value < lo * height || value > hi * height) {
+  if (!(value >= lo * height && value <= hi * height)) {
     std::ostringstream s;
     s << field << " " << metres(value) << " is implausible for a height of " << metres(height)
       << " (expected " << metres(lo * height) << " to " << metres(hi * height) << ")";
@@ -83,11 +83,11 @@ void validate_measurements(const Measurements& m, const std::string& where) {
                     where + "/thigh");
   if (m.neck > 0.6 * m.chest)
     throw SpecError("neck " + metres(m.neck) + " must be less than 0.6 x chest", where + "/neck");
-  if (std::abs(m.arm_length_difference) > 0.1 * m.arm_length)
+  if (!(std::abs(m.arm_length_difference) <= 0.1 * m.arm_length))
     throw SpecError("arm_length_difference " + metres(m.arm_length_difference) +
                         " exceeds 10 % of arm_length",
                     where + "/arm_length_difference");
-  if (std::abs(m.leg_length_difference) > 0.06 * m.inseam)
+  if (!(std::abs(m.leg_length_difference) <= 0.06 * m.inseam))
     throw SpecError("leg_length_difference " + metres(m.leg_length_difference) +
                         " exceeds 6 % of inseam",
                     where + "/leg_length_difference");

@@ -16,9 +16,10 @@
 // marching tetrahedra on a fine grid, decimated to the vertex budget by
 // quadric edge collapse, projected back onto the implicit surface and
 // relaxed; girths are then measured on the mesh by plane slicing
-// (convex-hull perimeter) and corrected by scaling around each landmark. Poses are made by
-// dual-quaternion skinning with smooth part-derived weights, so every pose
-// shares the rest pose's triangles (vertex i is the same body point).
+// (convex-hull perimeter) and corrected by scaling around each landmark.
+// Poses are made by dual-quaternion skinning with smooth part-derived
+// weights, so every pose shares the rest pose's triangles (vertex i is the
+// same body point).
 #include <string>
 #include <vector>
 

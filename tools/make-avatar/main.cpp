@@ -98,7 +98,19 @@ int main(int argc, char** argv) {
     out.commit();
 
     double worst = 0;
-    for (const auto& g : r.girths) worst = std::max(worst, std::abs(g.measured - g.target));
+    for (const auto& g : r.girths) {
+      worst = std::max(worst, std::abs(g.measured - g.target));
+      std::ostringstream line;
+      line.precision(4);
+      line << "girth " << g.name << ": target " << g.target << " m, measured " << g.measured << " m";
+      tool.log().detail(line.str());
+    }
+    for (size_t i = 0; i < r.poses.names.size(); ++i) {
+      std::ostringstream line;
+      line.precision(5);
+      line << "pose " << r.poses.names[i] << ": volume " << r.volumes[i] << " m^3";
+      tool.log().detail(line.str());
+    }
     std::ostringstream msg;
     msg.precision(3);
     msg << r.poses.names.size() << " poses, " << m.vertex_count << " vertices, " << m.face_count

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "avatar/body_checks.h"
 #include "avatar/girth.h"
@@ -193,6 +194,16 @@ TEST_CASE("spec reading: defaults, strictness, plausibility", "[avatar][spec]") 
   CHECK(where(R"({"schema": "avatar-spec/1", "poses": [{"name": "x", "joints": {"l_elbow": [0, 1]}}]})") ==
         "s.json: /poses/0/joints/l_elbow");
   CHECK(where(R"({"schema": "avatar-spec/1", "poses": [{"name": "a b", "joints": {}}]})") == "s.json: /poses/0/name");
+  // Measurements set in code are validated too, NaN included.
+  gp::AvatarSpec nan_spec;
+  nan_spec.measurements.waist = std::nan("");
+  CHECK_THROWS_WITH(small_body(nan_spec), Catch::Contains("waist"));
+  nan_spec.measurements = gp::Measurements{};
+  nan_spec.measurements.leg_length_difference = std::nan("");
+  CHECK_THROWS_AS(small_body(nan_spec), gp::SpecError);
+  nan_spec.measurements = gp::Measurements{};
+  nan_spec.measurements.height = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_AS(small_body(nan_spec), gp::SpecError);
   // Pose names that clash or are unknown are spec errors too.
   gp::AvatarSpec s = parse(R"({"schema": "avatar-spec/1", "poses": [{"name": "tpose", "joints": {}}]})");
   CHECK_THROWS_AS(small_body(s), gp::SpecError);
