@@ -232,6 +232,12 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
                                       [](const PatternPiece& p) { return p.meets_limit; });
     if (pattern.meets_limit || added_distortion_cuts >= options.max_added_cuts) break;
 
+    std::set<int> seam_vertex;
+    for (const auto& seam : pattern.seams)
+      if (!seam.vertex_ids.empty()) {
+        seam_vertex.insert(seam.vertex_ids.front());
+        seam_vertex.insert(seam.vertex_ids.back());
+      }
     bool added = false;
     for (size_t c = 0; c < pattern.pieces.size() && added_distortion_cuts < options.max_added_cuts; ++c) {
       const PatternPiece& p = pattern.pieces[c];
@@ -262,15 +268,27 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
       // within the limit; a strongly distorted piece overlaps as a symptom.
       const bool distorted = p.flat.stats.p95_error > options.p95_limit || p.flat.stats.max_error > options.max_limit ||
                              p.flat.stats.flipped_triangles > 0;
+      // A new cut does not start at an end of an existing one (two cuts from
+      // one vertex leave a sliver of cloth between them that turns freely and
+      // overlaps) unless no other vertex is left.
+      std::vector<char> on_seam(static_cast<size_t>(nv), 0);
+      for (int v = 0; v < nv; ++v) on_seam[static_cast<size_t>(v)] = seam_vertex.count(p.rest_vertex_ids[v]) ? 1 : 0;
       if (!distorted && p.flat.boundary_overlaps && !p.flat.overlap_vertex_ids.empty()) {
         kind = "overlap";
         worst = p.flat.overlap_vertex_ids.front();
+        for (int v : p.flat.overlap_vertex_ids)
+          if (!on_seam[static_cast<size_t>(v)]) {
+            worst = v;
+            break;
+          }
         worst_err = den[static_cast<size_t>(worst)] > 0.0 ? num[static_cast<size_t>(worst)] / den[static_cast<size_t>(worst)] : 0.0;
       } else {
-        for (int v = 0; v < nv; ++v) {
-          const double e = den[static_cast<size_t>(v)] > 0.0 ? num[static_cast<size_t>(v)] / den[static_cast<size_t>(v)] : 0.0;
-          if (e > worst_err) worst_err = e, worst = v;
-        }
+        for (int pass = 0; pass < 2 && worst_err < 0.0; ++pass)
+          for (int v = 0; v < nv; ++v) {
+            if (pass == 0 && on_seam[static_cast<size_t>(v)]) continue;
+            const double e = den[static_cast<size_t>(v)] > 0.0 ? num[static_cast<size_t>(v)] / den[static_cast<size_t>(v)] : 0.0;
+            if (e > worst_err) worst_err = e, worst = v;
+          }
       }
       const auto neighbors = vertex_neighbors(p.F, nv);
       std::vector<double> depth, dist;
@@ -303,6 +321,17 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
           }
           return false;
         });
+        if (reached < 0) {
+          // No such vertex (a small piece): the boundary vertex that gains
+          // most outline length over the path's length.
+          double best = 0.0;
+          for (int v : p.boundary) {
+            if (v == worst) continue;
+            const double along = std::abs(arc[static_cast<size_t>(v)] - s0);
+            const double score = std::min(along, perimeter - along) - dist[static_cast<size_t>(v)];
+            if (score > best) best = score, reached = v;
+          }
+        }
         if (reached >= 0) path = trace(parent, reached);
         how = kind == "overlap" ? "split the piece along a shortest path from it to its opposite edge"
                                 : "the outline is compressed there: split the piece along a shortest path from it "
