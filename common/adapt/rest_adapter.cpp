@@ -29,7 +29,7 @@ AdaptReport RestShapeAdapter::adapt(const Eigen::MatrixXd& V_sim, Eigen::MatrixX
   AdaptReport report;
   report.area_before = mesh_area(V_rest, F_);
   const std::vector<Eigen::Matrix2d> targets =
-      clipped_targets(V_rest, V_sim, F_, options_.delta, area_factors, &report.clip);
+      clipped_targets(V_rest, V_sim, F_, options_.delta, area_factors, &report.clip, options_.hysteresis);
   if (report.clip.clipped_faces == 0 && area_factors == nullptr) {
     report.area_after = report.area_before;
     return report;

@@ -17,6 +17,7 @@ namespace gp::adapt {
 
 struct AdaptOptions {
   double delta = 0.1;  // stretch limit: principal stretches above 1 + delta are clipped (paper value)
+  double hysteresis = 0.0;  // clipped stretches are set to 1 + delta - hysteresis (0: the paper's rule)
   ArapOptions arap;    // stitching tolerance and iteration cap
 };
 

@@ -36,8 +36,13 @@ Eigen::MatrixXd principal_stretches(const Eigen::MatrixXd& V_rest, const Eigen::
                                     const Eigen::MatrixXi& F);
 
 // Target rest edge matrix (2D, columns t1-t0, t2-t0) from the rest edge matrix
-// D_rest and the deformation gradient F, with stretch clipped at 1 + delta.
-Eigen::Matrix2d clipped_target(const Eigen::Matrix2d& D_rest, const Eigen::Matrix2d& F, double delta);
+// D_rest and the deformation gradient F: when the largest principal stretch is
+// above 1 + delta, every principal stretch above c = 1 + delta - hysteresis is
+// clipped to c (hysteresis 0: the paper's clipping at 1 + delta). A small
+// hysteresis keeps a garment held stretched by the body (whose stretch returns to
+// the clip value after every adaptation) from hovering just above the limit.
+Eigen::Matrix2d clipped_target(const Eigen::Matrix2d& D_rest, const Eigen::Matrix2d& F, double delta,
+                               double hysteresis = 0.0);
 
 struct ClipStats {
   int clipped_faces = 0;      // faces with a principal stretch above 1 + delta
@@ -51,6 +56,6 @@ struct ClipStats {
 std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V_sim,
                                              const Eigen::MatrixXi& F, double delta,
                                              const Eigen::VectorXd* area_factors = nullptr,
-                                             ClipStats* stats = nullptr);
+                                             ClipStats* stats = nullptr, double hysteresis = 0.0);
 
 }  // namespace gp::adapt

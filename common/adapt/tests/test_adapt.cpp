@@ -65,6 +65,27 @@ TEST_CASE("a uniformly stretched patch gets a rest shape with stretch clipped to
   CHECK(r.area_after / r.area_before == Approx(1.3 / 1.1).epsilon(1e-6));
 }
 
+TEST_CASE("hysteresis clips a triggered patch below the limit", "[adapt]") {
+  const gp::Mesh grid = gp::testing::make_grid(6, 6, 0.3, 0.3);
+  Eigen::MatrixXd V_sim = grid.V;
+  V_sim.col(0) *= 1.3;
+  AdaptOptions options;
+  options.hysteresis = 0.01;
+  RestShapeAdapter adapter(grid.V, grid.F, options);
+  Eigen::MatrixXd V_rest = grid.V;
+  adapter.adapt(V_sim, V_rest);
+  const Eigen::MatrixXd S = principal_stretches(V_rest, V_sim, grid.F);
+  CHECK(S.col(0).maxCoeff() == Approx(1.09).epsilon(1e-6));
+  CHECK(S.col(0).minCoeff() == Approx(1.09).epsilon(1e-6));
+  // Within the band (1.09, 1.1]: not triggered, untouched.
+  V_sim = grid.V;
+  V_sim.col(0) *= 1.095;
+  Eigen::MatrixXd W = grid.V;
+  CHECK_FALSE(adapter.adapt(V_sim, W).changed);
+  options.hysteresis = -1.0;
+  CHECK_THROWS_AS(RestShapeAdapter(grid.V, grid.F, options).adapt(V_sim, W), gp::UsageError);
+}
+
 TEST_CASE("a compressed patch is left alone", "[adapt]") {
   const gp::Mesh grid = gp::testing::make_grid(8, 8, 0.3, 0.3);
   Eigen::MatrixXd V_sim = grid.V;

@@ -1,0 +1,237 @@
+#include "adapt/garment_motion.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <set>
+#include <string>
+
+#include "collision/body_collider.h"
+#include "core/error.h"
+#include "mesh/measures.h"
+
+namespace gp::adapt {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+cloth::ClothParameters parameters_from(const Material& m) {
+  cloth::ClothParameters p;
+  p.k_stretch = m.k_stretch;
+  p.k_shear = m.k_shear;
+  p.k_bend = m.k_bend;
+  p.damping_stretch = m.damping_stretch;
+  p.damping_shear = m.damping_shear;
+  p.damping_bend = m.damping_bend;
+  p.density = m.density;
+  return p;
+}
+
+// Area-weighted statistics of the per-face stretch.
+void stretch_figures(const Eigen::VectorXd& s, const Eigen::VectorXd& area, double limit, KeyPoseResult& k) {
+  const double total = area.sum();
+  std::vector<int> order(s.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&s](int a, int b) { return s(a) < s(b); });
+  double accumulated = 0.0;
+  k.p99_stretch = s.size() ? s(order.back()) : 0.0;
+  for (int f : order) {
+    accumulated += area(f);
+    if (accumulated >= 0.99 * total) {
+      k.p99_stretch = s(f);
+      break;
+    }
+  }
+  k.max_stretch = s.size() ? s.maxCoeff() : 0.0;
+  k.mean_stretch = total > 0.0 ? s.dot(area) / total : 0.0;
+  double above = 0.0;
+  for (Eigen::Index f = 0; f < s.size(); ++f) {
+    if (s(f) > limit) above += area(f);
+  }
+  k.area_fraction_above = total > 0.0 ? above / total : 0.0;
+}
+
+}  // namespace
+
+MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionSpec& motion,
+                                   const Eigen::MatrixXd& V_garment, const Eigen::MatrixXi& F_garment,
+                                   const GarmentFile& garment, const MotionRunOptions& options,
+                                   const ProgressCallback& progress) {
+  const auto run_start = Clock::now();
+  if (options.substeps < 1 || options.adapt_every < 1 || options.settle_max_steps < 0) {
+    throw UsageError("substeps and adapt_every must be at least 1, settle_max_steps non-negative");
+  }
+  const std::vector<MotionFrame> frames = motion_frames(motion);
+  if (frames.empty()) throw SpecError("the motion has no frames");
+  const Eigen::MatrixXi& F_body = interpolator.faces();
+  MotionRunResult result;
+  const double offset = garment.offset;
+
+  // Pins: bound vertices of pinned loops.
+  std::vector<int> pin_ids;
+  std::vector<SurfacePoint> pin_binding;
+  std::set<int> seen;
+  for (const GarmentLoop& loop : garment.loops) {
+    if (!loop.pinned || loop.binding.size() != loop.vertex_ids.size()) continue;
+    for (size_t k = 0; k < loop.vertex_ids.size(); ++k) {
+      const int v = loop.vertex_ids[k];
+      if (v < 0 || v >= V_garment.rows()) throw GeometryError("pinned vertex id out of range", "loop " + loop.name);
+      if (!seen.insert(v).second) continue;
+      pin_ids.push_back(v);
+      pin_binding.push_back(loop.binding[k]);
+    }
+  }
+  auto pin_targets = [&](const Eigen::MatrixXd& V_body) {
+    const Eigen::MatrixXd N = vertex_normals(V_body, F_body);
+    Eigen::MatrixXd T(pin_ids.size(), 3);
+    for (size_t k = 0; k < pin_ids.size(); ++k) {
+      T.row(k) = evaluate_binding(V_body, N, F_body, pin_binding[k], offset).transpose();
+    }
+    return T;
+  };
+
+  auto t0 = Clock::now();
+  Eigen::MatrixXd V_body = interpolator.frame(frames[0].from, frames[0].to, frames[0].t);
+  Eigen::MatrixXd targets = pin_targets(V_body);
+  result.times.body += seconds_since(t0);
+
+  collision::BodyCollider collider(F_body,
+                                   collision::reachable_body_faces(V_body, F_body, V_garment, options.reach));
+  result.culled_body_faces = collider.face_ids().size();
+  collider.set_body(V_body);
+
+  cloth::SimulatorOptions sim_options = options.solver;
+  sim_options.dt = options.dt;
+  cloth::ClothSimulator sim(V_garment, F_garment, parameters_from(garment.material), sim_options);
+  sim.set_pinned(pin_ids);
+  sim.set_collision_handler(
+      [&collider, offset](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider.resolve(X, Vel, offset); });
+
+  const RestShapeAdapter adapter(V_garment, F_garment, options.adaptation);
+  Eigen::MatrixXd V_rest = V_garment;
+  const double design_area = mesh_area(V_garment, F_garment);
+
+  auto record_adaptation = [&](const AdaptReport& r) {
+    if (!r.changed) return;
+    sim.set_rest_shape(V_rest);
+    ++result.adaptations;
+    result.arap_iterations += r.arap.iterations;
+    result.arap_max_iterations = std::max(result.arap_max_iterations, r.arap.iterations);
+    result.arap_max_residual = std::max(result.arap_max_residual, r.arap.residual);
+    result.arap_converged = result.arap_converged && r.arap.converged;
+  };
+  auto adapt_now = [&]() {
+    const auto ta = Clock::now();
+    record_adaptation(adapter.adapt(sim.positions(), V_rest));
+    result.times.adaptation += seconds_since(ta);
+  };
+
+  // Paint (T3) is part of the design: applied once, with or without adaptation.
+  bool painted = false;
+  for (double p : garment.paint) painted = painted || p != 1.0;
+  if (painted) {
+    if (garment.paint.size() != static_cast<size_t>(F_garment.rows())) {
+      throw GeometryError("paint has " + std::to_string(garment.paint.size()) + " factors for " +
+                          std::to_string(F_garment.rows()) + " faces");
+    }
+    const Eigen::VectorXd factors = Eigen::Map<const Eigen::VectorXd>(garment.paint.data(), garment.paint.size());
+    const auto ta = Clock::now();
+    record_adaptation(adapter.adapt(V_rest, V_rest, &factors));
+    result.times.adaptation += seconds_since(ta);
+  }
+
+  auto step = [&](const Eigen::MatrixXd& T) {
+    sim.set_pin_targets(T);
+    sim.step();
+    ++result.steps;
+    if (options.adapt && result.steps % options.adapt_every == 0) adapt_now();
+  };
+
+  const double limit = 1.0 + options.adaptation.delta;
+  const double frame_time = options.substeps * options.dt;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const MotionFrame& frame = frames[i];
+    if (i > 0) {
+      t0 = Clock::now();
+      Eigen::MatrixXd V_next = interpolator.frame(frame.from, frame.to, frame.t);
+      const Eigen::MatrixXd targets_next = pin_targets(V_next);
+      const Eigen::MatrixXd body_velocity = (V_next - V_body) / frame_time;
+      result.times.body += seconds_since(t0);
+      collider.set_body(V_next, &body_velocity);
+      for (int s = 1; s <= options.substeps; ++s) {
+        const double w = static_cast<double>(s) / options.substeps;
+        step((1.0 - w) * targets + w * targets_next);
+      }
+      V_body = std::move(V_next);
+      targets = targets_next;
+    }
+    if (frame.key < 0) continue;
+
+    // Key pose: the body stops; settle.
+    collider.set_body(V_body);
+    KeyPoseResult key;
+    key.key = frame.key;
+    key.pose = motion.keys[static_cast<size_t>(frame.key)].pose;
+    double previous_stretch = principal_stretches(V_rest, sim.positions(), F_garment).col(0).maxCoeff();
+    const int check_every = options.adapt_every;
+    while (key.settle_steps < options.settle_max_steps) {
+      for (int s = 0; s < check_every && key.settle_steps < options.settle_max_steps; ++s, ++key.settle_steps) {
+        step(targets);
+      }
+      const double stretch = principal_stretches(V_rest, sim.positions(), F_garment).col(0).maxCoeff();
+      const bool slow = sim.max_speed() < options.settle_speed;
+      const bool steady = std::abs(stretch - previous_stretch) < options.settle_stretch_change;
+      previous_stretch = stretch;
+      if (slow && steady) {
+        key.settled = true;
+        break;
+      }
+    }
+    if (options.settle_max_steps == 0) key.settled = sim.max_speed() < options.settle_speed;
+    if (options.adapt) adapt_now();  // and at the end of each pose
+    result.all_settled = result.all_settled && key.settled;
+
+    key.V_draped = sim.positions();
+    key.face_max_stretch = principal_stretches(V_rest, key.V_draped, F_garment).col(0);
+    stretch_figures(key.face_max_stretch, face_areas(V_rest, F_garment), limit, key);
+    int hint = -1;
+    for (int v = 0; v < key.V_draped.rows(); ++v) {
+      const collision::Proximity q = collider.query(key.V_draped.row(v).transpose(), hint);
+      hint = q.face;
+      key.deepest_penetration = std::max(key.deepest_penetration, -q.signed_distance);
+    }
+    key.rest_area_growth = mesh_area(V_rest, F_garment) / design_area;
+    key.steps = result.steps;
+    if (progress) {
+      char line[256];
+      std::snprintf(line, sizeof(line),
+                    "key %d/%zu %s: %ld steps, settled %s after %d, max stretch %.3f, p99 %.3f, "
+                    "above %.2f%%, deepest %.2f mm, rest area x%.4f",
+                    frame.key + 1, motion.keys.size(), key.pose.c_str(), result.steps,
+                    key.settled ? "yes" : "no", key.settle_steps, key.max_stretch, key.p99_stretch,
+                    100.0 * key.area_fraction_above, 1e3 * key.deepest_penetration, key.rest_area_growth);
+      progress(line);
+    }
+    result.keys.push_back(std::move(key));
+  }
+
+  result.V_rest = V_rest;
+  const cloth::PhaseTimes& pt = sim.times();
+  result.times.forces_assembly = pt.forces_assembly + pt.checks;
+  result.times.factorization = pt.factorization;
+  result.times.solve = pt.solve;
+  result.times.collisions = pt.collisions + collider.stats().rebuild_seconds;
+  result.factorizations = sim.counters().factorizations;
+  result.cg_iterations = sim.counters().cg_iterations;
+  result.rejected_steps = sim.counters().rejected;
+  result.times.total = seconds_since(run_start);
+  return result;
+}
+
+}  // namespace gp::adapt

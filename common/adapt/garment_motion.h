@@ -1,0 +1,95 @@
+#pragma once
+// The simulate-adapt run: a garment simulated on a body moving through a
+// motion's key poses, with its rest shape adapted every few steps and at the
+// end of each key pose (Wolff et al. 2023, sec. 5), or kept fixed (no_adapt) to
+// evaluate a single-pose design through the same motion.
+//
+// Per interpolation frame the body comes from the pose interpolator (in
+// memory); pinned boundary vertices follow their body binding (garment file,
+// binding rule of garment_file.h) as hard constraints; body collisions push the
+// cloth out to the garment's comfort offset. At every key pose the body stops
+// and the cloth settles until its largest vertex speed and the change of its
+// largest stretch fall under tolerances (or a step cap), then the key pose's
+// drape and stretch figures are recorded.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "adapt/rest_adapter.h"
+#include "cloth/cloth_simulator.h"
+#include "garment/garment_file.h"
+#include "interp/motion_spec.h"
+#include "interp/pose_interpolator.h"
+
+namespace gp::adapt {
+
+struct MotionRunOptions {
+  double dt = 0.0025;                 // simulation time step [s] (paper value)
+  int substeps = 1;                   // simulation steps per interpolation frame (paper: one)
+  bool adapt = true;                  // false: evaluate the fixed rest shape (--no-adapt)
+  int adapt_every = 8;                // steps between adaptations (paper value)
+  AdaptOptions adaptation;            // delta (0.1) and ARAP tolerance
+  double settle_speed = 0.05;         // m/s: largest vertex speed of a settled cloth
+  double settle_stretch_change = 1e-3;  // change of the largest stretch between checks
+  int settle_max_steps = 600;         // cap on the settling steps at each key pose
+  double reach = 0.15;                // m: body faces farther from the garment are culled
+  cloth::SimulatorOptions solver;     // strategy, tolerances (dt is taken from above)
+};
+
+struct KeyPoseResult {
+  std::string pose;
+  int key = 0;                        // index in the motion's key sequence
+  Eigen::MatrixXd V_draped;           // #V by 3
+  Eigen::VectorXd face_max_stretch;   // #F, largest principal stretch against the rest shape
+  double max_stretch = 0.0;
+  double p99_stretch = 0.0;           // 99th percentile over faces, weighted by rest area
+  double mean_stretch = 0.0;          // rest-area weighted mean
+  double area_fraction_above = 0.0;   // rest-area fraction with max stretch above 1 + delta
+  double deepest_penetration = 0.0;   // m inside the body (0 when nothing is inside)
+  double rest_area_growth = 1.0;      // rest area / design rest area
+  long steps = 0;                     // simulation steps up to this key pose
+  int settle_steps = 0;
+  bool settled = false;
+};
+
+struct MotionRunTimes {               // wall seconds
+  double forces_assembly = 0.0;
+  double factorization = 0.0;
+  double solve = 0.0;
+  double collisions = 0.0;            // responses and tree rebuilds
+  double adaptation = 0.0;
+  double body = 0.0;                  // interpolation, normals, pin targets
+  double total = 0.0;
+};
+
+struct MotionRunResult {
+  Eigen::MatrixXd V_rest;             // final rest shape (same connectivity as the garment)
+  std::vector<KeyPoseResult> keys;
+  long steps = 0;
+  int adaptations = 0;                // adaptations that changed the rest shape
+  long arap_iterations = 0;
+  int arap_max_iterations = 0;
+  double arap_max_residual = 0.0;
+  bool arap_converged = true;         // every stitching reached its tolerance
+  bool all_settled = true;
+  size_t culled_body_faces = 0;       // body faces kept for collisions
+  long factorizations = 0;
+  long cg_iterations = 0;
+  long rejected_steps = 0;
+  MotionRunTimes times;
+};
+
+using ProgressCallback = std::function<void(const std::string&)>;
+
+// Runs the motion. V_garment/F_garment: the garment's design rest shape (also
+// its initial drape, on the first key pose). Throws GeometryError for a garment
+// whose loops name vertices out of range, NumericalError when a step cannot be
+// recovered.
+MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionSpec& motion,
+                                   const Eigen::MatrixXd& V_garment, const Eigen::MatrixXi& F_garment,
+                                   const GarmentFile& garment, const MotionRunOptions& options,
+                                   const ProgressCallback& progress = {});
+
+}  // namespace gp::adapt
