@@ -1,0 +1,99 @@
+#include <catch2/catch.hpp>
+
+#include "core/error.h"
+#include "pattern/mesh_cut.h"
+#include "pattern/seam_spec.h"
+#include "testing/test_meshes.h"
+
+using namespace gp;
+
+namespace {
+
+std::vector<SeamPath> resolve(const Mesh& m, const Json& j) {
+  return resolve_seams(m.V, m.F, parse_seam_spec(j, "seams.json"), nullptr, nullptr);
+}
+
+template <class E>
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const E& e) {
+    return e.message();
+  }
+  return "no error";
+}
+
+}  // namespace
+
+TEST_CASE("seam specs are read strictly", "[seam_spec]") {
+  const Json good = Json::parse(R"({"schema": "seam-spec/1", "seams": [
+      {"name": "side", "points": [0, [0.0, 1.0, 0.5]]}]})");
+  const SeamSpec spec = parse_seam_spec(good, "seams.json");
+  REQUIRE(spec.seams.size() == 1);
+  CHECK(spec.seams[0].points[1].is_vertex == false);
+  CHECK(spec.snap_tolerance == Approx(0.03));
+  CHECK(to_json(spec)["seams"][0]["on"] == "rest");
+
+  auto bad = [](const char* text) { return message_of<SpecError>([&] { parse_seam_spec(Json::parse(text), "s.json"); }); };
+  CHECK(bad(R"({"schema": "seam-spec/2", "seams": []})").find("schema") != std::string::npos);
+  CHECK(bad(R"({"schema": "seam-spec/1", "seams": [{"name": "a", "points": [1, 2]}], "extra": 1})").find("extra") != std::string::npos);
+  CHECK(bad(R"({"schema": "seam-spec/1", "seams": [{"name": "a", "points": [1]}]})").find("'a'") != std::string::npos);
+  CHECK(bad(R"({"schema": "seam-spec/1", "seams": [{"name": "a", "points": [1, 2], "on": "sky"}]})").find("/seams/0/on") != std::string::npos);
+  CHECK(bad(R"({"schema": "seam-spec/1", "seams": [{"name": "a", "points": [1, 2]}, {"name": "a", "points": [3, 4]}]})").find("unique") != std::string::npos);
+  CHECK(bad(R"({"schema": "seam-spec/1", "seams": [{"name": "a", "points": [1, "x"]}]})").find("/seams/0/points/1") != std::string::npos);
+}
+
+TEST_CASE("seams resolve to edge paths on the rest shape", "[seam_spec]") {
+  const int nu = 16, nv = 6;
+  const Mesh cyl = testing::make_open_cylinder(nu, nv, 0.1, 0.3);
+  // Bottom ring vertex 0 to top ring vertex nv*nu, clicked by id and by a 3D point.
+  const auto paths = resolve(cyl, Json::parse(R"({"schema": "seam-spec/1", "seams": [
+      {"name": "side", "points": [0, [0.0, 0.3, 0.1]]}]})"));
+  REQUIRE(paths.size() == 1);
+  CHECK(paths[0].vertex_ids.front() == 0);
+  CHECK(paths[0].vertex_ids.back() == nv * nu);
+  CHECK(paths[0].vertex_ids.size() == static_cast<size_t>(nv + 1));
+  // Cutting along it: the seam vertices are doubled, every cut edge has a partner.
+  const CutMesh cut = cut_mesh(cyl.V, cyl.F, {{0, paths[0].vertex_ids, false}});
+  CHECK(cut.V.rows() == cyl.V.rows() + nv + 1);
+  CHECK(cut.edges.size() == static_cast<size_t>(nv));
+  for (const auto& e : cut.edges) CHECK(e.length == Approx(0.3 / nv));
+}
+
+TEST_CASE("bad seams name the seam and have the right category", "[seam_spec][errors]") {
+  const Mesh cyl = testing::make_open_cylinder(16, 6, 0.1, 0.3);
+  auto spec_error = [&](const char* text) { return message_of<SpecError>([&] { resolve(cyl, Json::parse(text)); }); };
+  auto geometry_error = [&](const char* text) { return message_of<GeometryError>([&] { resolve(cyl, Json::parse(text)); }); };
+  // A vertex id that is not on the mesh.
+  CHECK(spec_error(R"({"schema": "seam-spec/1", "seams": [{"name": "front", "points": [0, 5000]}]})")
+            .find("seam 'front'") != std::string::npos);
+  // A point far off the surface: the path would leave the mesh.
+  const std::string far = spec_error(R"({"schema": "seam-spec/1", "seams": [{"name": "back", "points": [0, [2.0, 0.1, 0.0]]}]})");
+  CHECK(far.find("seam 'back'") != std::string::npos);
+  CHECK(far.find("leave the mesh") != std::string::npos);
+  // A seam whose two ends are inside: reaches neither the boundary nor another seam.
+  const std::string inside = geometry_error(R"({"schema": "seam-spec/1", "seams": [{"name": "pocket", "points": [33, 35]}]})");
+  CHECK(inside.find("seam 'pocket'") != std::string::npos);
+  CHECK(inside.find("does not reach") != std::string::npos);
+  // Ending on another seam is fine; a dart (one end inside) is fine.
+  CHECK_NOTHROW(resolve(cyl, Json::parse(R"({"schema": "seam-spec/1", "seams": [
+      {"name": "side", "points": [0, 96]}, {"name": "branch", "points": [35, 48]}, {"name": "dart", "points": [8, 40]}]})")));
+  // Only along the boundary: cuts nothing.
+  CHECK(geometry_error(R"({"schema": "seam-spec/1", "seams": [{"name": "hem", "points": [0, 3]}]})")
+            .find("seam 'hem'") != std::string::npos);
+  // Two components: no path between them.
+  Mesh two = cyl;
+  const Mesh other = testing::make_grid(2, 2);
+  two.V.conservativeResize(cyl.V.rows() + other.V.rows(), 3);
+  two.V.bottomRows(other.V.rows()) = other.V.rowwise() + Eigen::RowVector3d(5, 0, 0);
+  two.F.conservativeResize(cyl.F.rows() + other.F.rows(), 3);
+  two.F.bottomRows(other.F.rows()) = other.F.array() + static_cast<int>(cyl.V.rows());
+  const std::string split = message_of<GeometryError>([&] {
+    resolve(two, Json::parse(R"({"schema": "seam-spec/1", "seams": [{"name": "bridge", "points": [0, 112]}]})"));
+  });
+  CHECK(split.find("seam 'bridge'") != std::string::npos);
+  CHECK(split.find("leave the mesh") != std::string::npos);
+  // Body points without a body.
+  CHECK(spec_error(R"({"schema": "seam-spec/1", "seams": [{"name": "b", "on": "body", "points": [0, 1]}]})")
+            .find("no body") != std::string::npos);
+}
