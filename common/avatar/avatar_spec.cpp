@@ -73,23 +73,21 @@ void validate_measurements(const Measurements& m, const std::string& where) {
     throw SpecError("under_bust " + metres(m.under_bust) + " is larger than chest " + metres(m.chest),
                     where + "/under_bust");
   if (m.wrist > 0.8 * m.upper_arm)
-    throw SpecError("wrist " + metres(m.wrist) + " must be less than 0.8 x upper_arm (" +
-                        metres(0.8 * m.upper_arm) + ")",
-                    where + "/wrist");
+    throw SpecError(
+        "wrist " + metres(m.wrist) + " must be less than 0.8 x upper_arm (" + metres(0.8 * m.upper_arm) + ")",
+        where + "/wrist");
   // Both thighs sit side by side under the seat.
   if (m.thigh > 0.7 * m.hip)
-    throw SpecError("thigh " + metres(m.thigh) + " must be less than 0.7 x hip (" +
-                        metres(0.7 * m.hip) + ")",
+    throw SpecError("thigh " + metres(m.thigh) + " must be less than 0.7 x hip (" + metres(0.7 * m.hip) + ")",
                     where + "/thigh");
   if (m.neck > 0.6 * m.chest)
     throw SpecError("neck " + metres(m.neck) + " must be less than 0.6 x chest", where + "/neck");
   if (!(std::abs(m.arm_length_difference) <= 0.1 * m.arm_length))
-    throw SpecError("arm_length_difference " + metres(m.arm_length_difference) +
-                        " exceeds 10 % of arm_length",
-                    where + "/arm_length_difference");
+    throw SpecError(
+        "arm_length_difference " + metres(m.arm_length_difference) + " exceeds 10 % of arm_length",
+        where + "/arm_length_difference");
   if (!(std::abs(m.leg_length_difference) <= 0.06 * m.inseam))
-    throw SpecError("leg_length_difference " + metres(m.leg_length_difference) +
-                        " exceeds 6 % of inseam",
+    throw SpecError("leg_length_difference " + metres(m.leg_length_difference) + " exceeds 6 % of inseam",
                     where + "/leg_length_difference");
 }
 

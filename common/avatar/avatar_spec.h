@@ -38,11 +38,10 @@
 // Pose joint angles are degrees of a rotation about the joint in the rest
 // pose's axes (x to the body's left, y up, z forward), applied about x first,
 // then y, then z. Joint names are those of skeleton.h.
+#include <Eigen/Core>
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "spec/json_file.h"
 

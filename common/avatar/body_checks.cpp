@@ -1,11 +1,11 @@
 #include "avatar/body_checks.h"
 
-#include <algorithm>
-#include <vector>
-
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
+
+#include <algorithm>
+#include <vector>
 
 #include "core/error.h"
 #include "mesh/topology.h"
@@ -34,7 +34,8 @@ void check_closed_genus0(const Eigen::MatrixXi& F, const std::string& what) {
   if (n != 1) throw GeometryError(what + " has " + std::to_string(n) + " components, expected 1");
   const int chi = euler_characteristic(F);
   if (chi != 2)
-    throw GeometryError(what + " has Euler characteristic " + std::to_string(chi) + ", expected 2 (a sphere)");
+    throw GeometryError(what + " has Euler characteristic " + std::to_string(chi) +
+                        ", expected 2 (a sphere)");
 }
 
 namespace {
@@ -44,7 +45,8 @@ using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
 SurfaceMesh to_surface_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
   SurfaceMesh sm;
   std::vector<SurfaceMesh::Vertex_index> vid(V.rows());
-  for (Eigen::Index i = 0; i < V.rows(); ++i) vid[i] = sm.add_vertex(Kernel::Point_3(V(i, 0), V(i, 1), V(i, 2)));
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    vid[i] = sm.add_vertex(Kernel::Point_3(V(i, 0), V(i, 1), V(i, 2)));
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     if (sm.add_face(vid[F(f, 0)], vid[F(f, 1)], vid[F(f, 2)]) == SurfaceMesh::null_face())
       throw GeometryError("mesh is not an oriented 2-manifold (face " + std::to_string(f) + ")");

@@ -1,10 +1,9 @@
 #pragma once
 // Checks the generated body must pass: a closed, oriented 2-manifold of one
 // genus-0 component, and no self-intersection in the rest pose.
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace gp {
 

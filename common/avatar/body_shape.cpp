@@ -28,7 +28,7 @@ double round_cone(const Eigen::Vector3d& p, const Ball& A, const Ball& B) {
   if (l < 1e-12) return (p - A.c).norm() - std::max(A.r, B.r);
   const Eigen::Vector3d axis = ba / l;
   const Eigen::Vector3d pa = p - A.c;
-  const double y = pa.dot(axis);                          // along the axis
+  const double y = pa.dot(axis);                                        // along the axis
   const double x = std::sqrt(std::max(pa.squaredNorm() - y * y, 0.0));  // off the axis
   // The tangent line touches the circles where the normal makes angle
   // sin(phi) = (ra - rb) / l with the radial direction.
@@ -95,8 +95,7 @@ Profile torso_profile(const BodyShape& s, double y) {
   const double h = R[i + 1].y - R[i].y;
   const double t = (y - R[i].y) / h;
   const double t2 = t * t, t3 = t2 * t;
-  const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2,
-               h11 = t3 - t2;
+  const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2, h11 = t3 - t2;
   auto mix = [&](double v0, double v1, int c) {
     return h00 * v0 + h10 * h * M[i][c] + h01 * v1 + h11 * h * M[i + 1][c];
   };
@@ -132,8 +131,8 @@ double head_distance(const BodyShape& s, const Eigen::Vector3d& p) {
 
 // A round cone squeezed by `widening` along `lateral` (evaluated in the
 // stretched space, so distances shrink by at most that factor).
-double flat_round_cone(const Eigen::Vector3d& p, const Ball& A, const Ball& B,
-                       const Eigen::Vector3d& lateral, double widening) {
+double flat_round_cone(const Eigen::Vector3d& p, const Ball& A, const Ball& B, const Eigen::Vector3d& lateral,
+                       double widening) {
   Eigen::Vector3d q = p - A.c;
   const double l = q.dot(lateral);
   q += lateral * (l / widening - l);
@@ -155,24 +154,42 @@ double foot_distance(const BodyShape& s, int side, const Eigen::Vector3d& p) {
 
 double part_distance(const BodyShape& s, int part, const Eigen::Vector3d& p) {
   switch (part) {
-    case kTorso: return torso_distance(s, p);
-    case kNeckPart: return round_cone(p, s.neck[0], s.neck[1]);
-    case kHeadPart: return head_distance(s, p);
-    case kLTrapezius: return round_cone(p, s.trapezius[0][0], s.trapezius[0][1]);
-    case kRTrapezius: return round_cone(p, s.trapezius[1][0], s.trapezius[1][1]);
-    case kLUpperArm: return chain(p, s.arm[0].data(), 0, 2);
-    case kLForearm: return chain(p, s.arm[0].data(), 2, 4);
-    case kLHand: return hand_distance(s, 0, p);
-    case kRUpperArm: return chain(p, s.arm[1].data(), 0, 2);
-    case kRForearm: return chain(p, s.arm[1].data(), 2, 4);
-    case kRHand: return hand_distance(s, 1, p);
-    case kLThigh: return chain(p, s.leg[0].data(), 0, 1);
-    case kLShin: return chain(p, s.leg[0].data(), 1, 3);
-    case kLFoot: return foot_distance(s, 0, p);
-    case kRThigh: return chain(p, s.leg[1].data(), 0, 1);
-    case kRShin: return chain(p, s.leg[1].data(), 1, 3);
-    case kRFoot: return foot_distance(s, 1, p);
-    default: return 1e30;
+    case kTorso:
+      return torso_distance(s, p);
+    case kNeckPart:
+      return round_cone(p, s.neck[0], s.neck[1]);
+    case kHeadPart:
+      return head_distance(s, p);
+    case kLTrapezius:
+      return round_cone(p, s.trapezius[0][0], s.trapezius[0][1]);
+    case kRTrapezius:
+      return round_cone(p, s.trapezius[1][0], s.trapezius[1][1]);
+    case kLUpperArm:
+      return chain(p, s.arm[0].data(), 0, 2);
+    case kLForearm:
+      return chain(p, s.arm[0].data(), 2, 4);
+    case kLHand:
+      return hand_distance(s, 0, p);
+    case kRUpperArm:
+      return chain(p, s.arm[1].data(), 0, 2);
+    case kRForearm:
+      return chain(p, s.arm[1].data(), 2, 4);
+    case kRHand:
+      return hand_distance(s, 1, p);
+    case kLThigh:
+      return chain(p, s.leg[0].data(), 0, 1);
+    case kLShin:
+      return chain(p, s.leg[0].data(), 1, 3);
+    case kLFoot:
+      return foot_distance(s, 0, p);
+    case kRThigh:
+      return chain(p, s.leg[1].data(), 0, 1);
+    case kRShin:
+      return chain(p, s.leg[1].data(), 1, 3);
+    case kRFoot:
+      return foot_distance(s, 1, p);
+    default:
+      return 1e30;
   }
 }
 
@@ -203,34 +220,65 @@ double unit_section_perimeter(double front, double back, double n) {
 
 int body_part_chain(int part) {
   switch (part) {
-    case kLUpperArm: case kLForearm: case kLHand: return 1;
-    case kRUpperArm: case kRForearm: case kRHand: return 2;
-    case kLThigh: case kLShin: case kLFoot: return 3;
-    case kRThigh: case kRShin: case kRFoot: return 4;
-    default: return 0;
+    case kLUpperArm:
+    case kLForearm:
+    case kLHand:
+      return 1;
+    case kRUpperArm:
+    case kRForearm:
+    case kRHand:
+      return 2;
+    case kLThigh:
+    case kLShin:
+    case kLFoot:
+      return 3;
+    case kRThigh:
+    case kRShin:
+    case kRFoot:
+      return 4;
+    default:
+      return 0;
   }
 }
 
 int body_part_bone(int part) {
   switch (part) {
-    case kTorso: return kPelvis;
-    case kNeckPart: return kNeck;
-    case kHeadPart: return kHead;
-    case kLTrapezius: return kLClavicle;
-    case kRTrapezius: return kRClavicle;
-    case kLUpperArm: return kLShoulder;
-    case kLForearm: return kLElbow;
-    case kLHand: return kLWrist;
-    case kRUpperArm: return kRShoulder;
-    case kRForearm: return kRElbow;
-    case kRHand: return kRWrist;
-    case kLThigh: return kLHip;
-    case kLShin: return kLKnee;
-    case kLFoot: return kLAnkle;
-    case kRThigh: return kRHip;
-    case kRShin: return kRKnee;
-    case kRFoot: return kRAnkle;
-    default: return kPelvis;
+    case kTorso:
+      return kPelvis;
+    case kNeckPart:
+      return kNeck;
+    case kHeadPart:
+      return kHead;
+    case kLTrapezius:
+      return kLClavicle;
+    case kRTrapezius:
+      return kRClavicle;
+    case kLUpperArm:
+      return kLShoulder;
+    case kLForearm:
+      return kLElbow;
+    case kLHand:
+      return kLWrist;
+    case kRUpperArm:
+      return kRShoulder;
+    case kRForearm:
+      return kRElbow;
+    case kRHand:
+      return kRWrist;
+    case kLThigh:
+      return kLHip;
+    case kLShin:
+      return kLKnee;
+    case kLFoot:
+      return kLAnkle;
+    case kRThigh:
+      return kRHip;
+    case kRShin:
+      return kRKnee;
+    case kRFoot:
+      return kRAnkle;
+    default:
+      return kPelvis;
   }
 }
 
@@ -248,8 +296,7 @@ Eigen::Vector3d torso_bone_weights(const BodyShape& s, double y) {
   return Eigen::Vector3d(1 - t1, t1 - t2, t2);
 }
 
-void body_part_distances(const BodyShape& s, const Eigen::Vector3d& p,
-                         std::array<double, kPartCount>& d) {
+void body_part_distances(const BodyShape& s, const Eigen::Vector3d& p, std::array<double, kPartCount>& d) {
   for (int i = 0; i < kPartCount; ++i) d[i] = part_distance(s, i, p);
 }
 
@@ -323,8 +370,7 @@ void update_bounds(BodyShape& s) {
   s.part_max[kHeadPart] = s.head_center + s.head_radii;
   for (int side = 0; side < 2; ++side) {
     const int o = side * 3;
-    ball_box(s.trapezius[side].data(), 0, 1, s.part_min[kLTrapezius + side],
-             s.part_max[kLTrapezius + side]);
+    ball_box(s.trapezius[side].data(), 0, 1, s.part_min[kLTrapezius + side], s.part_max[kLTrapezius + side]);
     ball_box(s.arm[side].data(), 0, 2, s.part_min[kLUpperArm + o], s.part_max[kLUpperArm + o]);
     ball_box(s.arm[side].data(), 2, 4, s.part_min[kLForearm + o], s.part_max[kLForearm + o]);
     Eigen::Vector3d hlo, hhi;
@@ -336,8 +382,8 @@ void update_bounds(BodyShape& s) {
     ball_box(s.leg[side].data(), 1, 3, s.part_min[kLShin + o], s.part_max[kLShin + o]);
     Eigen::Vector3d flo, fhi;
     ball_box(s.foot[side].data(), 0, 1, flo, fhi);
-    const Eigen::Vector3d widen = Eigen::Vector3d::Constant(
-        (s.foot_widening - 1.0) * std::max(s.foot[side][0].r, s.foot[side][1].r));
+    const Eigen::Vector3d widen =
+        Eigen::Vector3d::Constant((s.foot_widening - 1.0) * std::max(s.foot[side][0].r, s.foot[side][1].r));
     s.part_min[kLFoot + o] = flo - widen;
     s.part_max[kLFoot + o] = fhi + widen;
   }
@@ -369,9 +415,8 @@ BodyShape build_body_shape(const Measurements& m) {
   const double crotch = m.inseam + 0.5 * std::abs(ld);
   const double shoulder_y = 0.818 * H;
   const double T = shoulder_y - crotch;
-  const double y_hip = crotch + 0.14 * T, y_waist = crotch + 0.45 * T,
-               y_under = crotch + 0.635 * T, y_chest = crotch + 0.73 * T,
-               y_armpit = crotch + 0.85 * T;
+  const double y_hip = crotch + 0.14 * T, y_waist = crotch + 0.45 * T, y_under = crotch + 0.635 * T,
+               y_chest = crotch + 0.73 * T, y_armpit = crotch + 0.85 * T;
   const double n = s.torso_exponent;
 
   // Rows with depth ratios of typical adult cross-sections; half-widths are
@@ -384,12 +429,11 @@ BodyShape build_body_shape(const Measurements& m) {
   const TorsoRow waist = row_for(y_waist, m.waist, 0.72, 0.70, 0.0);
   const TorsoRow under = row_for(y_under, m.under_bust, 0.72, 0.72, 0.0);
   const TorsoRow chest = row_for(y_chest, m.chest, 0.80, 0.72, 0.0);
-  TorsoRow bottom{crotch - 0.005 * k, 0.86 * hip.half_width, 0.85 * hip.front, 0.8 * hip.back,
-                  hip.center_z};
-  TorsoRow armpit{y_armpit, 0.96 * chest.half_width, 0.66 * chest.half_width,
-                  0.70 * chest.half_width, -0.005 * k};
-  TorsoRow shoulder{shoulder_y - 0.025 * k, std::max(0.5 * m.shoulder_width - 0.055 * k, 0.07 * k),
-                    0.075 * k, 0.08 * k, -0.015 * k};
+  TorsoRow bottom{crotch - 0.005 * k, 0.86 * hip.half_width, 0.85 * hip.front, 0.8 * hip.back, hip.center_z};
+  TorsoRow armpit{y_armpit, 0.96 * chest.half_width, 0.66 * chest.half_width, 0.70 * chest.half_width,
+                  -0.005 * k};
+  TorsoRow shoulder{shoulder_y - 0.025 * k, std::max(0.5 * m.shoulder_width - 0.055 * k, 0.07 * k), 0.075 * k,
+                    0.08 * k, -0.015 * k};
   TorsoRow top{shoulder_y + 0.045 * k, 0.06 * k, 0.05 * k, 0.06 * k, -0.02 * k};
   s.torso_rows = {bottom, hip, waist, under, chest, armpit, shoulder, top};
   s.torso_bottom = bottom.y;
@@ -410,10 +454,11 @@ BodyShape build_body_shape(const Measurements& m) {
   const double arm_angle = 42.0 * kPi / 180.0;
   for (int side = 0; side < 2; ++side) {
     const double sx = side == 0 ? 1.0 : -1.0;
-    s.trapezius[side][0] = Ball{Eigen::Vector3d(sx * 0.035 * k, shoulder_y + 0.02 * k, -0.025 * k), 0.035 * k};
-    s.trapezius[side][1] = Ball{
-        Eigen::Vector3d(sx * (0.5 * m.shoulder_width - 0.035 * k), shoulder_y - 0.02 * k, -0.01 * k),
-        0.03 * k};
+    s.trapezius[side][0] =
+        Ball{Eigen::Vector3d(sx * 0.035 * k, shoulder_y + 0.02 * k, -0.025 * k), 0.035 * k};
+    s.trapezius[side][1] =
+        Ball{Eigen::Vector3d(sx * (0.5 * m.shoulder_width - 0.035 * k), shoulder_y - 0.02 * k, -0.01 * k),
+             0.03 * k};
     const Eigen::Vector3d d(sx * std::sin(arm_angle), -std::cos(arm_angle), 0.0);
     const double L = m.arm_length + sx * 0.5 * m.arm_length_difference;
     const double Lj = L - 0.03 * k;  // the shoulder point sits above the joint centre
@@ -459,8 +504,8 @@ BodyShape build_body_shape(const Measurements& m) {
     Lg[3] = Ball{Eigen::Vector3d(axis_x(ankle_y), ankle_y, -0.01 * k), std::max(0.39 * r_thigh, 0.03 * k)};
     const Eigen::Vector3d ankle = Lg[3].c;
     s.foot[side][0] = Ball{Eigen::Vector3d(ankle.x(), floor_y + 0.032 * k, ankle.z() - 0.03 * k), 0.032 * k};
-    s.foot[side][1] = Ball{Eigen::Vector3d(ankle.x() + sx * 0.02 * k, floor_y + 0.02 * k, ankle.z() + 0.165 * k),
-                           0.02 * k};
+    s.foot[side][1] =
+        Ball{Eigen::Vector3d(ankle.x() + sx * 0.02 * k, floor_y + 0.02 * k, ankle.z() + 0.165 * k), 0.02 * k};
   }
 
   // Skeleton (joint centres).
@@ -598,8 +643,10 @@ double field_girth(const BodyShape& s, const GirthLandmark& g, int rays) {
     if (hi < 0) throw GeometryError("girth ray does not leave the body at landmark '" + g.name + "'");
     for (int it = 0; it < 30 && hi - lo > 1e-6; ++it) {
       const double mid = 0.5 * (lo + hi);
-      if (body_field(s, g.center + mid * dir) < 0) lo = mid;
-      else hi = mid;
+      if (body_field(s, g.center + mid * dir) < 0)
+        lo = mid;
+      else
+        hi = mid;
     }
     const double rr = 0.5 * (lo + hi);
     pts.emplace_back(rr * std::cos(t), rr * std::sin(t));
@@ -614,8 +661,7 @@ double fit_girths(BodyShape& s, double tolerance, int max_iterations,
     worst = 0.0;
     std::vector<double> factors(s.landmarks.size());
     for (size_t i = 0; i < s.landmarks.size(); ++i) {
-      const double target =
-          s.landmarks[i].target * (i < target_scale.size() ? target_scale[i] : 1.0);
+      const double target = s.landmarks[i].target * (i < target_scale.size() ? target_scale[i] : 1.0);
       const double g = field_girth(s, s.landmarks[i]);
       worst = std::max(worst, std::abs(g - target));
       factors[i] = std::clamp(target / g, 0.75, 1.33);

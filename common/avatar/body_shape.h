@@ -12,10 +12,9 @@
 // armpits, crotch and neck are smooth by construction and the zero level set
 // is a closed surface. The rest pose is an A-pose: arms 42 degrees from the
 // vertical, legs slightly apart, facing +z, +y up, feet at y = 0.
+#include <Eigen/Core>
 #include <array>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "avatar/avatar_spec.h"
 #include "avatar/skeleton.h"
@@ -25,9 +24,23 @@ namespace gp {
 // Body parts; each is carried by one bone (the torso by pelvis/spine/chest,
 // blended along the height).
 enum BodyPart : int {
-  kTorso = 0, kNeckPart, kHeadPart, kLTrapezius, kRTrapezius,
-  kLUpperArm, kLForearm, kLHand, kRUpperArm, kRForearm, kRHand,
-  kLThigh, kLShin, kLFoot, kRThigh, kRShin, kRFoot,
+  kTorso = 0,
+  kNeckPart,
+  kHeadPart,
+  kLTrapezius,
+  kRTrapezius,
+  kLUpperArm,
+  kLForearm,
+  kLHand,
+  kRUpperArm,
+  kRForearm,
+  kRHand,
+  kLThigh,
+  kLShin,
+  kLFoot,
+  kRThigh,
+  kRShin,
+  kRFoot,
   kPartCount
 };
 
@@ -53,34 +66,34 @@ struct TorsoRow {
 // A girth landmark: a plane through `center` with normal `normal`, where the
 // girth is the convex-hull perimeter of the cross-section loop around `center`.
 struct GirthLandmark {
-  std::string name;      // "chest", "upper_arm_left", ...
-  std::string field;     // measurement it reproduces ("chest", "upper_arm", ...)
-  double target = 0.0;   // [m]
+  std::string name;     // "chest", "upper_arm_left", ...
+  std::string field;    // measurement it reproduces ("chest", "upper_arm", ...)
+  double target = 0.0;  // [m]
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitY();
-  int bone = 0;          // joint whose bone carries the landmark (for posing)
+  int bone = 0;  // joint whose bone carries the landmark (for posing)
 };
 
 struct BodyShape {
   Measurements m;
   double scale = 1.0;  // height / 1.70, for sizes not given by measurements
 
-  std::vector<TorsoRow> torso_rows;  // ascending y
+  std::vector<TorsoRow> torso_rows;            // ascending y
   double torso_bottom = 0.0, torso_top = 0.0;  // cap heights [m]
   double belly_y = 0.0, belly_sigma = 1.0;     // belly bump centre and width [m]
   double torso_exponent = 2.3;                 // super-ellipse exponent
 
-  std::array<Ball, 2> neck;                       // base, top
-  Eigen::Vector3d head_center, head_radii;        // ellipsoid
-  std::array<std::array<Ball, 2>, 2> trapezius;   // [side][neck end, shoulder end]
-  std::array<std::array<Ball, 5>, 2> arm;         // [side][shoulder, mid upper arm, elbow, forearm, wrist]
-  std::array<std::array<Ball, 2>, 2> hand;        // [side][palm, finger tips], flattened
-  std::array<Eigen::Vector3d, 2> hand_breadth;    // direction across the palm
-  double hand_widening = 2.9;                     // palm breadth / palm thickness
-  std::array<std::array<Ball, 4>, 2> leg;         // [side][upper thigh, knee, calf, ankle]
-  std::array<Eigen::Vector3d, 2> hip_joint;       // centre of rotation of the hip
-  std::array<std::array<Ball, 2>, 2> foot;        // [side][heel, toe]
-  double foot_widening = 1.35;                    // lateral stretch of the foot cone
+  std::array<Ball, 2> neck;                      // base, top
+  Eigen::Vector3d head_center, head_radii;       // ellipsoid
+  std::array<std::array<Ball, 2>, 2> trapezius;  // [side][neck end, shoulder end]
+  std::array<std::array<Ball, 5>, 2> arm;        // [side][shoulder, mid upper arm, elbow, forearm, wrist]
+  std::array<std::array<Ball, 2>, 2> hand;       // [side][palm, finger tips], flattened
+  std::array<Eigen::Vector3d, 2> hand_breadth;   // direction across the palm
+  double hand_widening = 2.9;                    // palm breadth / palm thickness
+  std::array<std::array<Ball, 4>, 2> leg;        // [side][upper thigh, knee, calf, ankle]
+  std::array<Eigen::Vector3d, 2> hip_joint;      // centre of rotation of the hip
+  std::array<std::array<Ball, 2>, 2> foot;       // [side][heel, toe]
+  double foot_widening = 1.35;                   // lateral stretch of the foot cone
 
   // Smooth-union widths [m].
   double blend_torso = 0.03, blend_limb = 0.035, blend_leg = 0.03, blend_small = 0.012;
@@ -105,8 +118,7 @@ BodyShape build_body_shape(const Measurements& m);
 double body_field(const BodyShape& shape, const Eigen::Vector3d& p);
 
 // Per-part signed distances at p (no blending), kPartCount values.
-void body_part_distances(const BodyShape& shape, const Eigen::Vector3d& p,
-                         std::array<double, kPartCount>& d);
+void body_part_distances(const BodyShape& shape, const Eigen::Vector3d& p, std::array<double, kPartCount>& d);
 
 // Weights of pelvis, spine and chest for a torso point at height y (sum 1).
 Eigen::Vector3d torso_bone_weights(const BodyShape& shape, double y);

@@ -1,12 +1,11 @@
 #include "avatar/flips.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 namespace gp {
 namespace {
@@ -23,7 +22,9 @@ Eigen::Vector3d normal(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const
   return (b - a).cross(c - a);
 }
 
-uint64_t key(int a, int b) { return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b); }
+uint64_t key(int a, int b) {
+  return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
+}
 
 }  // namespace
 

@@ -60,8 +60,10 @@ std::vector<std::vector<Eigen::Vector3d>> slice_mesh(const Eigen::MatrixXd& V, c
     int out_edge = -1, in_edge = -1;
     for (int k = 0; k < 3; ++k) {
       const int a = F(f, k), b = F(f, (k + 1) % 3);
-      if (positive(a) && !positive(b)) out_edge = cut(a, b);
-      else if (!positive(a) && positive(b)) in_edge = cut(a, b);
+      if (positive(a) && !positive(b))
+        out_edge = cut(a, b);
+      else if (!positive(a) && positive(b))
+        in_edge = cut(a, b);
     }
     if (out_edge >= 0 && in_edge >= 0) next[in_edge] = out_edge;
   }

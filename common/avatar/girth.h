@@ -4,10 +4,9 @@
 // between the breasts). The cross-section is cut with a plane and the loop
 // around a given centre point is kept, so that a slice through the chest
 // ignores the arms.
-#include <vector>
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <vector>
 
 namespace gp {
 

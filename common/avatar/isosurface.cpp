@@ -12,8 +12,8 @@
 namespace gp {
 
 Mesh marching_tetrahedra(const std::function<double(const Eigen::Vector3d&)>& field,
-                         const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                         const IsosurfaceOptions& o, IsosurfaceStats* stats) {
+                         const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const IsosurfaceOptions& o,
+                         IsosurfaceStats* stats) {
   const double h = o.cell;
   if (!(h > 0) || !((hi - lo).minCoeff() > 0))
     throw Error(ExitCode::internal, "marching_tetrahedra: empty box or cell size");
@@ -79,7 +79,8 @@ Mesh marching_tetrahedra(const std::function<double(const Eigen::Vector3d&)>& fi
   const int B = 16;
   for (int k = 0; k < nz; k += B)
     for (int j = 0; j < ny; j += B)
-      for (int i = 0; i < nx; i += B) visit(i, std::min(i + B, nx), j, std::min(j + B, ny), k, std::min(k + B, nz));
+      for (int i = 0; i < nx; i += B)
+        visit(i, std::min(i + B, nx), j, std::min(j + B, ny), k, std::min(k + B, nz));
 
   // Kuhn tetrahedra: corner c has offsets (c & 1, c >> 1 & 1, c >> 2 & 1);
   // each tetrahedron walks from corner 0 to corner 7 adding one axis at a time.
@@ -112,7 +113,9 @@ Mesh marching_tetrahedra(const std::function<double(const Eigen::Vector3d&)>& fi
           neg += v[c] < 0;
         }
         if (neg == 0 || neg == 8) continue;
-        auto corner_pos = [&](int c) -> Eigen::Vector3d { return position(i + (c & 1), j + (c >> 1 & 1), k + (c >> 2 & 1)); };
+        auto corner_pos = [&](int c) -> Eigen::Vector3d {
+          return position(i + (c & 1), j + (c >> 1 & 1), k + (c >> 2 & 1));
+        };
         auto edge_vertex = [&](int ca, int cb) {
           // Lower corner first: Kuhn edges always go from a corner to one with
           // a superset of its offsets.

@@ -6,10 +6,9 @@
 // triangulation is always a closed 2-manifold without boundary, whatever the
 // field values (Bloomenthal, "Polygonization of implicit surfaces", 1988;
 // Doi and Koide 1991).
-#include <functional>
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <functional>
 
 #include "io/mesh.h"
 
@@ -36,8 +35,8 @@ struct IsosurfaceStats {
 // Triangle mesh of {f = 0} inside the box [lo, hi], oriented with normals
 // pointing to f > 0 (outside). Vertices are numbered in scan order (z, y, x)
 // of the grid, so the output is deterministic.
-Mesh marching_tetrahedra(const std::function<double(const Eigen::Vector3d&)>& f,
-                         const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                         const IsosurfaceOptions& options = {}, IsosurfaceStats* stats = nullptr);
+Mesh marching_tetrahedra(const std::function<double(const Eigen::Vector3d&)>& f, const Eigen::Vector3d& lo,
+                         const Eigen::Vector3d& hi, const IsosurfaceOptions& options = {},
+                         IsosurfaceStats* stats = nullptr);
 
 }  // namespace gp

@@ -19,9 +19,7 @@ namespace gp {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // Moves every vertex onto the zero set along the field gradient (Newton
 // steps, gradient by central differences). Steps are capped at `max_step`, so
@@ -125,7 +123,7 @@ int smooth_needles(Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vect
         const Eigen::Vector3d u = V.row(F(f, (k + 1) % 3)).transpose() - a;
         const Eigen::Vector3d w = V.row(F(f, (k + 2) % 3)).transpose() - a;
         if (std::atan2(u.cross(w).norm(), u.dot(w)) < limit) {
-              for (int m = 0; m < 3; ++m) mark[F(f, m)] = 1;
+          for (int m = 0; m < 3; ++m) mark[F(f, m)] = 1;
           any = true;
         }
       }

@@ -20,10 +20,9 @@
 // Poses are made by dual-quaternion skinning with smooth part-derived
 // weights, so every pose shares the rest pose's triangles (vertex i is the
 // same body point).
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "avatar/avatar_spec.h"
 #include "avatar/body_shape.h"
@@ -63,11 +62,11 @@ struct AvatarOptions {
 };
 
 struct GirthResult {
-  std::string name;       // landmark ("chest", "wrist_left", ...)
-  std::string field;      // measurement ("chest", "wrist", ...)
-  double target = 0.0;    // [m]
-  double measured = 0.0;  // convex-hull perimeter of the mesh slice [m]
-  double loop = 0.0;      // length of the slice loop itself [m]
+  std::string name;                                  // landmark ("chest", "wrist_left", ...)
+  std::string field;                                 // measurement ("chest", "wrist", ...)
+  double target = 0.0;                               // [m]
+  double measured = 0.0;                             // convex-hull perimeter of the mesh slice [m]
+  double loop = 0.0;                                 // length of the slice loop itself [m]
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  // plane point in the rest pose [m]
   Eigen::Vector3d normal = Eigen::Vector3d::UnitY();
 };
@@ -78,16 +77,16 @@ struct AvatarTiming {
 };
 
 struct AvatarResult {
-  Measurements measurements;  // effective (defaults filled in)
-  PoseSet poses;              // names, V per pose, shared F, reference "apose"
-  Skeleton skeleton;          // rest joints (rest pose floor-aligned like the mesh)
-  std::vector<Eigen::MatrixXd> joints;  // per pose, kJointCount by 3 [m]
+  Measurements measurements;              // effective (defaults filled in)
+  PoseSet poses;                          // names, V per pose, shared F, reference "apose"
+  Skeleton skeleton;                      // rest joints (rest pose floor-aligned like the mesh)
+  std::vector<Eigen::MatrixXd> joints;    // per pose, kJointCount by 3 [m]
   std::vector<JointRotations> rotations;  // per pose, local joint rotations
-  Eigen::MatrixXd weights;    // #V by kJointCount skinning weights
+  Eigen::MatrixXd weights;                // #V by kJointCount skinning weights
   std::vector<GirthResult> girths;
-  std::vector<double> volumes;  // per pose [m^3]
-  double height = 0.0;          // measured top of the rest pose [m]
-  int correction_rounds = 0;    // girth correction passes applied to the mesh
+  std::vector<double> volumes;        // per pose [m^3]
+  double height = 0.0;                // measured top of the rest pose [m]
+  int correction_rounds = 0;          // girth correction passes applied to the mesh
   long long isosurface_vertices = 0;  // before decimation
   int needle_vertices_smoothed = 0;   // over all posed meshes (see posed_min_angle)
   int flips = 0;                      // edge flips for better angles

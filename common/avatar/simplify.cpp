@@ -1,12 +1,11 @@
 #include "avatar/simplify.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <queue>
 #include <tuple>
 #include <vector>
-
-#include <Eigen/Dense>
 
 #include "core/error.h"
 
@@ -20,9 +19,7 @@ struct Candidate {
   double cost;
   int a, b;
   unsigned stamp_a, stamp_b;
-  bool operator>(const Candidate& o) const {
-    return std::tie(cost, a, b) > std::tie(o.cost, o.a, o.b);
-  }
+  bool operator>(const Candidate& o) const { return std::tie(cost, a, b) > std::tie(o.cost, o.a, o.b); }
 };
 
 }  // namespace
@@ -88,93 +85,93 @@ Mesh simplify_mesh(const Mesh& mesh, int target_vertices, const SimplifyOptions&
   // Edges refused in a pass get another chance in the next one, after their
   // neighbourhood changed.
   for (int pass = 0; pass < 40 && alive > target_vertices; ++pass) {
-  const int alive_before = alive;
-  const double turn = opt.max_normal_turn * (pass < 8 ? 1.0 : pass < 16 ? 1.5 : 2.5);
-  const double cos_max = std::cos(std::min(turn, 150.0) * M_PI / 180.0);
-  heap = decltype(heap)();
-  for (size_t f = 0; f < F.size(); ++f) {
-    if (!face_alive[f]) continue;
-    for (int k = 0; k < 3; ++k) {
-      const int a = F[f](k), b = F[f]((k + 1) % 3);
-      if (a < b) push_edge(a, b);
+    const int alive_before = alive;
+    const double turn = opt.max_normal_turn * (pass < 8 ? 1.0 : pass < 16 ? 1.5 : 2.5);
+    const double cos_max = std::cos(std::min(turn, 150.0) * M_PI / 180.0);
+    heap = decltype(heap)();
+    for (size_t f = 0; f < F.size(); ++f) {
+      if (!face_alive[f]) continue;
+      for (int k = 0; k < 3; ++k) {
+        const int a = F[f](k), b = F[f]((k + 1) % 3);
+        if (a < b) push_edge(a, b);
+      }
     }
-  }
-  while (alive > target_vertices && !heap.empty()) {
-    const Candidate c = heap.top();
-    heap.pop();
-    const int a = c.a, b = c.b;
-    if (!vert_alive[a] || !vert_alive[b] || stamp[a] != c.stamp_a || stamp[b] != c.stamp_b) continue;
-    // Link condition.
-    neighbors(a, na);
-    neighbors(b, nb);
-    if (!std::binary_search(na.begin(), na.end(), b)) continue;
-    common.clear();
-    std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(common));
-    if (common.size() != 2) continue;
-    // The two opposite vertices lose an edge each; keep them at valence >= 3.
-    bool thin = false;
-    for (int o : common) {
-      neighbors(o, nc);
-      thin |= nc.size() <= 3;
-    }
-    if (thin) continue;
-    double cost;
-    const Eigen::Vector3d p = best_position(a, b, cost);
-    // No triangle may flip or turn too far.
-    bool ok = true;
-    for (int v : {a, b}) {
-      for (int f : vf[v]) {
-        const Eigen::Vector3i t = F[f];
-        if ((t.array() == a).any() && (t.array() == b).any()) continue;
-        Eigen::Vector3d q[3];
-        for (int k = 0; k < 3; ++k) q[k] = P[t(k)];
-        const Eigen::Vector3d n0 = (q[1] - q[0]).cross(q[2] - q[0]);
-        for (int k = 0; k < 3; ++k)
-          if (t(k) == v) q[k] = p;
-        const Eigen::Vector3d n1 = (q[1] - q[0]).cross(q[2] - q[0]);
-        const double l0 = n0.norm(), l1 = n1.norm();
-        if (l1 <= 1e-18 || n0.dot(n1) < cos_max * l0 * l1) {
-          ok = false;
-          break;
+    while (alive > target_vertices && !heap.empty()) {
+      const Candidate c = heap.top();
+      heap.pop();
+      const int a = c.a, b = c.b;
+      if (!vert_alive[a] || !vert_alive[b] || stamp[a] != c.stamp_a || stamp[b] != c.stamp_b) continue;
+      // Link condition.
+      neighbors(a, na);
+      neighbors(b, nb);
+      if (!std::binary_search(na.begin(), na.end(), b)) continue;
+      common.clear();
+      std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(common));
+      if (common.size() != 2) continue;
+      // The two opposite vertices lose an edge each; keep them at valence >= 3.
+      bool thin = false;
+      for (int o : common) {
+        neighbors(o, nc);
+        thin |= nc.size() <= 3;
+      }
+      if (thin) continue;
+      double cost;
+      const Eigen::Vector3d p = best_position(a, b, cost);
+      // No triangle may flip or turn too far.
+      bool ok = true;
+      for (int v : {a, b}) {
+        for (int f : vf[v]) {
+          const Eigen::Vector3i t = F[f];
+          if ((t.array() == a).any() && (t.array() == b).any()) continue;
+          Eigen::Vector3d q[3];
+          for (int k = 0; k < 3; ++k) q[k] = P[t(k)];
+          const Eigen::Vector3d n0 = (q[1] - q[0]).cross(q[2] - q[0]);
+          for (int k = 0; k < 3; ++k)
+            if (t(k) == v) q[k] = p;
+          const Eigen::Vector3d n1 = (q[1] - q[0]).cross(q[2] - q[0]);
+          const double l0 = n0.norm(), l1 = n1.norm();
+          if (l1 <= 1e-18 || n0.dot(n1) < cos_max * l0 * l1) {
+            ok = false;
+            break;
+          }
         }
+        if (!ok) break;
       }
-      if (!ok) break;
-    }
-    if (!ok) continue;
-    // Collapse b into a.
-    std::vector<int> merged;
-    for (int f : vf[b]) {
-      Eigen::Vector3i& t = F[f];
-      if ((t.array() == a).any()) {
-        face_alive[f] = false;
-        continue;
+      if (!ok) continue;
+      // Collapse b into a.
+      std::vector<int> merged;
+      for (int f : vf[b]) {
+        Eigen::Vector3i& t = F[f];
+        if ((t.array() == a).any()) {
+          face_alive[f] = false;
+          continue;
+        }
+        for (int k = 0; k < 3; ++k)
+          if (t(k) == b) t(k) = a;
+        merged.push_back(f);
       }
-      for (int k = 0; k < 3; ++k)
-        if (t(k) == b) t(k) = a;
-      merged.push_back(f);
+      std::vector<int> fa;
+      for (int f : vf[a])
+        if (face_alive[f]) fa.push_back(f);
+      fa.insert(fa.end(), merged.begin(), merged.end());
+      std::sort(fa.begin(), fa.end());
+      vf[a] = fa;
+      vf[b].clear();
+      for (int o : common) {
+        auto& l = vf[o];
+        l.erase(std::remove_if(l.begin(), l.end(), [&](int f) { return !face_alive[f]; }), l.end());
+      }
+      vert_alive[b] = false;
+      P[a] = p;
+      Q[a] += Q[b];
+      // Only edges at a changed (its quadric and position); older heap
+      // entries of a are invalidated by its stamp, those of b by its death.
+      ++stamp[a];
+      --alive;
+      neighbors(a, na);
+      for (int u : na) push_edge(a, u);
     }
-    std::vector<int> fa;
-    for (int f : vf[a])
-      if (face_alive[f]) fa.push_back(f);
-    fa.insert(fa.end(), merged.begin(), merged.end());
-    std::sort(fa.begin(), fa.end());
-    vf[a] = fa;
-    vf[b].clear();
-    for (int o : common) {
-      auto& l = vf[o];
-      l.erase(std::remove_if(l.begin(), l.end(), [&](int f) { return !face_alive[f]; }), l.end());
-    }
-    vert_alive[b] = false;
-    P[a] = p;
-    Q[a] += Q[b];
-    // Only edges at a changed (its quadric and position); older heap
-    // entries of a are invalidated by its stamp, those of b by its death.
-    ++stamp[a];
-    --alive;
-    neighbors(a, na);
-    for (int u : na) push_edge(a, u);
-  }
-  if (alive == alive_before && pass >= 16) break;
+    if (alive == alive_before && pass >= 16) break;
   }
   Mesh out;
   std::vector<int> remap(nv, -1);

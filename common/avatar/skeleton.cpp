@@ -21,8 +21,8 @@ Eigen::Vector3d bone_direction(const Skeleton& s, int from, int to) {
 // bones; bones not listed keep their local rest orientation (identity).
 class PoseBuilder {
  public:
-  explicit PoseBuilder(const Skeleton& s) : s_(s), global_(kJointCount, Eigen::Quaterniond::Identity()),
-                                            set_(kJointCount, false) {}
+  explicit PoseBuilder(const Skeleton& s)
+      : s_(s), global_(kJointCount, Eigen::Quaterniond::Identity()), set_(kJointCount, false) {}
   void set_global(int j, const Eigen::Quaterniond& q) {
     global_[j] = q;
     set_[j] = true;
@@ -58,17 +58,16 @@ Eigen::Quaterniond swing(const Skeleton& s, int from, int to, const Eigen::Vecto
 
 const std::vector<std::string>& avatar_joint_names() {
   static const std::vector<std::string> names = {
-      "pelvis",     "spine",      "chest",   "neck",    "head",       "l_clavicle", "l_shoulder",
-      "l_elbow",    "l_wrist",    "r_clavicle", "r_shoulder", "r_elbow", "r_wrist", "l_hip",
-      "l_knee",     "l_ankle",    "r_hip",   "r_knee",  "r_ankle"};
+      "pelvis",  "spine",   "chest",      "neck",       "head",    "l_clavicle", "l_shoulder",
+      "l_elbow", "l_wrist", "r_clavicle", "r_shoulder", "r_elbow", "r_wrist",    "l_hip",
+      "l_knee",  "l_ankle", "r_hip",      "r_knee",     "r_ankle"};
   return names;
 }
 
 const std::vector<int>& avatar_joint_parents() {
-  static const std::vector<int> parents = {-1,        kPelvis,    kSpine,     kChest,     kNeck,
-                                           kChest,    kLClavicle, kLShoulder, kLElbow,    kChest,
-                                           kRClavicle, kRShoulder, kRElbow,   kPelvis,    kLHip,
-                                           kLKnee,    kPelvis,    kRHip,      kRKnee};
+  static const std::vector<int> parents = {
+      -1,         kPelvis,    kSpine,  kChest,  kNeck, kChest, kLClavicle, kLShoulder, kLElbow, kChest,
+      kRClavicle, kRShoulder, kRElbow, kPelvis, kLHip, kLKnee, kPelvis,    kRHip,      kRKnee};
   return parents;
 }
 
@@ -134,8 +133,14 @@ JointRotations builtin_pose(const Skeleton& s, const std::string& name) {
   PoseBuilder b(s);
   const Eigen::Vector3d X = Eigen::Vector3d::UnitX(), Y = Eigen::Vector3d::UnitY();
   // side = +1 for the left (+x) side, -1 for the right.
-  struct Arm { int clav, shoulder, elbow, wrist; double side; };
-  struct Leg { int hip, knee, ankle; double side; };
+  struct Arm {
+    int clav, shoulder, elbow, wrist;
+    double side;
+  };
+  struct Leg {
+    int hip, knee, ankle;
+    double side;
+  };
   const Arm arms[2] = {{kLClavicle, kLShoulder, kLElbow, kLWrist, 1.0},
                        {kRClavicle, kRShoulder, kRElbow, kRWrist, -1.0}};
   const Leg legs[2] = {{kLHip, kLKnee, kLAnkle, 1.0}, {kRHip, kRKnee, kRAnkle, -1.0}};

@@ -5,21 +5,34 @@
 // A pose is one rotation per joint, about the joint's rest position and in
 // the rest pose's axes (x to the body's left, y up, z forward); rotations
 // compose from the root (pelvis) outwards.
-#include <string>
-#include <vector>
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <string>
+#include <vector>
 
 namespace gp {
 
 // Joint ids; the order lists every parent before its children.
 enum AvatarJoint : int {
-  kPelvis = 0, kSpine, kChest, kNeck, kHead,
-  kLClavicle, kLShoulder, kLElbow, kLWrist,
-  kRClavicle, kRShoulder, kRElbow, kRWrist,
-  kLHip, kLKnee, kLAnkle,
-  kRHip, kRKnee, kRAnkle,
+  kPelvis = 0,
+  kSpine,
+  kChest,
+  kNeck,
+  kHead,
+  kLClavicle,
+  kLShoulder,
+  kLElbow,
+  kLWrist,
+  kRClavicle,
+  kRShoulder,
+  kRElbow,
+  kRWrist,
+  kLHip,
+  kLKnee,
+  kLAnkle,
+  kRHip,
+  kRKnee,
+  kRAnkle,
   kJointCount
 };
 

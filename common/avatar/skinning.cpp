@@ -69,8 +69,10 @@ Eigen::MatrixXd skinning_weights(const BodyShape& shape, const Eigen::MatrixXd& 
   }
   for (Eigen::Index v = 0; v < n; ++v) {
     const double s = W.row(v).sum();
-    if (s > 0) W.row(v) /= s;
-    else W(v, kPelvis) = 1.0;
+    if (s > 0)
+      W.row(v) /= s;
+    else
+      W(v, kPelvis) = 1.0;
   }
   return W;
 }

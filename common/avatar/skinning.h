@@ -4,9 +4,8 @@
 // Zara, O'Sullivan, "Geometric skinning with approximate dual quaternion
 // blending", ACM TOG 2008), which keeps volume at shoulders and elbows where
 // linear blend skinning collapses ("candy wrapper").
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "avatar/body_shape.h"
 #include "avatar/skeleton.h"

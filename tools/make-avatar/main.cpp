@@ -34,7 +34,8 @@ int main(int argc, char** argv) {
   std::string resolution = "default";
   int vertices = 0;
   auto& app = tool.app();
-  app.add_option("spec", spec_path, "Measurement spec (JSON, schema avatar-spec/1); omit for the default body");
+  app.add_option("spec", spec_path,
+                 "Measurement spec (JSON, schema avatar-spec/1); omit for the default body");
   app.add_option("--poses", poses,
                  "Comma-separated poses: apose,tpose,armsup,armsforward,elbowsbent,stepforward,seated and "
                  "the spec's poses, or 'all' [names]")
@@ -49,7 +50,8 @@ int main(int argc, char** argv) {
 
   return tool.run(argc, argv, [&] {
     gp::set_thread_count(tool.common().threads);
-    const gp::AvatarSpec spec = spec_path.empty() ? gp::default_avatar_spec() : gp::read_avatar_spec(spec_path);
+    const gp::AvatarSpec spec =
+        spec_path.empty() ? gp::default_avatar_spec() : gp::read_avatar_spec(spec_path);
     gp::AvatarOptions o;
     o.target_vertices = resolution == "small"   ? gp::kAvatarSmallVertices
                         : resolution == "large" ? gp::kAvatarLargeVertices

@@ -1,9 +1,8 @@
 // The generated body: girths, closedness, self-intersection, volume across
 // poses and connectivity, for the example specs in testdata/avatars (small
 // resolution, so the whole file runs in a few seconds).
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
 
@@ -103,13 +102,16 @@ TEST_CASE("maternity belly: waist over the belly within 1 cm", "[avatar][body]")
   // The belly sticks out: the front of the waist slice is well ahead of the chest's.
   auto front = [&](double y) {
     double z = -1;
-    for (const auto& loop : gp::slice_mesh(r.poses.V[0], r.poses.F, Eigen::Vector3d(0, y, 0), Eigen::Vector3d::UnitY()))
+    for (const auto& loop :
+         gp::slice_mesh(r.poses.V[0], r.poses.F, Eigen::Vector3d(0, y, 0), Eigen::Vector3d::UnitY()))
       for (const auto& p : loop)
         if (std::abs(p.x()) < 0.1) z = std::max(z, p.z());
     return z;
   };
-  const auto waist = std::find_if(r.girths.begin(), r.girths.end(), [](const auto& g) { return g.name == "waist"; });
-  const auto chest = std::find_if(r.girths.begin(), r.girths.end(), [](const auto& g) { return g.name == "chest"; });
+  const auto waist =
+      std::find_if(r.girths.begin(), r.girths.end(), [](const auto& g) { return g.name == "waist"; });
+  const auto chest =
+      std::find_if(r.girths.begin(), r.girths.end(), [](const auto& g) { return g.name == "chest"; });
   CHECK(front(waist->center.y()) > front(chest->center.y()) + 0.05);
 }
 
@@ -181,19 +183,27 @@ TEST_CASE("spec reading: defaults, strictness, plausibility", "[avatar][spec]") 
     }
     return std::string("no error");
   };
-  CHECK(where(R"({"schema": "avatar-spec/1", "measurements": {"waist": -0.7}})") == "s.json: /measurements/waist");
-  CHECK(where(R"({"schema": "avatar-spec/1", "measurements": {"waist": 2.5}})") == "s.json: /measurements/waist");
-  CHECK(where(R"({"schema": "avatar-spec/1", "measurements": {"wasit": 0.7}})") == "s.json: /measurements/wasit");
-  CHECK(where(R"({"schema": "avatar-spec/1", "measurements": {"height": 17}})") == "s.json: /measurements/height");
-  CHECK(where(R"({"schema": "avatar-spec/1", "measurements": {"wrist": "thin"}})") == "s.json: /measurements/wrist");
-  CHECK(where(R"({"schema": "avatar-spec/1", "measurements": {"thigh": 0.8}})") == "s.json: /measurements/thigh");
+  CHECK(where(R"({"schema": "avatar-spec/1", "measurements": {"waist": -0.7}})") ==
+        "s.json: /measurements/waist");
+  CHECK(where(R"({"schema": "avatar-spec/1", "measurements": {"waist": 2.5}})") ==
+        "s.json: /measurements/waist");
+  CHECK(where(R"({"schema": "avatar-spec/1", "measurements": {"wasit": 0.7}})") ==
+        "s.json: /measurements/wasit");
+  CHECK(where(R"({"schema": "avatar-spec/1", "measurements": {"height": 17}})") ==
+        "s.json: /measurements/height");
+  CHECK(where(R"({"schema": "avatar-spec/1", "measurements": {"wrist": "thin"}})") ==
+        "s.json: /measurements/wrist");
+  CHECK(where(R"({"schema": "avatar-spec/1", "measurements": {"thigh": 0.8}})") ==
+        "s.json: /measurements/thigh");
   CHECK(where(R"({"schema": "avatar-spec/1", "colour": "red"})") == "s.json: /colour");
   CHECK(where(R"({"schema": "avatar-spec/2"})").find("/schema") != std::string::npos);
-  CHECK(where(R"({"schema": "avatar-spec/1", "poses": [{"name": "x", "joints": {"l_sholder": [0, 0, 1]}}]})") ==
-        "s.json: /poses/0/joints/l_sholder");
+  CHECK(
+      where(R"({"schema": "avatar-spec/1", "poses": [{"name": "x", "joints": {"l_sholder": [0, 0, 1]}}]})") ==
+      "s.json: /poses/0/joints/l_sholder");
   CHECK(where(R"({"schema": "avatar-spec/1", "poses": [{"name": "x", "joints": {"l_elbow": [0, 1]}}]})") ==
         "s.json: /poses/0/joints/l_elbow");
-  CHECK(where(R"({"schema": "avatar-spec/1", "poses": [{"name": "a b", "joints": {}}]})") == "s.json: /poses/0/name");
+  CHECK(where(R"({"schema": "avatar-spec/1", "poses": [{"name": "a b", "joints": {}}]})") ==
+        "s.json: /poses/0/name");
   // Measurements set in code are validated too, NaN included.
   gp::AvatarSpec nan_spec;
   nan_spec.measurements.waist = std::nan("");

@@ -1,7 +1,6 @@
 // Building blocks of the generated body: girth measurement, polygonization,
 // decimation, skeleton and skinning, on meshes built by the tests themselves.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 
 #include "avatar/body_checks.h"
@@ -70,7 +69,8 @@ TEST_CASE("marching tetrahedra gives a closed oriented surface", "[avatar][isosu
     auto f = [](const Eigen::Vector3d& p) { return p.norm() - 0.5; };
     gp::IsosurfaceOptions o;
     o.cell = 0.05;
-    const gp::Mesh m = gp::marching_tetrahedra(f, Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1), o);
+    const gp::Mesh m =
+        gp::marching_tetrahedra(f, Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1), o);
     require_closed_genus(m, 2);
     CHECK(gp::signed_volume(m.V, m.F) == Approx(4.0 / 3.0 * kPi * 0.125).epsilon(0.03));
     CHECK_FALSE(gp::has_self_intersection(m.V, m.F));
@@ -97,15 +97,17 @@ TEST_CASE("marching tetrahedra gives a closed oriented surface", "[avatar][isosu
     gp::IsosurfaceOptions o;
     o.cell = 0.25;
     o.lipschitz = 1e9;  // no culling
-    const gp::Mesh m = gp::marching_tetrahedra(f, Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1), o);
+    const gp::Mesh m =
+        gp::marching_tetrahedra(f, Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1), o);
     require_closed_genus(m, 2);
   }
   SECTION("non-finite field values are a numerical error") {
     auto f = [](const Eigen::Vector3d& p) { return p.x() > 0.2 ? std::nan("") : p.norm() - 0.5; };
     gp::IsosurfaceOptions o;
     o.cell = 0.1;
-    CHECK_THROWS_AS(gp::marching_tetrahedra(f, Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1), o),
-                    gp::NumericalError);
+    CHECK_THROWS_AS(
+        gp::marching_tetrahedra(f, Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1), o),
+        gp::NumericalError);
   }
 }
 

@@ -1,6 +1,5 @@
 // make-avatar as a user runs it: outputs, manifest, determinism, exit codes.
 #include <catch2/catch.hpp>
-
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -38,8 +37,8 @@ TEST_CASE("make-avatar writes a pose set that later stages load", "[avatar][cli]
   const auto r = gp::testing::run_command(run_tool(args));
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
-  for (const char* f : {"apose.ply", "tpose.ply", "seated.ply", "poses.json", "skeleton.json", "report.json",
-                        "timing.json"})
+  for (const char* f :
+       {"apose.ply", "tpose.ply", "seated.ply", "poses.json", "skeleton.json", "report.json", "timing.json"})
     CHECK(fs::exists(out / f));
   // The manifest's checksums and shared connectivity are verified on load.
   const gp::PoseSet ps = gp::load_pose_set(out / "poses.json");
@@ -77,7 +76,8 @@ TEST_CASE("make-avatar writes a pose set that later stages load", "[avatar][cli]
     const auto r2 = gp::testing::run_command(
         run_tool("--resolution small --poses tpose,apose,seated --out '" + out2.string() + "'"));
     REQUIRE(r2.exit_code == 0);
-    for (const char* f : {"apose.ply", "tpose.ply", "seated.ply", "poses.json", "skeleton.json", "report.json"})
+    for (const char* f :
+         {"apose.ply", "tpose.ply", "seated.ply", "poses.json", "skeleton.json", "report.json"})
       CHECK(slurp(out / f) == slurp(out2 / f));
   }
 }
@@ -90,7 +90,8 @@ TEST_CASE("make-avatar rejects bad specs with exit 4 naming the field", "[avatar
   };
   const Case cases[] = {
       {R"({"schema": "avatar-spec/1", "measurements": {"waist": -0.76}})", "/measurements/waist"},
-      {R"({"schema": "avatar-spec/1", "measurements": {"height": 1.7, "waist": 1.9}})", "/measurements/waist"},
+      {R"({"schema": "avatar-spec/1", "measurements": {"height": 1.7, "waist": 1.9}})",
+       "/measurements/waist"},
       {R"({"schema": "avatar-spec/1", "measurements": {"hips": 0.98}})", "/measurements/hips"},
       {R"({"schema": "avatar-spec/3"})", "/schema"},
       {R"({"schema": "avatar-spec/1", "poses": [{"name": "p", "joints": {"tail": [0, 0, 0]}}]})",
@@ -99,8 +100,8 @@ TEST_CASE("make-avatar rejects bad specs with exit 4 naming the field", "[avatar
   int i = 0;
   for (const Case& c : cases) {
     const fs::path spec = write_spec(dir, "bad" + std::to_string(i++) + ".json", c.text);
-    const auto r = gp::testing::run_command(run_tool("'" + spec.string() + "' --resolution small --out '" +
-                                                     (dir / "out").string() + "'"));
+    const auto r = gp::testing::run_command(
+        run_tool("'" + spec.string() + "' --resolution small --out '" + (dir / "out").string() + "'"));
     INFO(c.text << "\n" << r.err);
     CHECK(r.exit_code == 4);
     CHECK(r.err.find("make-avatar: error[spec]") != std::string::npos);
@@ -111,23 +112,28 @@ TEST_CASE("make-avatar rejects bad specs with exit 4 naming the field", "[avatar
     const fs::path broken = write_spec(dir, "broken.json", "{\"schema\": ");
     CHECK(gp::testing::run_command(run_tool("'" + broken.string() + "' --out '" + (dir / "o").string() + "'"))
               .exit_code == 3);
-    CHECK(gp::testing::run_command(run_tool("'" + (dir / "missing.json").string() + "' --out '" +
-                                            (dir / "o").string() + "'"))
+    CHECK(gp::testing::run_command(
+              run_tool("'" + (dir / "missing.json").string() + "' --out '" + (dir / "o").string() + "'"))
               .exit_code == 3);
   }
   SECTION("an unknown pose is a spec error, a bad option a usage error") {
-    const auto r = gp::testing::run_command(run_tool("--poses apose,cartwheel --out '" + (dir / "o").string() + "'"));
+    const auto r =
+        gp::testing::run_command(run_tool("--poses apose,cartwheel --out '" + (dir / "o").string() + "'"));
     CHECK(r.exit_code == 4);
     CHECK(r.err.find("cartwheel") != std::string::npos);
-    CHECK(gp::testing::run_command(run_tool("--resolution huge --out '" + (dir / "o").string() + "'")).exit_code == 2);
-    CHECK(gp::testing::run_command(run_tool("--vertices 10 --out '" + (dir / "o").string() + "'")).exit_code == 2);
+    CHECK(gp::testing::run_command(run_tool("--resolution huge --out '" + (dir / "o").string() + "'"))
+              .exit_code == 2);
+    CHECK(
+        gp::testing::run_command(run_tool("--vertices 10 --out '" + (dir / "o").string() + "'")).exit_code ==
+        2);
   }
 }
 
 TEST_CASE("make-avatar --help lists options with defaults and units", "[avatar][cli]") {
   const auto r = gp::testing::run_command(run_tool("--help"));
   CHECK(r.exit_code == 0);
-  for (const char* s : {"--resolution", "default", "[preset]", "--vertices", "[vertices]", "--poses", "--out"})
+  for (const char* s :
+       {"--resolution", "default", "[preset]", "--vertices", "[vertices]", "--poses", "--out"})
     CHECK(r.out.find(s) != std::string::npos);
 }
 
@@ -139,8 +145,8 @@ TEST_CASE("the generated pose set passes register-check", "[avatar][cli]") {
   }
   const fs::path dir = gp::testing::fresh_temp_dir("make_avatar_rc");
   const fs::path spec = gp::testing::source_dir() / "testdata" / "avatars" / "maternity.json";
-  const auto made = gp::testing::run_command(run_tool("'" + spec.string() + "' --resolution small --out '" +
-                                                      (dir / "body").string() + "'"));
+  const auto made = gp::testing::run_command(
+      run_tool("'" + spec.string() + "' --resolution small --out '" + (dir / "body").string() + "'"));
   REQUIRE(made.exit_code == 0);
   std::string files;
   for (const char* p : {"apose", "tpose", "armsup", "armsforward", "elbowsbent", "stepforward", "seated"})
