@@ -386,7 +386,15 @@ AvatarResult make_avatar(const AvatarSpec& spec, const AvatarOptions& o) {
     Eigen::MatrixXd V = mesh.V;
     if (name != "apose") {
       V = dual_quaternion_skinning(mesh.V, res.weights, bones);
-      res.needle_vertices_smoothed += smooth_needles(V, mesh.F, neighbours, o.posed_min_angle);
+      Eigen::MatrixXd smoothed = V;
+      const int moved = smooth_needles(smoothed, mesh.F, neighbours, o.posed_min_angle);
+      // Keep the smoothing unless it makes the pose intersect itself (a
+      // needle in a tight fold); a needle is the lesser defect.
+      if (moved > 0 && (!o.check_self_intersection || !has_self_intersection(smoothed, mesh.F) ||
+                        has_self_intersection(V, mesh.F))) {
+        V = smoothed;
+        res.needle_vertices_smoothed += moved;
+      }
     }
     Eigen::MatrixXd J = posed_joints(shape.skeleton, bones);
     const double floor = V.col(1).minCoeff();
