@@ -26,7 +26,7 @@ std::string percent(double x) {
 // vertex id through the (distance, id) order of the queue.
 void dijkstra(const Eigen::MatrixXd& V, const std::vector<std::vector<int>>& neighbors,
               const std::vector<int>& sources, std::vector<double>& dist, std::vector<int>& parent,
-              const std::function<bool(int)>& stop = {}) {
+              const std::function<bool(int)>& stop = {}, const std::vector<char>* no_pass = nullptr) {
   const size_t n = neighbors.size();
   dist.assign(n, std::numeric_limits<double>::infinity());
   parent.assign(n, -1);
@@ -41,6 +41,8 @@ void dijkstra(const Eigen::MatrixXd& V, const std::vector<std::vector<int>>& nei
     queue.pop();
     if (d > dist[static_cast<size_t>(v)]) continue;
     if (stop && stop(v)) return;
+    // Paths may end on, but not run through, vertices marked no_pass.
+    if (no_pass && d > 0.0 && (*no_pass)[static_cast<size_t>(v)]) continue;
     for (int w : neighbors[static_cast<size_t>(v)]) {
       const double nd = d + (V.row(v) - V.row(w)).norm();
       if (nd < dist[static_cast<size_t>(w)]) {
@@ -301,67 +303,94 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
       // path from the vertex to a boundary vertex that is far from it along
       // the outline (more than three times the path's length), so that the
       // two parts can turn apart.
-      const bool split = kind == "overlap" || (on_boundary[static_cast<size_t>(worst)] &&
-                                               squeeze[static_cast<size_t>(worst)] > stretch[static_cast<size_t>(worst)]);
-      if (split) {
-        std::vector<double> arc(static_cast<size_t>(nv), 0.0);
-        double perimeter = 0.0;
-        for (size_t k = 0; k < p.boundary.size(); ++k) {
-          arc[static_cast<size_t>(p.boundary[k])] = perimeter;
-          perimeter += (p.V.row(p.boundary[k]) - p.V.row(p.boundary[(k + 1) % p.boundary.size()])).norm();
-        }
-        const double s0 = arc[static_cast<size_t>(worst)];
-        int reached = -1;
-        dijkstra(p.V, neighbors, {worst}, dist, parent, [&](int v) {
-          if (v == worst || !on_boundary[static_cast<size_t>(v)]) return false;
-          const double along = std::abs(arc[static_cast<size_t>(v)] - s0);
-          if (std::min(along, perimeter - along) > 3.0 * dist[static_cast<size_t>(v)]) {
-            reached = v;
-            return true;
-          }
-          return false;
-        });
-        if (reached < 0) {
-          // No such vertex (a small piece): the boundary vertex that gains
-          // most outline length over the path's length.
-          double best = 0.0;
-          for (int v : p.boundary) {
-            if (v == worst) continue;
-            const double along = std::abs(arc[static_cast<size_t>(v)] - s0);
-            const double score = std::min(along, perimeter - along) - dist[static_cast<size_t>(v)];
-            if (score > best) best = score, reached = v;
-          }
-        }
-        if (reached >= 0) path = trace(parent, reached);
-        how = kind == "overlap" ? "split the piece along a shortest path from it to its opposite edge"
-                                : "the outline is compressed there: split the piece along a shortest path from it "
-                                  "to its opposite edge";
+      // A path along edges that are already cut or on the boundary changes
+      // nothing: the piece cannot be improved by this rule.
+      std::set<std::pair<int, int>> boundary_edges;
+      for (size_t k = 0; k < p.boundary.size(); ++k) {
+        const int a = p.boundary[k], b = p.boundary[(k + 1) % p.boundary.size()];
+        boundary_edges.insert({std::min(a, b), std::max(a, b)});
       }
-      if (path.size() < 2 && !on_boundary[static_cast<size_t>(worst)]) {
-        int reached = -1;
-        dijkstra(p.V, neighbors, {worst}, dist, parent, [&](int v) {
-          if (on_boundary[static_cast<size_t>(v)]) {
-            reached = v;
-            return true;
+      // Candidates: every vertex where the outline overlaps, else the worst vertex.
+      std::vector<int> candidates{worst};
+      if (kind == "overlap")
+        for (int v : p.flat.overlap_vertex_ids)
+          if (v != worst) candidates.push_back(v);
+      bool cuts_something = false;
+      for (size_t ci = 0; ci < candidates.size() && !cuts_something; ++ci) {
+        worst = candidates[ci];
+        path.clear();
+        const bool split = kind == "overlap" || (on_boundary[static_cast<size_t>(worst)] &&
+                                                 squeeze[static_cast<size_t>(worst)] > stretch[static_cast<size_t>(worst)]);
+        // Cut paths run through the inside of the piece (a path along its
+        // edge would cut off slivers); only where none exists (a piece without
+        // inner vertices) may they pass through boundary vertices.
+        for (int strict = 1; strict >= 0 && path.size() < 2; --strict) {
+          const std::vector<char>* block = strict ? &on_boundary : nullptr;
+          if (split && path.size() < 2) {
+            std::vector<double> arc(static_cast<size_t>(nv), 0.0);
+            double perimeter = 0.0;
+            for (size_t k = 0; k < p.boundary.size(); ++k) {
+              arc[static_cast<size_t>(p.boundary[k])] = perimeter;
+              perimeter += (p.V.row(p.boundary[k]) - p.V.row(p.boundary[(k + 1) % p.boundary.size()])).norm();
+            }
+            const double s0 = arc[static_cast<size_t>(worst)];
+            int reached = -1;
+            dijkstra(p.V, neighbors, {worst}, dist, parent, [&](int v) {
+              if (v == worst || !on_boundary[static_cast<size_t>(v)]) return false;
+              const double along = std::abs(arc[static_cast<size_t>(v)] - s0);
+              if (std::min(along, perimeter - along) > 3.0 * dist[static_cast<size_t>(v)]) {
+                reached = v;
+                return true;
+              }
+              return false;
+            }, block);
+            if (reached < 0) {
+              // No such vertex (a small piece): the boundary vertex that gains
+              // most outline length over the path's length.
+              double best = 0.0;
+              for (int v : p.boundary) {
+                if (v == worst) continue;
+                const double along = std::abs(arc[static_cast<size_t>(v)] - s0);
+                const double score = std::min(along, perimeter - along) - dist[static_cast<size_t>(v)];
+                if (score > best) best = score, reached = v;
+              }
+            }
+            if (reached >= 0) path = trace(parent, reached);
+            how = kind == "overlap" ? "split the piece along a shortest path from it to its opposite edge"
+                                    : "the outline is compressed there: split the piece along a shortest path from it "
+                                      "to its opposite edge";
           }
-          return false;
-        });
-        if (reached >= 0) path = trace(parent, reached);
-        std::reverse(path.begin(), path.end());
-        how = "cut from the boundary to it along a shortest path";
-      } else if (path.size() < 2) {
-        dijkstra(p.V, neighbors, p.boundary, depth, parent_b);
-        dijkstra(p.V, neighbors, {worst}, dist, parent);
-        int tip = worst;
-        double best = 0.0;
-        for (int v = 0; v < nv; ++v) {
-          const double score = depth[static_cast<size_t>(v)] - options.tip_weight * dist[static_cast<size_t>(v)];
-          if (score > best) best = score, tip = v;
+          if (path.size() < 2 && !on_boundary[static_cast<size_t>(worst)]) {
+            int reached = -1;
+            dijkstra(p.V, neighbors, {worst}, dist, parent, [&](int v) {
+              if (on_boundary[static_cast<size_t>(v)]) {
+                reached = v;
+                return true;
+              }
+              return false;
+            });
+            if (reached >= 0) path = trace(parent, reached);
+            std::reverse(path.begin(), path.end());
+            how = "cut from the boundary to it along a shortest path";
+          } else if (path.size() < 2) {
+            dijkstra(p.V, neighbors, p.boundary, depth, parent_b);
+            dijkstra(p.V, neighbors, {worst}, dist, parent, {}, block);
+            int tip = worst;
+            double best = 0.0;
+            for (int v = 0; v < nv; ++v) {
+              if (block && on_boundary[static_cast<size_t>(v)]) continue;
+              const double score = depth[static_cast<size_t>(v)] - options.tip_weight * dist[static_cast<size_t>(v)];
+              if (score > best) best = score, tip = v;
+            }
+            if (tip != worst) path = trace(parent, tip);
+            how = "dart from it into the piece, to the point farthest from the piece's edges";
+          }
         }
-        if (tip != worst) path = trace(parent, tip);
-        how = "dart from it into the piece, to the point farthest from the piece's edges";
+        cuts_something = false;
+        for (size_t k = 0; k + 1 < path.size(); ++k)
+          if (!boundary_edges.count({std::min(path[k], path[k + 1]), std::max(path[k], path[k + 1])})) cuts_something = true;
       }
-      if (path.size() < 2) {
+      if (path.size() < 2 || !cuts_something) {
         stuck.insert(keys[c]);
         continue;
       }

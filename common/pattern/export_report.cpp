@@ -48,7 +48,7 @@ Mesh flat_pieces_mesh(const Pattern& pattern, const Layout& layout) {
   Mesh mesh;
   mesh.V.setZero(nv, 3);
   mesh.F.resize(nf, 3);
-  Eigen::VectorXd piece_field(nf), rest_field(nv);
+  Eigen::VectorXd piece_field(nv), rest_field(nv);
   int vo = 0, fo = 0;
   for (size_t i = 0; i < pattern.pieces.size(); ++i) {
     const PatternPiece& p = pattern.pieces[i];
@@ -57,15 +57,17 @@ Mesh flat_pieces_mesh(const Pattern& pattern, const Layout& layout) {
       mesh.V(vo + v, 0) = UV(v, 0);
       mesh.V(vo + v, 1) = UV(v, 1);
       rest_field[vo + v] = p.rest_vertex_ids[v];
+      piece_field[vo + v] = static_cast<double>(i);
     }
     for (int f = 0; f < p.F.rows(); ++f) {
       mesh.F.row(fo + f) = p.F.row(f).array() + vo;
-      piece_field[fo + f] = static_cast<double>(i);
     }
     vo += static_cast<int>(p.V.rows());
     fo += static_cast<int>(p.F.rows());
   }
-  mesh.face_fields.push_back({"piece", piece_field});
+  // Vertex fields only: meshio (the project's check scripts) cannot read
+  // PLY face properties besides the vertex index list.
+  mesh.vertex_fields.push_back({"piece", piece_field});
   mesh.vertex_fields.push_back({"rest_vertex", rest_field});
   return mesh;
 }

@@ -28,8 +28,8 @@ struct SeamMeasure {
 std::vector<SeamMeasure> measure_seams(const Pattern& pattern, const Layout& layout, const SeamTolerance& tol);
 
 // All pieces as one 2D mesh in sheet coordinates (z = 0, metres), one
-// connected component per piece, with a face field "piece" (index) and a
-// vertex field "rest_vertex" (vertex of the rest shape).
+// connected component per piece, with vertex fields "piece" (index) and
+// "rest_vertex" (vertex of the rest shape).
 Mesh flat_pieces_mesh(const Pattern& pattern, const Layout& layout);
 
 // All pieces in 3D (rest positions, cut along the seams) with texture

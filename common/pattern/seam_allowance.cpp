@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -162,6 +163,36 @@ std::vector<Polygon2> offset_polygon(const Polygon2& polygon, double distance, d
     result.push_back(out);
   }
   if (result.empty()) throw GeometryError("the seam allowance of the piece could not be built", what);
+  // Mitre limit: at an acute corner the mitred offset reaches far beyond the
+  // allowance (distance / sin(angle / 2)); such a corner is bevelled at twice
+  // the allowance, as a tailor clips it.
+  const double limit = 2.0 * distance;
+  auto outline_distance = [&](const Eigen::Vector2d& q) {
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < polygon.size(); ++i) {
+      const Eigen::Vector2d a = polygon[i], b = polygon[(i + 1) % polygon.size()];
+      const Eigen::Vector2d ab = b - a;
+      const double l2 = ab.squaredNorm();
+      const double t = l2 > 0.0 ? std::clamp((q - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+      best = std::min(best, (a + t * ab - q).norm());
+    }
+    return best;
+  };
+  for (Polygon2& poly : result) {
+    Polygon2 clipped;
+    for (size_t i = 0; i < poly.size(); ++i) {
+      const Eigen::Vector2d& q = poly[i];
+      const double D = outline_distance(q);
+      if (D <= limit * 1.0001) {
+        clipped.push_back(q);
+        continue;
+      }
+      const double t = std::min(0.45, (D - limit) / D);
+      clipped.push_back(q + t * (poly[(i + poly.size() - 1) % poly.size()] - q));
+      clipped.push_back(q + t * (poly[(i + 1) % poly.size()] - q));
+    }
+    poly = clipped;
+  }
   // Largest first, so that result.front() is the piece's cutting line.
   std::stable_sort(result.begin(), result.end(),
                    [](const Polygon2& a, const Polygon2& b) { return polygon_area(a) > polygon_area(b); });

@@ -17,7 +17,8 @@ Polygon2 simplify_polygon(const Polygon2& polygon, double tolerance);
 // (metres, > 0), simplified first by `simplify_tolerance`. Returns the offset
 // outline(s), counter-clockwise. An outline that touches or crosses itself
 // (dart sides that meet) is offset without its loops (each crossing cuts off
-// the part with less area). Throws GeometryError naming `what` if the
+// the part with less area). Corners whose mitre would reach farther than
+// twice the allowance from the outline are bevelled. Throws GeometryError naming `what` if the
 // skeleton cannot be built.
 std::vector<Polygon2> offset_polygon(const Polygon2& polygon, double distance, double simplify_tolerance,
                                      const std::string& what);
