@@ -154,22 +154,26 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   };
 
   const double limit = 1.0 + options.adaptation.delta;
-  const double frame_time = options.substeps * options.dt;
+  const double step_time = options.dt;
   for (size_t i = 0; i < frames.size(); ++i) {
     const MotionFrame& frame = frames[i];
     if (i > 0) {
-      t0 = Clock::now();
-      Eigen::MatrixXd V_next = interpolator.frame(frame.from, frame.to, frame.t);
-      const Eigen::MatrixXd targets_next = pin_targets(V_next);
-      const Eigen::MatrixXd body_velocity = (V_next - V_body) / frame_time;
-      result.times.body += seconds_since(t0);
-      collider.set_body(V_next, &body_velocity);
+      // The body moves in `substeps` interpolated stages within the frame, so a
+      // step never sees more than its share of the body's motion.
+      const MotionFrame& previous = frames[i - 1];
+      const double t_start = previous.transition == frame.transition ? previous.t : 0.0;
       for (int s = 1; s <= options.substeps; ++s) {
         const double w = static_cast<double>(s) / options.substeps;
-        step((1.0 - w) * targets + w * targets_next);
+        t0 = Clock::now();
+        Eigen::MatrixXd V_next = interpolator.frame(frame.from, frame.to, (1.0 - w) * t_start + w * frame.t);
+        const Eigen::MatrixXd targets_next = pin_targets(V_next);
+        const Eigen::MatrixXd body_velocity = (V_next - V_body) / step_time;
+        result.times.body += seconds_since(t0);
+        collider.set_body(V_next, &body_velocity);
+        step(targets_next);
+        V_body = std::move(V_next);
+        targets = targets_next;
       }
-      V_body = std::move(V_next);
-      targets = targets_next;
     }
     if (frame.key < 0) continue;
 

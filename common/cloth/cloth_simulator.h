@@ -30,7 +30,9 @@
 // more than `energy_growth_limit` times (plus a floor of 10 J/kg of cloth mass).
 // A failed step is rejected and retried as two steps of half the size, at most
 // `max_step_halvings` times deep; then NumericalError is thrown and the state is left
-// as it was before the step.
+// as it was before the step. Triangles that still turn over in the smallest
+// substep are folds forced by contact; they are accepted and counted
+// (counters().accepted_flips), since cloth may fold.
 #include <functional>
 #include <memory>
 #include <string>
@@ -73,6 +75,7 @@ struct SolverCounters {
   long steps = 0;            // accepted calls to step()
   long substeps = 0;         // linear solves that were accepted (>= steps when halving)
   long rejected = 0;         // rejected (sub)steps
+  long accepted_flips = 0;   // triangles that turned over even in the smallest substep (folds)
   long factorizations = 0;
   long cg_iterations = 0;
   double last_residual = 0.0;  // relative residual of the last solve
