@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include "core/error.h"
+#include "garment/garment_file.h"
 #include "pattern/mesh_cut.h"
 #include "pattern/seam_spec.h"
 #include "testing/test_meshes.h"
@@ -96,4 +97,43 @@ TEST_CASE("bad seams name the seam and have the right category", "[seam_spec][er
   // Body points without a body.
   CHECK(spec_error(R"({"schema": "seam-spec/1", "seams": [{"name": "b", "on": "body", "points": [0, 1]}]})")
             .find("no body") != std::string::npos);
+}
+
+TEST_CASE("seams clicked on the body map to the garment through its binding", "[seam_spec]") {
+  const int nu = 24, nv = 10;
+  const Mesh body_mesh = testing::make_open_cylinder(nu, nv, 0.10, 0.5);
+  const Mesh rest = testing::make_open_cylinder(nu, nv, 0.11, 0.5);  // 1 cm off the body
+  DesignBody body{body_mesh.V, body_mesh.F};
+  GarmentFile garment;
+  garment.offset = 0.01;
+  garment.vertex_count = rest.V.rows();
+  garment.face_count = rest.F.rows();
+  GarmentLoop hem;
+  hem.name = "hem";
+  // The rest shape's hem vertex i is bound to body vertex (i + 3) % nu, so
+  // that the binding, not the closest point, decides where a click lands.
+  for (int i = 0; i < nu; ++i) {
+    hem.vertex_ids.push_back(i);
+    const int b = (i + 3) % nu;
+    for (int f = 0; f < body_mesh.F.rows(); ++f)
+      for (int k = 0; k < 3; ++k)
+        if (body_mesh.F(f, k) == b && hem.binding.size() == static_cast<size_t>(i)) {
+          SurfacePoint sp;
+          sp.face = f;
+          sp.bary = Eigen::Vector3d::Zero();
+          sp.bary[k] = 1.0;
+          hem.binding.push_back(sp);
+        }
+  }
+  garment.loops = {hem};
+  const SeamSpec spec = parse_seam_spec(Json::parse(R"({"schema": "seam-spec/1", "seams": [
+      {"name": "side", "on": "body", "points": [3, 243]}]})"), "seams.json");
+  const auto paths = resolve_seams(rest.V, rest.F, spec, &garment, &body);
+  REQUIRE(paths.size() == 1);
+  CHECK(paths[0].vertex_ids.front() == 0);     // through the binding of the hem
+  CHECK(paths[0].vertex_ids.back() == 243);    // by the offset along the body normal
+  // A body vertex id beyond the body is a spec error naming the seam.
+  const SeamSpec bad = parse_seam_spec(Json::parse(R"({"schema": "seam-spec/1", "seams": [
+      {"name": "far", "on": "body", "points": [3, 99999]}]})"), "seams.json");
+  CHECK_THROWS_WITH(resolve_seams(rest.V, rest.F, bad, &garment, &body), Catch::Contains("seam 'far'"));
 }
