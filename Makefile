@@ -4,7 +4,8 @@
 #   make            build everything (Release) into $(BUILD)
 #   make deps       install missing Debian packages (says what it runs)
 #   make test       unit, command-line and script tests (CTest)
-#   make demo       fit a garment on a generated body (see pipelines/demo.mk)
+#   make demo       fit a garment on a generated body (pipelines/customers/demo)
+#   make fit CUSTOMER=dir [OUT=dir]   one customer's fit (see pipelines/fit.mk)
 #   make bench      benchmarks -> BENCHMARKS.md and bench-out/ plots
 #   make fuzz       libFuzzer on the mesh and spec readers, FUZZ_SECONDS per target
 #   make clean      remove the build folder
@@ -19,7 +20,7 @@ FUZZ_SECONDS ?= 600
 FUZZ_BUILD ?= build-fuzz
 FUZZ_TARGETS := read_mesh read_spec
 
-.PHONY: all build deps configure test demo bench fuzz clean help
+.PHONY: all build deps configure test demo fit bench fuzz clean help
 
 all: build
 
@@ -41,8 +42,12 @@ build: configure
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
 
+DEMO_OUT ?= demo-out
 demo: build
-	@$(MAKE) --no-print-directory -f pipelines/demo.mk BIN=$(GP_BIN) PYTHON=$(PYTHON)
+	@$(MAKE) --no-print-directory -f pipelines/fit.mk CUSTOMER=pipelines/customers/demo OUT=$(DEMO_OUT) BIN=$(GP_BIN)
+
+fit: build
+	@$(MAKE) --no-print-directory -f pipelines/fit.mk CUSTOMER=$(CUSTOMER) $(if $(OUT),OUT=$(OUT)) BIN=$(GP_BIN)
 
 bench: build
 	$(PYTHON) scripts/bench.py --bin $(GP_BIN) --out BENCHMARKS.md --plots bench-out

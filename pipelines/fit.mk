@@ -1,0 +1,80 @@
+# One reproducible fit per customer folder, driven by make.
+#
+#   make fit CUSTOMER=path/to/customer [OUT=path/to/out]
+#
+# A customer folder holds (see README.md, "Customer folder"):
+#   avatar.json         measurement spec (avatar-spec/1) for make-avatar, or
+#   poses/              the registered pose meshes (.ply/.obj; a symlink is fine)
+#   garment-spec.json   garment spec (garment-spec/1) for make-garment
+#   extend.json         optional extension (extend-spec/1) for extend-boundary
+#   motion.json         motion spec (motion/1) for simulate-adapt
+#   seams.json          optional seam spec (seam-spec/1) for export-rest
+#   customer.mk         optional overrides of the *_FLAGS variables below
+#
+# Every stage writes one folder under $(OUT) and its report.json last, so a
+# stage's report is the make target that marks it done; make reruns exactly
+# the stages whose inputs (or the stage's binary) changed. Stages write to a
+# temporary folder and rename it into place, so a failed stage leaves the
+# previous result (or nothing) and the earlier stages' outputs intact.
+
+ifndef CUSTOMER
+$(error CUSTOMER=path/to/customer-folder is required)
+endif
+C   := $(patsubst %/,%,$(CUSTOMER))
+OUT ?= $(C)/out
+BIN ?= build/bin
+
+AVATAR_FLAGS   ?=
+REGISTER_FLAGS ?=
+GARMENT_FLAGS  ?=
+SIMULATE_FLAGS ?=
+EXPORT_FLAGS   ?=
+-include $(C)/customer.mk
+
+QUIET ?= --quiet
+RUN = @echo "fit: $(1)"; $(BIN)/$(1)
+
+# --- body -------------------------------------------------------------------
+ifneq ($(wildcard $(C)/avatar.json),)
+BODY_DIR   := $(OUT)/body
+POSE_FILES := $(OUT)/body/report.json
+$(OUT)/body/report.json: $(C)/avatar.json $(BIN)/make-avatar
+	$(call RUN,make-avatar) $< $(AVATAR_FLAGS) --out $(@D) --force $(QUIET)
+POSE_INPUT := $(OUT)/body
+else
+POSE_INPUT := $(C)/poses
+POSE_FILES := $(sort $(wildcard $(C)/poses/*.ply $(C)/poses/*.obj))
+endif
+
+$(OUT)/poses/report.json: $(POSE_FILES) $(BIN)/register-check
+	$(call RUN,register-check) $(POSE_INPUT) $(REGISTER_FLAGS) --out $(@D) --force $(QUIET)
+
+# --- garment ----------------------------------------------------------------
+$(OUT)/garment/report.json: $(C)/garment-spec.json $(OUT)/poses/report.json $(BIN)/make-garment
+	$(call RUN,make-garment) $< --poses $(OUT)/poses/poses.json $(GARMENT_FLAGS) --out $(@D) --force $(QUIET)
+
+ifneq ($(wildcard $(C)/extend.json),)
+GARMENT := $(OUT)/extended/garment.json
+$(OUT)/extended/report.json: $(OUT)/garment/report.json $(C)/extend.json $(BIN)/extend-boundary
+	$(call RUN,extend-boundary) $(OUT)/garment/garment.json $(C)/extend.json --out $(@D) --force $(QUIET)
+GARMENT_REPORT := $(OUT)/extended/report.json
+else
+GARMENT := $(OUT)/garment/garment.json
+GARMENT_REPORT := $(OUT)/garment/report.json
+endif
+
+# --- simulation and adaptation -------------------------------------------------
+$(OUT)/fit/report.json: $(GARMENT_REPORT) $(C)/motion.json $(OUT)/poses/report.json $(BIN)/simulate-adapt
+	$(call RUN,simulate-adapt) --poses $(OUT)/poses/poses.json --motion $(C)/motion.json \
+	  --garment $(GARMENT) $(SIMULATE_FLAGS) --out $(@D) --force $(QUIET)
+
+# --- pattern -------------------------------------------------------------------
+SEAMS := $(wildcard $(C)/seams.json)
+$(OUT)/pattern/report.json: $(OUT)/fit/report.json $(SEAMS) $(BIN)/export-rest
+	$(call RUN,export-rest) $(OUT)/fit/rest.ply --garment $(GARMENT) $(if $(SEAMS),--seams $(SEAMS) --body $(OUT)/poses/poses.json) \
+	  $(EXPORT_FLAGS) --out $(@D) --force $(QUIET)
+
+.PHONY: fit
+.DEFAULT_GOAL := fit
+fit: $(OUT)/pattern/report.json
+	@echo "fit: done: rest shape $(OUT)/fit/rest.ply, pattern $(OUT)/pattern/pattern.svg, reports $(OUT)/*/report.json"
