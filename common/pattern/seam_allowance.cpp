@@ -178,20 +178,20 @@ std::vector<Polygon2> offset_polygon(const Polygon2& polygon, double distance, d
     }
     return best;
   };
-  for (Polygon2& poly : result) {
+  for (Polygon2& offset : result) {
     Polygon2 clipped;
-    for (size_t i = 0; i < poly.size(); ++i) {
-      const Eigen::Vector2d& q = poly[i];
+    for (size_t i = 0; i < offset.size(); ++i) {
+      const Eigen::Vector2d& q = offset[i];
       const double D = outline_distance(q);
       if (D <= limit * 1.0001) {
         clipped.push_back(q);
         continue;
       }
       const double t = std::min(0.45, (D - limit) / D);
-      clipped.push_back(q + t * (poly[(i + poly.size() - 1) % poly.size()] - q));
-      clipped.push_back(q + t * (poly[(i + 1) % poly.size()] - q));
+      clipped.push_back(q + t * (offset[(i + offset.size() - 1) % offset.size()] - q));
+      clipped.push_back(q + t * (offset[(i + 1) % offset.size()] - q));
     }
-    poly = clipped;
+    offset = clipped;
   }
   // Largest first, so that result.front() is the piece's cutting line.
   std::stable_sort(result.begin(), result.end(),
