@@ -175,6 +175,13 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
         targets = targets_next;
       }
     }
+    if (progress && i > 0 && i % 20 == 0 && frame.key < 0) {
+      char line[200];
+      std::snprintf(line, sizeof(line), "frame %zu/%zu (%s): %ld steps, %d adaptations, %.1f steps/s", i,
+                    frames.size() - 1, motion.keys[static_cast<size_t>(frame.transition) + 1].pose.c_str(),
+                    result.steps, result.adaptations, result.steps / std::max(seconds_since(run_start), 1e-9));
+      progress(line);
+    }
     if (frame.key < 0) continue;
 
     // Key pose: the body stops; settle.
@@ -234,6 +241,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   result.factorizations = sim.counters().factorizations;
   result.cg_iterations = sim.counters().cg_iterations;
   result.rejected_steps = sim.counters().rejected;
+  result.accepted_folds = sim.counters().accepted_flips;
   result.times.total = seconds_since(run_start);
   return result;
 }

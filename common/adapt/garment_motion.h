@@ -78,6 +78,7 @@ struct MotionRunResult {
   long factorizations = 0;
   long cg_iterations = 0;
   long rejected_steps = 0;
+  long accepted_folds = 0;            // triangles turned over in the smallest substep (contact folds)
   MotionRunTimes times;
 };
 

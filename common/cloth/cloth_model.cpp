@@ -82,6 +82,43 @@ ClothRestState build_rest_state(const Eigen::MatrixXd& V_rest, const Eigen::Matr
   return rest;
 }
 
+void update_rest_state(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
+                       const ClothParameters& params, ClothRestState& rest) {
+  if (V_rest.rows() != rest.masses.size() || static_cast<size_t>(F.rows()) != rest.triangles.size()) {
+    throw UsageError("update_rest_state needs the same mesh the rest state was built for");
+  }
+  rest.masses.setZero();
+  rest.total_area = 0.0;
+  for (int f = 0; f < F.rows(); ++f) {
+    try {
+      rest.triangles[f] = triangle_rest(triangle_positions(V_rest, F, f), params.material_direction);
+    } catch (const GeometryError& e) {
+      throw GeometryError(e.what(), "face " + std::to_string(f));
+    }
+    const double A = rest.triangles[f].area;
+    rest.total_area += A;
+    for (int k = 0; k < 3; ++k) rest.masses(F(f, k)) += params.density * A / 3.0;
+  }
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(rest.stencils.size() * 16);
+  for (BendingStencil& s : rest.stencils) {
+    try {
+      const BendingStencil w = bending_stencil(stencil_positions(V_rest, s.vertex_ids));
+      s.K = w.K;
+      s.coefficient = w.coefficient;
+    } catch (const GeometryError& e) {
+      throw GeometryError(e.what(), "bending stencil at edge " + std::to_string(s.vertex_ids(0)) + "-" +
+                                        std::to_string(s.vertex_ids(1)));
+    }
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 4; ++j) {
+        triplets.emplace_back(s.vertex_ids(i), s.vertex_ids(j), s.coefficient * s.K(i) * s.K(j));
+      }
+    }
+  }
+  rest.Q.setFromTriplets(triplets.begin(), triplets.end());
+}
+
 ClothEnergies cloth_energies(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                              const ClothRestState& rest, const ClothParameters& params) {
   ClothEnergies e;

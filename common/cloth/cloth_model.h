@@ -40,6 +40,12 @@ struct ClothRestState {
 ClothRestState build_rest_state(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
                                 const ClothParameters& params);
 
+// Recomputes `rest` for a new rest shape V_rest with the same connectivity
+// (keeps the stencils' vertex ids and the pattern of Q; used after every
+// adaptation). Throws like build_rest_state.
+void update_rest_state(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
+                       const ClothParameters& params, ClothRestState& rest);
+
 // Energies of the configuration V [J].
 struct ClothEnergies {
   double stretch = 0.0;

@@ -524,7 +524,8 @@ struct ClothSimulator::Impl {
 
   bool advance(double h, const Eigen::MatrixXd& pin_start, const Eigen::MatrixXd& pin_end, int depth) {
     const Eigen::MatrixXd X_saved = X, V_saved = Vel;
-    const std::string failure = single_step(h, pin_end, depth >= options.max_step_halvings);
+    const std::string failure =
+        single_step(h, pin_end, depth >= std::min(options.max_step_halvings, options.max_fold_halvings));
     if (failure.empty()) return true;
     ++counters.rejected;
     X = X_saved;
@@ -560,7 +561,8 @@ void ClothSimulator::set_rest_shape(const Eigen::MatrixXd& V_rest) {
   if (V_rest.rows() != impl_->V_rest.rows() || V_rest.cols() != 3) {
     throw UsageError("new rest shape must have the same vertex count");
   }
-  ClothRestState rest = build_rest_state(V_rest, impl_->F, impl_->params);
+  ClothRestState rest = impl_->rest;
+  update_rest_state(V_rest, impl_->F, impl_->params, rest);
   // Same connectivity, so Q keeps its pattern and the value indices stay valid.
   impl_->rest = std::move(rest);
   impl_->V_rest = V_rest;

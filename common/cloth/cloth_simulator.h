@@ -30,9 +30,9 @@
 // more than `energy_growth_limit` times (plus a floor of 10 J/kg of cloth mass).
 // A failed step is rejected and retried as two steps of half the size, at most
 // `max_step_halvings` times deep; then NumericalError is thrown and the state is left
-// as it was before the step. Triangles that still turn over in the smallest
-// substep are folds forced by contact; they are accepted and counted
-// (counters().accepted_flips), since cloth may fold.
+// as it was before the step. Triangles that still turn over after
+// `max_fold_halvings` halvings are folds forced by contact; they are accepted and
+// counted (counters().accepted_flips), since cloth may fold.
 #include <functional>
 #include <memory>
 #include <string>
@@ -57,6 +57,7 @@ struct SimulatorOptions {
   double factorization_cost = 20.0;      // cost of one factorization in PCG iterations (refresh rule)
   bool warp_preconditioner = true;       // rotate the reused factor with the cloth's local frames
   int max_step_halvings = 4;             // retry depth on a rejected step
+  int max_fold_halvings = 1;             // retry depth when only triangles turned over (then accepted)
   double max_speed = 20.0;               // m/s; faster vertices reject the step
   double energy_growth_limit = 10.0;     // rejects a step whose energy grows more than this
 };

@@ -148,6 +148,7 @@ int main(int argc, char** argv) {
     report["key_poses"] = keys;
     report["run"] = {{"steps", result.steps},
                      {"rejected_steps", result.rejected_steps},
+                     {"accepted_folds", result.accepted_folds},
                      {"factorizations", result.factorizations},
                      {"cg_iterations", result.cg_iterations},
                      {"adaptations", result.adaptations},

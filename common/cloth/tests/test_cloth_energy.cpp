@@ -299,3 +299,22 @@ TEST_CASE("rest state gives zero force and rigid motions leave energies unchange
   }
   CHECK(max_err <= 1e-6 * (1.0 + G.cwiseAbs().maxCoeff()));
 }
+
+TEST_CASE("updating the rest state in place equals building it anew", "[energy]") {
+  const gp::Mesh cyl = gp::testing::make_open_cylinder(12, 6, 0.2, 0.4);
+  const ClothParameters params;
+  ClothRestState rest = build_rest_state(cyl.V, cyl.F, params);
+  Eigen::MatrixXd V2 = cyl.V;
+  V2.col(0) *= 1.3;
+  V2.col(1) *= 0.9;
+  update_rest_state(V2, cyl.F, params, rest);
+  const ClothRestState fresh = build_rest_state(V2, cyl.F, params);
+  CHECK(rest.total_area == Approx(fresh.total_area).epsilon(1e-14));
+  CHECK((rest.masses - fresh.masses).norm() <= 1e-15);
+  CHECK((Eigen::MatrixXd(rest.Q) - Eigen::MatrixXd(fresh.Q)).norm() <= 1e-10 * Eigen::MatrixXd(fresh.Q).norm());
+  CHECK(rest.Q.nonZeros() == fresh.Q.nonZeros());
+  for (size_t f = 0; f < rest.triangles.size(); ++f) {
+    CHECK((rest.triangles[f].a - fresh.triangles[f].a).norm() <= 1e-12);
+  }
+  CHECK_THROWS_AS(update_rest_state(V2.topRows(5), cyl.F, params, rest), gp::UsageError);
+}
