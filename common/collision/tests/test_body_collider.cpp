@@ -162,10 +162,13 @@ TEST_CASE("a cloth falling on a sphere stays outside the comfort offset", "[coll
   BodyCollider checker(sphere.F);
   checker.set_body(sphere.V);
   double worst = 1e9;
+  std::vector<int> hints(cloth.V.rows(), -1);
   for (int s = 0; s < 400; ++s) {
     sim.step();
     for (int v = 0; v < sim.positions().rows(); ++v) {
-      worst = std::min(worst, checker.query(sim.positions().row(v).transpose()).signed_distance);
+      const Proximity q = checker.query(sim.positions().row(v).transpose(), hints[v]);
+      hints[v] = q.face;
+      worst = std::min(worst, q.signed_distance);
     }
   }
   INFO("closest approach " << worst << " m, queries " << collider.stats().queries << ", skipped "
