@@ -93,6 +93,7 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   // Flattenings of pieces that a round left unchanged are reused; the key is
   // the piece's faces and the cut edges inside it.
   std::map<std::vector<int>, FlattenResult> cache;
+  std::map<std::vector<int>, double> boundary_weight;  // raised where seam sides differ
   std::set<std::vector<int>> stuck;  // pieces where no further cut can be placed
   int added_distortion_cuts = 0, topology_cuts = 0;
 
@@ -224,12 +225,51 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
         }
       auto it = cache.find(key);
       if (it == cache.end()) {
-        it = cache.emplace(key, flatten_piece(p.V, p.F, options.flatten, &p.rest_vertex_ids)).first;
+        FlattenOptions flatten = options.flatten;
+        flatten.injective_fallback = false;
+        const auto w = boundary_weight.find(key);
+        if (w != boundary_weight.end()) flatten.boundary_weight = w->second;
+        it = cache.emplace(key, flatten_piece(p.V, p.F, flatten, &p.rest_vertex_ids)).first;
         ++pattern.flattenings;
       }
       p.flat = it->second;
       p.meets_limit = meets_limit(p.flat, options);
     }
+
+    // Seams whose two flat sides differ by more than the tolerance: the
+    // pieces on them are flattened again with 4 times the boundary-length
+    // weight (up to max_boundary_weight) before any further cut.
+    std::vector<double> left(pattern.seams.size(), 0.0), right(pattern.seams.size(), 0.0),
+        length(pattern.seams.size(), 0.0);
+    for (const CutEdge& e : cut.edges) {
+      length[static_cast<size_t>(e.seam)] += e.length;
+      for (int side = 0; side < 2; ++side) {
+        const auto& q = pattern.pieces[static_cast<size_t>(pattern.piece_of_face[static_cast<size_t>(side == 0 ? e.left_face : e.right_face)])];
+        const int a = pattern.local_vertex[static_cast<size_t>(side == 0 ? e.left_a : e.right_a)];
+        const int b = pattern.local_vertex[static_cast<size_t>(side == 0 ? e.left_b : e.right_b)];
+        (side == 0 ? left : right)[static_cast<size_t>(e.seam)] += (q.flat.UV.row(a) - q.flat.UV.row(b)).norm();
+      }
+    }
+    std::set<int> mismatched;
+    pattern.seams_within_tolerance = true;
+    for (const CutEdge& e : cut.edges) {
+      const size_t i = static_cast<size_t>(e.seam);
+      if (std::abs(left[i] - right[i]) <= std::max(options.seam_tolerance, options.seam_tolerance_relative * length[i]))
+        continue;
+      pattern.seams_within_tolerance = false;
+      mismatched.insert(pattern.piece_of_face[static_cast<size_t>(e.left_face)]);
+      mismatched.insert(pattern.piece_of_face[static_cast<size_t>(e.right_face)]);
+    }
+    bool reflatten = false;
+    for (int c : mismatched) {
+      const auto& key = keys[static_cast<size_t>(c)];
+      auto w = boundary_weight.emplace(key, options.flatten.boundary_weight).first;
+      if (w->second <= 0.0 || w->second * 4.0 > options.max_boundary_weight) continue;
+      w->second *= 4.0;
+      cache.erase(key);
+      reflatten = true;
+    }
+    if (reflatten) continue;
     pattern.meets_limit = std::all_of(pattern.pieces.begin(), pattern.pieces.end(),
                                       [](const PatternPiece& p) { return p.meets_limit; });
     if (pattern.meets_limit || added_distortion_cuts >= options.max_added_cuts) break;
@@ -413,6 +453,14 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
     }
     if (!added) break;
   }
+  // Pieces left with flipped triangles (the limit was not reached within
+  // max_added_cuts) are flattened injectively: the output never has flips.
+  for (PatternPiece& p : pattern.pieces)
+    if (p.flat.stats.flipped_triangles > 0) {
+      p.flat = flatten_piece(p.V, p.F, options.flatten, &p.rest_vertex_ids);
+      ++pattern.flattenings;
+      p.meets_limit = meets_limit(p.flat, options);
+    }
   return pattern;
 }
 

@@ -34,6 +34,13 @@ struct PatternOptions {
   double max_limit = 0.05;
   int max_added_cuts = 200;  // stop adding distortion cuts after this many
   double tip_weight = 0.5;   // weight of the distance from the worst vertex when placing a dart's tip
+  // Seam tolerance: the two flat sides of a seam may differ by
+  // max(seam_tolerance, seam_tolerance_relative * 3D length). Pieces on a
+  // seam beyond it are flattened again with 4 times the boundary weight, up to
+  // max_boundary_weight.
+  double seam_tolerance = 0.002;           // metres
+  double seam_tolerance_relative = 0.005;  // fraction
+  double max_boundary_weight = 160.0;
   FlattenOptions flatten;
 };
 
@@ -64,6 +71,7 @@ struct Pattern {
   std::vector<int> piece_of_face;  // #F: piece index per rest face
   std::vector<int> local_vertex;   // per cut vertex: its local id in its piece
   bool meets_limit = false;
+  bool seams_within_tolerance = false;
   int rounds = 0;                  // flatten rounds
   int flattenings = 0;             // pieces flattened (a piece unchanged by a round is reused)
 };

@@ -523,7 +523,7 @@ FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     result.UV = UV_lscm;
     result.initialization = "lscm";
     result.energy = arap(result.UV, false, result.iterations);
-    done = result.UV.allFinite() && count_flips(result.UV, F) == 0;
+    done = result.UV.allFinite() && (count_flips(result.UV, F) == 0 || !options.injective_fallback);
   }
   if (!done) {
     if (lscm_solved && count_flips(UV_lscm, F) == 0) {

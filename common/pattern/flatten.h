@@ -25,6 +25,10 @@ struct FlattenOptions {
   // energy of the triangle beside them (dimensionless). Seams are sewn edge to
   // edge, so the two sides of a seam must keep their length; 0 is plain ARAP.
   double boundary_weight = 10.0;
+  // When plain ARAP leaves flipped triangles: rerun it injectively (true), or
+  // return the flipped result (false; the automatic cuts use it to find where
+  // to cut, and flips fail the distortion limit anyway).
+  bool injective_fallback = true;
 };
 
 // Distortion statistics of a flattening. All area-weighted over 3D area.
@@ -61,7 +65,8 @@ struct FlattenResult {
 };
 
 // Flattens the piece (V #V by 3, F #F by 3, every vertex used, one connected
-// disk: one boundary loop, Euler characteristic 1). Throws GeometryError if
+// disk: one boundary loop, Euler characteristic 1). With injective_fallback
+// (the default) the result has no flipped triangle. Throws GeometryError if
 // it is not a disk, NumericalError if a solve fails.
 // `material_ids` (#V, optional): the uncut vertex of every piece vertex, for
 // the overlap test of the flat outline (see polygon_self_intersects).

@@ -104,6 +104,8 @@ int main(int argc, char** argv) {
     }
     lap("read");
 
+    pattern_options.seam_tolerance = tolerance.absolute;
+    pattern_options.seam_tolerance_relative = tolerance.relative;
     const gp::Pattern pattern = gp::make_pattern(rest.V, rest.F, seams, pattern_options, boundary_names);
     lap("cut_and_flatten");
     const gp::Layout layout = gp::layout_pattern(pattern, layout_options);
@@ -135,6 +137,7 @@ int main(int argc, char** argv) {
                          {"arap_tolerance", pattern_options.flatten.tolerance},
                          {"line_search_margin", pattern_options.flatten.line_search_margin},
                          {"boundary_weight", pattern_options.flatten.boundary_weight},
+                         {"max_boundary_weight", pattern_options.max_boundary_weight},
                          {"seam_allowance", layout_options.seam_allowance},
                          {"notch_spacing", layout_options.notch_spacing},
                          {"notch_length", layout_options.notch_length},
