@@ -70,6 +70,13 @@ TEST_CASE("a hemisphere needs extra cuts and meets the default limit after them"
   const FlattenResult whole = flatten_piece(cap.V, cap.F);
   CHECK(whole.stats.flipped_triangles == 0);
   CHECK(whole.stats.max_error > options.max_limit);
+  // Without extra cuts allowed the output still has no flipped triangle.
+  PatternOptions no_cuts = options;
+  no_cuts.max_added_cuts = 0;
+  const Pattern uncut = make_pattern(cap.V, cap.F, {}, no_cuts);
+  REQUIRE(uncut.pieces.size() == 1);
+  CHECK(!uncut.meets_limit);
+  CHECK(uncut.pieces[0].flat.stats.flipped_triangles == 0);
   const Pattern pattern = make_pattern(cap.V, cap.F, {}, options);
   CHECK(pattern.seams.size() > 1);
   CHECK(pattern.meets_limit);
