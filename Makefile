@@ -8,6 +8,7 @@
 #   make fit CUSTOMER=dir [OUT=dir]   one customer's fit (see pipelines/fit.mk)
 #   make bench      benchmarks -> BENCHMARKS.md and bench-out/ plots
 #   make fuzz       libFuzzer on the mesh and spec readers, FUZZ_SECONDS per target
+#   make update-golden  rewrite testdata/golden/ from the current build, showing what changed
 #   make clean      remove the build folder
 
 BUILD  ?= build
@@ -20,7 +21,7 @@ FUZZ_SECONDS ?= 600
 FUZZ_BUILD ?= build-fuzz
 FUZZ_TARGETS := read_mesh read_spec
 
-.PHONY: all build deps configure test demo fit bench fuzz clean help
+.PHONY: all build deps configure test demo fit bench fuzz update-golden clean help
 
 all: build
 
@@ -51,6 +52,9 @@ fit: build
 
 bench: build
 	$(PYTHON) scripts/bench.py --bin $(GP_BIN) --out BENCHMARKS.md --plots bench-out
+
+update-golden: build
+	$(PYTHON) scripts/golden.py --bin $(GP_BIN) --update
 
 # Crashes are written to $(FUZZ_BUILD)/crash-<target>-*; a crash input, once
 # fixed, belongs in testdata/fuzz/<target>/ where a unit test replays it.

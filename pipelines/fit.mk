@@ -31,8 +31,9 @@ SIMULATE_FLAGS ?=
 EXPORT_FLAGS   ?=
 -include $(C)/customer.mk
 
-QUIET ?= --quiet
-RUN = @echo "fit: $(1)"; $(BIN)/$(1)
+QUIET   ?= --quiet
+THREADS ?= 1
+RUN = @echo "fit: $(1)"; $(BIN)/$(1) --threads $(THREADS)
 
 # --- body -------------------------------------------------------------------
 ifneq ($(wildcard $(C)/avatar.json),)

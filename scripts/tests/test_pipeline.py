@@ -1,0 +1,121 @@
+#!/usr/bin/python3
+"""Pipeline tests of `make fit` (pipelines/fit.mk) on a small generated
+customer (testdata/customers/small-shirt): a second run does nothing, touching
+the garment spec reruns exactly the dependent stages, a broken input stops the
+pipeline at the right stage with its message and leaves earlier outputs
+intact, and two fresh runs give byte-identical files (timing.json aside)."""
+import argparse
+import filecmp
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+CUSTOMER = os.path.join(ROOT, "testdata", "customers", "small-shirt")
+BIN = None
+
+
+def fit(customer, out, expect_ok=True):
+    r = subprocess.run(["make", "--no-print-directory", "-f", os.path.join(ROOT, "pipelines", "fit.mk"),
+                        f"CUSTOMER={customer}", f"OUT={out}", f"BIN={BIN}"],
+                       cwd=ROOT, capture_output=True, text=True)
+    if expect_ok and r.returncode != 0:
+        raise AssertionError(f"make fit failed ({r.returncode}):\n{r.stdout}\n{r.stderr}")
+    stages = re.findall(r"^fit: ([a-z-]+)$", r.stdout, flags=re.M)
+    return r, stages
+
+
+def read(path):
+    with open(path) as f:
+        return f.read()
+
+
+def tree_files(root):
+    out = []
+    for d, _, files in os.walk(root):
+        for f in files:
+            out.append(os.path.relpath(os.path.join(d, f), root))
+    return sorted(out)
+
+
+class PipelineTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.mkdtemp(prefix="gp_pipeline_")
+        cls.customer = os.path.join(cls.dir, "customer")
+        shutil.copytree(CUSTOMER, cls.customer)
+        cls.out = os.path.join(cls.dir, "out")
+        cls.first, cls.first_stages = fit(cls.customer, cls.out)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.dir, ignore_errors=True)
+
+    def test_1_first_run_runs_every_stage(self):
+        self.assertEqual(self.first_stages,
+                         ["make-avatar", "register-check", "make-garment", "simulate-adapt", "export-rest"])
+        for stage in ("body", "poses", "garment", "fit", "pattern"):
+            self.assertTrue(os.path.isfile(os.path.join(self.out, stage, "report.json")), stage)
+        self.assertIn("pattern.svg", self.first.stdout)
+
+    def test_2_second_run_does_nothing(self):
+        _, stages = fit(self.customer, self.out)
+        self.assertEqual(stages, [])
+
+    def test_3_touching_the_garment_spec_reruns_dependent_stages(self):
+        body_report = os.path.join(self.out, "body", "report.json")
+        before = os.path.getmtime(body_report)
+        time.sleep(1.1)  # make compares modification times
+        os.utime(os.path.join(self.customer, "garment-spec.json"))
+        _, stages = fit(self.customer, self.out)
+        self.assertEqual(stages, ["make-garment", "simulate-adapt", "export-rest"])
+        self.assertEqual(os.path.getmtime(body_report), before)
+
+    def test_4_broken_input_stops_at_its_stage(self):
+        spec = os.path.join(self.customer, "garment-spec.json")
+        good = read(spec)
+        garment_before = read(os.path.join(self.out, "garment", "garment.json"))
+        try:
+            time.sleep(1.1)
+            with open(spec, "w") as f:
+                f.write(good.replace('"offset"', '"offsett"'))
+            r, stages = fit(self.customer, self.out, expect_ok=False)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertEqual(stages, ["make-garment"])
+            self.assertIn("make-garment: error[spec]: unknown field 'offsett'", r.stderr)
+            # Earlier and previous outputs are intact.
+            self.assertEqual(read(os.path.join(self.out, "garment", "garment.json")), garment_before)
+            for stage in ("body", "poses", "fit", "pattern"):
+                self.assertTrue(os.path.isfile(os.path.join(self.out, stage, "report.json")), stage)
+            self.assertEqual([f for f in os.listdir(self.out) if f.startswith(".")], [])
+        finally:
+            time.sleep(1.1)
+            with open(spec, "w") as f:
+                f.write(good)
+
+    def test_5_fresh_runs_are_byte_identical(self):
+        # Reports name their input files, so the rerun uses the same paths.
+        previous = os.path.join(self.dir, "previous")
+        os.rename(self.out, previous)
+        try:
+            fit(self.customer, self.out)
+            files = [f for f in tree_files(previous) if os.path.basename(f) != "timing.json"]
+            self.assertEqual(files, [f for f in tree_files(self.out) if os.path.basename(f) != "timing.json"])
+            differ = [f for f in files
+                      if not filecmp.cmp(os.path.join(previous, f), os.path.join(self.out, f), shallow=False)]
+            self.assertEqual(differ, [])
+        finally:
+            shutil.rmtree(previous, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    p = argparse.ArgumentParser()
+    p.add_argument("--bin", required=True)
+    args, rest = p.parse_known_args()
+    BIN = os.path.abspath(args.bin)
+    unittest.main(argv=[sys.argv[0]] + rest, verbosity=2)
