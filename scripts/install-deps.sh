@@ -15,6 +15,7 @@ packages=(
   libcli11-dev             # command-line parsing
   catch2                   # unit tests (v2)
   python3 python3-numpy python3-scipy python3-meshio  # scripts/meshdiff.py
+  python3-ezdxf            # reading back the DXF patterns in tests
   python3-matplotlib       # benchmark plots
 )
 
