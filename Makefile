@@ -6,6 +6,7 @@
 #   make test       unit, command-line and script tests (CTest)
 #   make demo       fit a garment on a generated body (pipelines/customers/demo)
 #   make fit CUSTOMER=dir [OUT=dir]   one customer's fit (see pipelines/fit.mk)
+#   make -j2 fit-all CUSTOMERS="dir dir ..."   several customers in parallel
 #   make bench      benchmarks -> BENCHMARKS.md and bench-out/ plots
 #   make fuzz       libFuzzer on the mesh and spec readers, FUZZ_SECONDS per target
 #   make update-golden  rewrite testdata/golden/ from the current build, showing what changed
@@ -21,7 +22,7 @@ FUZZ_SECONDS ?= 600
 FUZZ_BUILD ?= build-fuzz
 FUZZ_TARGETS := read_mesh read_spec
 
-.PHONY: all build deps configure test demo fit bench fuzz update-golden clean help
+.PHONY: all build deps configure test demo fit fit-all bench fuzz update-golden clean help
 
 all: build
 
@@ -49,6 +50,13 @@ demo: build
 
 fit: build
 	@$(MAKE) --no-print-directory -f pipelines/fit.mk CUSTOMER=$(CUSTOMER) $(if $(OUT),OUT=$(OUT)) BIN=$(GP_BIN)
+
+# Several customers, in parallel with -j: make -j2 fit-all CUSTOMERS="a b".
+fit-all: build
+	@$(MAKE) --no-print-directory $(addprefix fit-customer/,$(CUSTOMERS))
+
+fit-customer/%:
+	@$(MAKE) --no-print-directory -f pipelines/fit.mk CUSTOMER=$* BIN=$(GP_BIN)
 
 bench: build
 	$(PYTHON) scripts/bench.py --bin $(GP_BIN) --out BENCHMARKS.md --plots bench-out
