@@ -157,7 +157,77 @@ def bench_make_garment(run, rows, notes):
                          f"hem girth {e['new_girth']:.3f} m"))
 
 
-BENCHES = [bench_register_check, bench_interp_poses, bench_make_garment]
+def bench_make_avatar(run, rows, notes):
+    poses = "apose,tpose,armsup,armsforward,elbowsbent,stepforward"
+    for res in ("default", "small"):
+        med, lo, hi, out, mem = run.measure(
+            [run.tool("make-avatar"), "--poses", poses, "--resolution", res], f"avatar-{res}")
+        r = load_json(os.path.join(out, "report.json"))
+        t = load_json(os.path.join(out, "timing.json"))
+        phases = ", ".join(f"{k} {v:.2f} s" for k, v in t.items() if isinstance(v, float) and k != "total")
+        rows.append(("make-avatar", f"default body, 6 poses, {r['mesh']['vertex_count']} vertices ({res})", 1,
+                     med, lo, hi, mem,
+                     f"largest girth error {1000 * r['max_girth_error_m']:.2f} mm, largest volume change between "
+                     f"poses {100 * r['max_pairwise_volume_change']:.2f} % (target < 2 s at default); {phases}"))
+
+
+def generated_fit(run, name):
+    """Runs the demo customer's first stages once, for the later benches."""
+    out = os.path.join(run.work, name)
+    subprocess.run(["make", "--no-print-directory", "-s", "-f", os.path.join(ROOT, "pipelines", "fit.mk"),
+                    f"CUSTOMER={os.path.join(ROOT, 'pipelines', 'customers', 'demo')}", f"OUT={out}",
+                    f"BIN={run.bin}", f"{out}/garment/report.json"], check=True, capture_output=True)
+    return out
+
+
+def bench_simulate_adapt(run, rows, notes):
+    fit = generated_fit(run, "demo-fit")
+    motion = os.path.join(ROOT, "pipelines", "customers", "demo", "motion.json")
+    args = [run.tool("simulate-adapt"), "--poses", os.path.join(fit, "poses", "poses.json"), "--motion", motion,
+            "--garment", os.path.join(fit, "garment", "garment.json"), "--threads", "1"]
+    for label, extra in (("adapt", []), ("no-adapt", ["--no-adapt"])):
+        med, lo, hi, out, mem = run.measure(args + extra, f"sim-{label}")
+        r = load_json(os.path.join(out, "report.json"))
+        t = load_json(os.path.join(out, "timing.json"))
+        ms = t["ms_per_step"]
+        keys = r["key_poses"]
+        worst = max(k["max_stretch"] for k in keys)
+        p99 = max(k["p99_stretch"] for k in keys)
+        pen = max(k["deepest_penetration_m"] for k in keys)
+        steps = keys[-1]["steps"]
+        rows.append(("simulate-adapt",
+                     f"demo shirt on the generated body, {r['counts']['garment_vertices']} vertices, "
+                     f"A -> T -> arms up -> A, 30 frames per transition, {label}", 1, med, lo, hi, mem,
+                     f"{steps} steps, {t['steps_per_s']:.1f} steps/s; ms per step: forces "
+                     f"{ms['forces_assembly']:.2f}, factorization {ms['factorization']:.2f}, solve {ms['solve']:.2f}, "
+                     f"collisions {ms['collisions']:.2f}, adaptation {ms['adaptation']:.2f}; over all key poses: "
+                     f"max stretch {worst:.3f}, p99 {p99:.3f}, deepest penetration {1000 * pen:.1f} mm, rest area "
+                     f"x{keys[-1]['rest_area_growth']:.3f}"))
+    notes.append("The paper's published figures (Wolff et al. 2023, 12-core 2.7 GHz CPU): 1.70 frames/s at 3,926 "
+                 "garment vertices and 7.82 frames/s at 1,103, one frame being one simulation step.")
+
+
+def bench_export_rest(run, rows, notes):
+    fit = os.path.join(run.work, "sim-adapt")
+    garment = os.path.join(run.work, "demo-fit", "garment", "garment.json")
+    seams = os.path.join(ROOT, "pipelines", "customers", "demo", "seams.json")
+    for label, limits in (("looser 5 % / 10 %", ["--p95-limit", "0.05", "--max-limit", "0.1"]),
+                          ("default 2 % / 5 %", []),
+                          ("tighter 1 % / 3 %", ["--p95-limit", "0.01", "--max-limit", "0.03"])):
+        med, lo, hi, out, mem = run.measure(
+            [run.tool("export-rest"), os.path.join(fit, "rest.ply"), "--garment", garment, "--seams", seams,
+             "--body", os.path.join(run.work, "demo-fit", "poses", "poses.json"), *limits],
+            "export-" + label.split()[0])
+        sm = load_json(os.path.join(out, "report.json"))["summary"]
+        rows.append(("export-rest", f"demo shirt rest shape, side and shoulder seams, limit {label}", 1,
+                     med, lo, hi, mem,
+                     f"{sm['pieces']} pieces, {sm['added_cuts']} added cuts, seam length {sm['total_seam_length']:.2f} m, "
+                     f"worst p95 {100 * sm['worst_p95_error']:.2f} %, max {100 * sm['worst_max_error']:.2f} %, "
+                     f"limit met: {'yes' if sm['meets_distortion_limit'] else 'no'}"))
+
+
+BENCHES = [bench_register_check, bench_make_avatar, bench_interp_poses, bench_make_garment,
+           bench_simulate_adapt, bench_export_rest]
 
 
 def main():

@@ -83,7 +83,8 @@ int main(int argc, char** argv) {
     const double write_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t_write).count();
     gp::OrderedJson timing;
-    timing["schema"] = gp::schema_tag("make-avatar-timing", 1);
+    timing["schema"] = gp::schema_tag("timing", 1);
+    timing["tool"] = "make-avatar";
     timing["units"] = "s";
     timing["fit"] = r.timing.fit;
     timing["polygonize"] = r.timing.polygonize;
