@@ -30,17 +30,13 @@
 #include "garment/garment_file.h"
 #include "garment/region_cut.h"
 #include "garment/remesh.h"
+#include "spec/clicked_point.h"
 #include "spec/json_file.h"
 
 namespace gp {
 
 // A clicked point: a body vertex id, or a 3D point (metres) snapped to the body.
-struct SpecPoint {
-  bool is_vertex = true;
-  long long vertex_id = -1;
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();
-  std::string where;  // "file: /json/pointer" for errors
-};
+using SpecPoint = ClickedPoint;
 
 struct SpecLoop {
   std::string name;

@@ -18,20 +18,7 @@ namespace gp {
 namespace {
 
 SeamSpecPoint read_point(const Json& j, const std::string& where) {
-  SeamSpecPoint p;
-  p.where = where;
-  if (j.is_number_integer()) {
-    p.vertex_id = j.get<long long>();
-    if (p.vertex_id < 0) throw SpecError("a vertex id cannot be negative", where);
-    return p;
-  }
-  if (j.is_array() && j.size() == 3 && j[0].is_number() && j[1].is_number() && j[2].is_number()) {
-    p.is_vertex = false;
-    p.point = {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
-    if (!p.point.allFinite()) throw SpecError("point is not finite", where);
-    return p;
-  }
-  throw SpecError("expected a vertex id or a point [x, y, z], found " + json_type_name(j), where);
+  return read_clicked_point(j, where, "vertex");
 }
 
 }  // namespace

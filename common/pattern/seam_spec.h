@@ -31,16 +31,12 @@
 
 #include "garment/garment_file.h"
 #include "io/mesh.h"
+#include "spec/clicked_point.h"
 #include "spec/json_file.h"
 
 namespace gp {
 
-struct SeamSpecPoint {
-  bool is_vertex = true;
-  long long vertex_id = -1;
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();  // metres
-  std::string where;                                // "file: /seams/0/points/2"
-};
+using SeamSpecPoint = ClickedPoint;  // a rest-shape or body vertex id, or a 3D point
 
 struct SeamSpecSeam {
   std::string name;

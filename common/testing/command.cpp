@@ -1,5 +1,7 @@
 #include "testing/command.h"
 
+#include "testing/files.h"
+
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -7,17 +9,6 @@
 #include <unistd.h>
 
 namespace gp::testing {
-namespace {
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-}  // namespace
-
 CommandResult run_command(const std::string& command_line) {
   static int counter = 0;
   const auto dir = std::filesystem::temp_directory_path();
@@ -27,8 +18,8 @@ CommandResult run_command(const std::string& command_line) {
   const int status = std::system(full.c_str());
   CommandResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = slurp(out);
-  r.err = slurp(err);
+  r.out = read_file(out);
+  r.err = read_file(err);
   std::filesystem::remove(out);
   std::filesystem::remove(err);
   return r;

@@ -8,17 +8,11 @@
 #include "pose/pose_set.h"
 #include "spec/json_file.h"
 #include "testing/command.h"
+#include "testing/files.h"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 fs::path write_spec(const fs::path& dir, const std::string& name, const std::string& text) {
   const fs::path p = dir / name;
@@ -78,7 +72,7 @@ TEST_CASE("make-avatar writes a pose set that later stages load", "[avatar][cli]
     REQUIRE(r2.exit_code == 0);
     for (const char* f :
          {"apose.ply", "tpose.ply", "seated.ply", "poses.json", "skeleton.json", "report.json"})
-      CHECK(slurp(out / f) == slurp(out2 / f));
+      CHECK(gp::testing::read_file(out / f) == gp::testing::read_file(out2 / f));
   }
 }
 

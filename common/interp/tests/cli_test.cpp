@@ -10,17 +10,11 @@
 #include "io/mesh_io.h"
 #include "spec/json_file.h"
 #include "testing/command.h"
+#include "testing/files.h"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 void write_text(const fs::path& p, const std::string& text) {
   std::ofstream out(p, std::ios::binary);
@@ -77,7 +71,7 @@ TEST_CASE("interp-poses writes frames, a manifest and a report", "[interp][cli]"
                                               (dir / "out2").string() + "' -q");
   REQUIRE(again.exit_code == 0);
   for (const char* name : {"motion.json", "report.json", "frame_00002.ply", "frame_00006.ply"})
-    CHECK(slurp(dir / "out" / name) == slurp(dir / "out2" / name));
+    CHECK(gp::testing::read_file(dir / "out" / name) == gp::testing::read_file(dir / "out2" / name));
 
   // Only selected frames; timing in its own file; linear method.
   const auto keys = gp::testing::run_command(tool() + " " + inputs + motion + " --keys-only --method linear --out '" +

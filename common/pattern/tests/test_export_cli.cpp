@@ -8,19 +8,13 @@
 #include "io/mesh_io.h"
 #include "spec/json_file.h"
 #include "testing/command.h"
+#include "testing/files.h"
 #include "testing/test_meshes.h"
 
 using namespace gp;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 // A minimal DXF reader: closed POLYLINE entities on `layer`, as lists of (x, y).
 std::vector<std::vector<Eigen::Vector2d>> read_dxf_polylines(const fs::path& path, const std::string& layer) {
@@ -184,7 +178,7 @@ TEST_CASE("export-rest writes a 1:1 pattern of a sleeve", "[cli]") {
     const auto again = c.run("again");
     REQUIRE(again.exit_code == 0);
     for (const char* f : {"pattern.svg", "pattern.dxf", "pieces.obj", "pieces_flat.ply", "report.json"})
-      CHECK(slurp(c.dir / "out" / f) == slurp(c.dir / "again" / f));
+      CHECK(gp::testing::read_file(c.dir / "out" / f) == gp::testing::read_file(c.dir / "again" / f));
   }
 
   SECTION("an existing output folder needs --force") {
