@@ -74,6 +74,10 @@ void set_thread_count(int threads) {
   using SetThreads = void (*)(int);
   if (auto* set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
     set(threads);
+  // CHOLMOD's supernodal factorization also runs OpenMP loops of its own;
+  // without this, --threads 1 would still use every core.
+  if (auto* set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "omp_set_num_threads")))
+    set(threads);
 }
 
 }  // namespace gp

@@ -69,8 +69,9 @@ class Tool {
   Logger log_;
 };
 
-// Sets the number of threads for Eigen and, where the BLAS is OpenBLAS, for
-// the BLAS calls inside CHOLMOD's supernodal factorization.
+// Sets the number of threads for Eigen, for OpenBLAS (the BLAS calls inside
+// CHOLMOD's supernodal factorization) and for OpenMP (CHOLMOD's own loops),
+// where those libraries are loaded.
 void set_thread_count(int threads);
 
 }  // namespace gp
