@@ -17,6 +17,13 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// A vertex within this distance [m] above the comfort offset touches it (the
+// position projection leaves vertices at the offset up to rounding).
+constexpr double kTouchTolerance = 1e-6;
+// Largest speed [m/s] at which a contact constraint pushes a vertex back out to
+// the offset.
+constexpr double kMaxCorrectionSpeed = 0.5;
+
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
@@ -112,6 +119,27 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   sim.set_pinned(pin_ids);
   sim.set_collision_handler(
       [&collider, offset](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider.resolve(X, Vel, offset); });
+  if (options.velocity_contacts) {
+    // Contact as a velocity constraint in the solve: the normal velocity follows
+    // the body and closes any gap below the offset within the step; never pulls
+    // a vertex in the band towards the body.
+    const double band = options.contact_band;
+    sim.set_contact_handler([&collider, offset, band](const Eigen::MatrixXd& X, double h,
+                                                      std::vector<cloth::VelocityConstraint>& out) {
+      for (const collision::Contact& c : collider.contacts(X, offset, band)) {
+        cloth::VelocityConstraint k;
+        k.vertex = c.vertex;
+        k.normal = c.outward;
+        // The gap below the offset closes within the step, but no faster than
+        // kMaxCorrectionSpeed (halved substeps would otherwise turn a depth into
+        // a huge speed); the position projection after the step does the rest.
+        k.normal_velocity =
+            c.body_normal_speed + std::min(std::max(offset - c.signed_distance, 0.0) / h, kMaxCorrectionSpeed);
+        k.touching = c.signed_distance <= offset + kTouchTolerance;
+        out.push_back(k);
+      }
+    });
+  }
 
   const RestShapeAdapter adapter(V_garment, F_garment, options.adaptation);
   Eigen::MatrixXd V_rest = V_garment;
@@ -242,6 +270,8 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   result.cg_iterations = sim.counters().cg_iterations;
   result.rejected_steps = sim.counters().rejected;
   result.accepted_folds = sim.counters().accepted_flips;
+  result.contact_constraints = sim.counters().constraints;
+  result.contact_releases = sim.counters().released;
   result.times.total = seconds_since(run_start);
   return result;
 }

@@ -35,6 +35,11 @@ struct MotionRunOptions {
   double settle_stretch_change = 1e-3;  // change of the largest stretch between checks
   int settle_max_steps = 600;         // cap on the settling steps at each key pose
   double reach = 0.15;                // m: body faces farther from the garment are culled
+  // Contact handling: vertices within the comfort offset plus this band [m] get
+  // a velocity constraint along the body normal inside the implicit solve
+  // (filtered CG); false: only the position projection after each step.
+  bool velocity_contacts = true;
+  double contact_band = 5e-4;
   cloth::SimulatorOptions solver;     // strategy, tolerances (dt is taken from above)
 };
 
@@ -79,6 +84,8 @@ struct MotionRunResult {
   long cg_iterations = 0;
   long rejected_steps = 0;
   long accepted_folds = 0;            // triangles turned over in the smallest substep (contact folds)
+  long contact_constraints = 0;       // velocity constraints applied, summed over (sub)steps
+  long contact_releases = 0;          // of which released because the body pulled
   MotionRunTimes times;
 };
 

@@ -48,6 +48,7 @@ struct ClothSimulator::Impl {
   int n_free = 0;
 
   Eigen::SparseMatrix<double> A;  // lower triangle over the free dofs
+  Eigen::SparseMatrix<double> A_factored;  // A with the constraint stiffening (see factorize)
   std::vector<int> triangle_positions;  // 54 per face: value index or -1
   std::vector<int> mass_positions;      // 3 per free vertex
   struct BendEntry {
@@ -75,6 +76,12 @@ struct ClothSimulator::Impl {
   long steps_since_factor = 0;
 
   CollisionHandler collision_handler;
+  ContactHandler contact_handler;
+  // Active velocity constraints of the current (sub)step over free dofs.
+  std::vector<VelocityConstraint> constraints;
+  std::vector<int> constraint_free;     // free vertex index per constraint
+  std::vector<char> released;           // #V: the body pulled this vertex in the last (sub)step
+  std::vector<char> in_contact;         // #V: constrained in the last (sub)step and not released
   PhaseTimes times;
   SolverCounters counters;
 
@@ -273,8 +280,8 @@ struct ClothSimulator::Impl {
   void vertex_frames(const Eigen::MatrixXd& Xc, std::vector<Eigen::Matrix3d>& frames) const {
     Eigen::MatrixXd N = Eigen::MatrixXd::Zero(Xc.rows(), 3);
     for (int f = 0; f < F.rows(); ++f) {
-      const Eigen::RowVector3d a = Xc.row(F(f, 0)), b = Xc.row(F(f, 1)), c = Xc.row(F(f, 2));
-      const Eigen::RowVector3d n = (b - a).cross(c - a);
+      const Eigen::RowVector3d x0 = Xc.row(F(f, 0)), x1 = Xc.row(F(f, 1)), x2 = Xc.row(F(f, 2));
+      const Eigen::RowVector3d n = (x1 - x0).cross(x2 - x0);
       for (int k = 0; k < 3; ++k) N.row(F(f, k)) += n;
     }
     frames.resize(Xc.rows());
@@ -297,9 +304,29 @@ struct ClothSimulator::Impl {
     }
   }
 
+  // The factored matrix: A plus, for the constrained vertices, a stiff
+  // kappa n n^T on their diagonal blocks. As kappa grows, S (A + kappa N)^-1 S
+  // tends to the inverse of the filtered system on the unconstrained subspace,
+  // so the factor stays an accurate preconditioner for the filtered CG.
   void factorize() {
     const auto t0 = Clock::now();
-    solver.factorize(A);
+    if (constraints.empty()) {
+      solver.factorize(A);
+    } else {
+      A_factored = A;
+      double* vals = A_factored.valuePtr();
+      for (size_t k = 0; k < constraints.size(); ++k) {
+        const int fi = constraint_free[k];
+        const Eigen::Vector3d& n = constraints[k].normal;
+        double diagonal = 0.0;
+        for (int a = 0; a < 3; ++a) diagonal += vals[value_position(3 * fi + a, 3 * fi + a)];
+        const double kappa = options.constraint_preconditioner_stiffness * diagonal / 3.0;
+        for (int a = 0; a < 3; ++a) {
+          for (int c = 0; c <= a; ++c) vals[value_position(3 * fi + a, 3 * fi + c)] += kappa * n(a) * n(c);
+        }
+      }
+      solver.factorize(A_factored);
+    }
     if (options.warp_preconditioner) vertex_frames(X, frames_at_factor);
     times.factorization += seconds_since(t0);
     ++counters.factorizations;
@@ -339,22 +366,96 @@ struct ClothSimulator::Impl {
     warp_active = true;
   }
 
+  // S v: removes the constrained normal components (Baraff & Witkin 1998, eq. 17).
+  void filter(Eigen::VectorXd& v) const {
+    for (size_t k = 0; k < constraints.size(); ++k) {
+      const Eigen::Vector3d& n = constraints[k].normal;
+      auto seg = v.segment<3>(3 * constraint_free[k]);
+      seg -= n * n.dot(seg);
+    }
+  }
+
+  // Sets the constrained normal components of sol to their prescribed values.
+  void impose_constraints() {
+    for (size_t k = 0; k < constraints.size(); ++k) {
+      const Eigen::Vector3d& n = constraints[k].normal;
+      auto seg = sol.segment<3>(3 * constraint_free[k]);
+      seg += n * (constraints[k].normal_velocity - n.dot(seg));
+    }
+  }
+
+  // Collects the contact constraints of this (sub)step (free vertices only,
+  // one per vertex, released ones skipped), in ascending vertex order.
+  void gather_constraints(double h) {
+    constraints.clear();
+    constraint_free.clear();
+    if (!contact_handler) return;
+    std::vector<VelocityConstraint> all;
+    contact_handler(X, h, all);
+    std::stable_sort(all.begin(), all.end(),
+                     [](const VelocityConstraint& a, const VelocityConstraint& c) { return a.vertex < c.vertex; });
+    if (released.size() != static_cast<size_t>(X.rows())) released.assign(X.rows(), 0);
+    if (in_contact.size() != static_cast<size_t>(X.rows())) in_contact.assign(X.rows(), 0);
+    int last = -1;
+    for (const VelocityConstraint& c : all) {
+      if (c.vertex < 0 || c.vertex >= X.rows() || c.vertex == last) continue;
+      last = c.vertex;
+      const int fi = free_id(c.vertex);
+      const double len = c.normal.norm();
+      if (fi < 0 || !(len > 0.0) || !std::isfinite(c.normal_velocity)) continue;
+      if (released[c.vertex] || !(c.touching || in_contact[c.vertex])) continue;
+      VelocityConstraint k = c;
+      k.normal /= len;
+      constraints.push_back(k);
+      constraint_free.push_back(fi);
+    }
+    counters.constraints += static_cast<long>(constraints.size());
+  }
+
+  // After a solve: the constraint force is h f_c = A v' - b on the constrained
+  // normal; where it points into the body, the body would have to pull, so the
+  // constraint is released for the next (sub)step (Baraff & Witkin 1998, sec. 5.3).
+  void update_released(double h) {
+    if (released.size() != static_cast<size_t>(X.rows())) released.assign(X.rows(), 0);
+    std::fill(released.begin(), released.end(), 0);
+    in_contact.assign(X.rows(), 0);
+    for (const VelocityConstraint& c : constraints) in_contact[c.vertex] = 1;
+    if (constraints.empty()) return;
+    const Eigen::VectorXd residual = A.selfadjointView<Eigen::Lower>() * sol - b;
+    const double g = params.gravity.norm();
+    for (size_t k = 0; k < constraints.size(); ++k) {
+      const double threshold = options.contact_release_fraction * h * rest.masses(constraints[k].vertex) * g;
+      if (constraints[k].normal.dot(residual.segment<3>(3 * constraint_free[k])) < -threshold) {
+        released[constraints[k].vertex] = 1;
+        in_contact[constraints[k].vertex] = 0;
+        ++counters.released;
+      }
+    }
+  }
+
   // Preconditioned conjugate gradients on A sol = b from the current sol.
   // `precondition` applies M^-1. Returns iterations; sets counters.last_residual.
   template <class Precondition>
   int pcg(Precondition precondition, bool& converged) {
     const auto Asym = A.selfadjointView<Eigen::Lower>();
     const double b_norm = std::max(b.norm(), 1e-300);
+    // Filtered CG (Baraff & Witkin 1998, sec. 5.3): residuals and directions stay
+    // in the unconstrained subspace, the constrained components keep their
+    // prescribed values.
+    impose_constraints();
     r = b - Asym * sol;
+    filter(r);
     double res = r.norm() / b_norm;
     int it = 0;
     converged = res <= options.cg_tolerance;
     if (!converged) {
       precondition(r, z);
+      filter(z);
       p = z;
       double rz = r.dot(z);
       while (it < options.cg_max_iterations) {
         Ap.noalias() = Asym * p;
+        filter(Ap);
         const double pAp = p.dot(Ap);
         if (!(pAp > 0.0)) break;
         const double alpha = rz / pAp;
@@ -367,6 +468,7 @@ struct ClothSimulator::Impl {
           break;
         }
         precondition(r, z);
+        filter(z);
         const double rz_new = r.dot(z);
         p = z + (rz_new / rz) * p;
         rz = rz_new;
@@ -378,7 +480,23 @@ struct ClothSimulator::Impl {
 
   double relative_residual() const {
     const double b_norm = std::max(b.norm(), 1e-300);
-    return (b - A.selfadjointView<Eigen::Lower>() * sol).norm() / b_norm;
+    Eigen::VectorXd res = b - A.selfadjointView<Eigen::Lower>() * sol;
+    filter(res);
+    return res.norm() / b_norm;
+  }
+
+  // A direct solve with the current factor; with constraints, CG with that
+  // (fresh) factor as preconditioner, which the filter requires.
+  void direct_solve(bool& converged) {
+    if (constraints.empty()) {
+      apply_factor(b, sol);
+      counters.last_residual = relative_residual();
+      converged = true;
+      return;
+    }
+    auto by_factor = [this](const Eigen::VectorXd& in, Eigen::VectorXd& out) { apply_factor(in, out); };
+    const int it = pcg(by_factor, converged);
+    counters.cg_iterations += it;
   }
 
   void solve_system() {
@@ -392,9 +510,9 @@ struct ClothSimulator::Impl {
       case SolverStrategy::refactor_every_step: {
         factorize();
         const auto t0 = Clock::now();
-        apply_factor(b, sol);
-        counters.last_residual = relative_residual();
+        direct_solve(converged);
         times.solve += seconds_since(t0);
+        if (!converged) throw NumericalError("constrained solve with a fresh factor did not converge");
         break;
       }
       case SolverStrategy::pcg_reused_factor: {
@@ -409,9 +527,9 @@ struct ClothSimulator::Impl {
           factorize();
           warp_active = false;
           t0 = Clock::now();
-          apply_factor(b, sol);
-          counters.last_residual = relative_residual();
+          direct_solve(converged);
           times.solve += seconds_since(t0);
+          if (!converged) throw NumericalError("constrained solve with a fresh factor did not converge");
           break;
         }
         iterations_since_factor += iterations;
@@ -454,12 +572,17 @@ struct ClothSimulator::Impl {
     }
     const double energy_before = assemble(h) + kinetic(Vel);
     times.forces_assembly += seconds_since(t0);
+    t0 = Clock::now();
+    gather_constraints(h);
+    times.collisions += seconds_since(t0);
     try {
       solve_system();
     } catch (const NumericalError& e) {
       factor_valid = false;
       return std::string("linear solve failed: ") + e.what();
     }
+    const std::vector<char> released_before = released, in_contact_before = in_contact;
+    update_released(h);
 
     t0 = Clock::now();
     Eigen::MatrixXd X_new = X, V_new = V_prescribed;
@@ -515,7 +638,11 @@ struct ClothSimulator::Impl {
       }
     }
     times.checks += seconds_since(t0);
-    if (!failure.empty()) return failure;
+    if (!failure.empty()) {
+      released = released_before;
+      in_contact = in_contact_before;
+      return failure;
+    }
     X = std::move(X_new);
     Vel = std::move(V_new);
     ++counters.substeps;
@@ -604,6 +731,12 @@ void ClothSimulator::set_velocities(const Eigen::MatrixXd& Vel) {
 
 void ClothSimulator::set_collision_handler(CollisionHandler handler) {
   impl_->collision_handler = std::move(handler);
+}
+
+void ClothSimulator::set_contact_handler(ContactHandler handler) {
+  impl_->contact_handler = std::move(handler);
+  impl_->released.clear();
+  impl_->in_contact.clear();
 }
 
 void ClothSimulator::set_options(const SimulatorOptions& options) {

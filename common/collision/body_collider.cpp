@@ -186,6 +186,51 @@ struct BodyCollider::Impl {
     return out;
   }
 
+  Eigen::Vector3d body_velocity_at(const Proximity& q) const {
+    Eigen::Vector3d v_body = Eigen::Vector3d::Zero();
+    if (!has_velocity) return v_body;
+    const int f = q.face;
+    const Eigen::Vector3d w = barycentric(q.closest, corner(f, 0), corner(f, 1), corner(f, 2));
+    for (int k = 0; k < 3; ++k) v_body += w(k) * V_dot.row(F(f, k)).transpose();
+    return v_body;
+  }
+
+  std::vector<Contact> contacts(const Eigen::MatrixXd& X, double offset, double band) {
+    const auto t0 = Clock::now();
+    if (!built) throw UsageError("BodyCollider::contacts before set_body");
+    if (X.cols() != 3) throw UsageError("positions must be #V by 3");
+    if (cache.size() != static_cast<size_t>(X.rows())) cache.assign(X.rows(), VertexCache{});
+    const double reach = offset + band;
+    std::vector<Contact> out;
+    int previous_face = -1;
+    for (int i = 0; i < X.rows(); ++i) {
+      const Eigen::Vector3d x = X.row(i).transpose();
+      VertexCache& c = cache[i];
+      if (c.valid && c.outside && c.distance - (x - c.x).norm() - (travel - c.travel) > reach) {
+        ++stats.skipped;
+        continue;
+      }
+      const Proximity q = query(x, c.valid ? c.face : previous_face);
+      ++stats.queries;
+      previous_face = q.face;
+      c.valid = true;
+      c.face = q.face;
+      c.travel = travel;
+      c.x = x;
+      c.distance = std::abs(q.signed_distance);
+      c.outside = q.signed_distance > 0.0;
+      if (!(q.signed_distance < reach)) continue;
+      Contact k;
+      k.vertex = i;
+      k.signed_distance = q.signed_distance;
+      k.outward = q.outward;
+      k.body_normal_speed = body_velocity_at(q).dot(q.outward);
+      out.push_back(k);
+    }
+    stats.query_seconds += seconds_since(t0);
+    return out;
+  }
+
   void resolve(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, const double* offsets, double offset) {
     const auto t0 = Clock::now();
     if (!built) throw UsageError("BodyCollider::resolve before set_body");
@@ -220,12 +265,7 @@ struct BodyCollider::Impl {
       if (q.signed_distance < 0.0) stats.deepest_penetration = std::max(stats.deepest_penetration, -q.signed_distance);
       const Eigen::Vector3d x_new = q.closest + off * q.outward;
       X.row(i) = x_new.transpose();
-      Eigen::Vector3d v_body = Eigen::Vector3d::Zero();
-      if (has_velocity) {
-        const int f = q.face;
-        const Eigen::Vector3d w = barycentric(q.closest, corner(f, 0), corner(f, 1), corner(f, 2));
-        for (int k = 0; k < 3; ++k) v_body += w(k) * V_dot.row(F(f, k)).transpose();
-      }
+      const Eigen::Vector3d v_body = body_velocity_at(q);
       const Eigen::Vector3d v = Vel.row(i).transpose();
       const double vn = (v - v_body).dot(q.outward);
       if (vn < 0.0) Vel.row(i) = (v - vn * q.outward).transpose();
@@ -342,6 +382,11 @@ void BodyCollider::resolve(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, const Eigen
   if (offsets.size() != X.rows()) throw UsageError("one offset per cloth vertex is needed");
   if (!(offsets.minCoeff() >= 0.0)) throw UsageError("comfort offsets must be non-negative");
   impl_->resolve(X, Vel, offsets.data(), 0.0);
+}
+
+std::vector<Contact> BodyCollider::contacts(const Eigen::MatrixXd& X, double offset, double band) {
+  if (!(offset >= 0.0) || !(band >= 0.0)) throw UsageError("offset and contact band must be non-negative");
+  return impl_->contacts(X, offset, band);
 }
 
 const std::vector<int>& BodyCollider::face_ids() const { return impl_->faces; }

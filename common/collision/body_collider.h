@@ -40,6 +40,14 @@ struct Proximity {
   int face = -1;                       // body face id (full body numbering)
 };
 
+// A cloth vertex in contact: within the comfort offset plus a band.
+struct Contact {
+  int vertex = -1;                     // cloth vertex id
+  double signed_distance = 0.0;        // m, negative inside the body
+  Eigen::Vector3d outward = Eigen::Vector3d::UnitY();  // unit, away from the body
+  double body_normal_speed = 0.0;      // body velocity at the closest point along outward [m/s]
+};
+
 struct CollisionStats {
   long queries = 0;           // exact closest-point queries
   long skipped = 0;           // vertices skipped by the motion bound
@@ -71,6 +79,12 @@ class BodyCollider {
   void resolve(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, double offset);
   // Same with a per-vertex offset (#V).
   void resolve(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, const Eigen::VectorXd& offsets);
+
+  // Cloth vertices of X (#V by 3) closer to the body than offset + band [m], in
+  // ascending vertex order, with the body's normal velocity at their closest
+  // points (for velocity constraints in the implicit solve). Shares the warm
+  // starts and the motion bound of resolve().
+  std::vector<Contact> contacts(const Eigen::MatrixXd& X, double offset, double band);
 
   const std::vector<int>& face_ids() const;
   const CollisionStats& stats() const;

@@ -149,6 +149,8 @@ int main(int argc, char** argv) {
     report["run"] = {{"steps", result.steps},
                      {"rejected_steps", result.rejected_steps},
                      {"accepted_folds", result.accepted_folds},
+                     {"contact_constraints", result.contact_constraints},
+                     {"contact_releases", result.contact_releases},
                      {"factorizations", result.factorizations},
                      {"cg_iterations", result.cg_iterations},
                      {"adaptations", result.adaptations},

@@ -35,7 +35,7 @@ void write_scene(const fs::path& dir) {
   const gp::Mesh body = gp::testing::make_icosphere(3, r);
   gp::Mesh grown = body;
   for (int v = 0; v < grown.V.rows(); ++v) {
-    if (grown.V(v, 1) > 0.0) grown.V(v, 1) *= 1.25;
+    if (grown.V(v, 1) > 0.0) grown.V(v, 1) *= 1.4;
   }
   gp::write_mesh(dir / "a.ply", body);
   gp::write_mesh(dir / "b.ply", grown);
