@@ -219,6 +219,19 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
     key.pose = motion.keys[static_cast<size_t>(frame.key)].pose;
     double previous_stretch = principal_stretches(V_rest, sim.positions(), F_garment).col(0).maxCoeff();
     const int check_every = options.adapt_every;
+    // Rest area at every check, for the fixed-point test: with adaptation the
+    // key pose is settled only once the rest area has changed by less than
+    // fixed_point_area_change over the last fixed_point_steps steps.
+    std::vector<std::pair<int, double>> area_history{{0, mesh_area(V_rest, F_garment)}};
+    auto area_change_over_window = [&]() {
+      const double now = area_history.back().second;
+      double change = 0.0;
+      for (auto it = area_history.rbegin(); it != area_history.rend(); ++it) {
+        change = std::max(change, std::abs(now - it->second) / now);
+        if (key.settle_steps - it->first >= options.fixed_point_steps) break;
+      }
+      return change;
+    };
     while (key.settle_steps < options.settle_max_steps) {
       for (int s = 0; s < check_every && key.settle_steps < options.settle_max_steps; ++s, ++key.settle_steps) {
         step(targets);
@@ -227,7 +240,11 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
       const bool slow = sim.max_speed() < options.settle_speed;
       const bool steady = std::abs(stretch - previous_stretch) < options.settle_stretch_change;
       previous_stretch = stretch;
-      if (slow && steady) {
+      area_history.emplace_back(key.settle_steps, mesh_area(V_rest, F_garment));
+      key.rest_area_change = area_change_over_window();
+      const bool fixed = !options.adapt || (key.settle_steps >= options.fixed_point_steps &&
+                                            key.rest_area_change < options.fixed_point_area_change);
+      if (slow && steady && fixed) {
         key.settled = true;
         break;
       }
@@ -251,10 +268,11 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
       char line[256];
       std::snprintf(line, sizeof(line),
                     "key %d/%zu %s: %ld steps, settled %s after %d, max stretch %.3f, p99 %.3f, "
-                    "above %.2f%%, deepest %.2f mm, rest area x%.4f",
+                    "above %.2f%%, deepest %.2f mm, rest area x%.4f (change %.3f%% over the last %d steps)",
                     frame.key + 1, motion.keys.size(), key.pose.c_str(), result.steps,
                     key.settled ? "yes" : "no", key.settle_steps, key.max_stretch, key.p99_stretch,
-                    100.0 * key.area_fraction_above, 1e3 * key.deepest_penetration, key.rest_area_growth);
+                    100.0 * key.area_fraction_above, 1e3 * key.deepest_penetration, key.rest_area_growth,
+                    100.0 * key.rest_area_change, std::min(key.settle_steps, options.fixed_point_steps));
       progress(line);
     }
     result.keys.push_back(std::move(key));

@@ -34,6 +34,8 @@ struct MotionRunOptions {
   double settle_speed = 0.05;         // m/s: largest vertex speed of a settled cloth
   double settle_stretch_change = 1e-3;  // change of the largest stretch between checks
   int settle_max_steps = 600;         // cap on the settling steps at each key pose
+  int fixed_point_steps = 100;        // with adaptation: window of the fixed-point test [steps]
+  double fixed_point_area_change = 1e-3;  // largest relative rest-area change over that window
   double reach = 0.15;                // m: body faces farther from the garment are culled
   // Contact handling: vertices within the comfort offset plus this band [m] get
   // a velocity constraint along the body normal inside the implicit solve
@@ -54,6 +56,7 @@ struct KeyPoseResult {
   double area_fraction_above = 0.0;   // rest-area fraction with max stretch above 1 + delta
   double deepest_penetration = 0.0;   // m inside the body (0 when nothing is inside)
   double rest_area_growth = 1.0;      // rest area / design rest area
+  double rest_area_change = 0.0;      // relative rest-area change over the last fixed_point_steps settle steps
   long steps = 0;                     // simulation steps up to this key pose
   int settle_steps = 0;
   bool settled = false;

@@ -58,11 +58,20 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_option("--solver", solver, "Linear solver: pcg (reused, rotated CHOLMOD factor) or refactor (every step)")
       ->capture_default_str()->check(CLI::IsMember({"pcg", "refactor"}));
+  app.add_option("--cg-tolerance", options.solver.cg_tolerance,
+                 "Relative residual of the conjugate-gradient solve [1]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  std::string contact = "velocity";
+  app.add_option("--contact", contact,
+                 "Body contact: velocity (constraints inside the implicit solve, then projection) or "
+                 "projection (position projection after the step only)")
+      ->capture_default_str()->check(CLI::IsMember({"velocity", "projection"}));
   tool.add_common_options();
 
   return tool.run(argc, argv, [&] {
     const auto start = std::chrono::steady_clock::now();
     options.adapt = !no_adapt;
+    options.velocity_contacts = contact == "velocity";
     options.solver.strategy = solver == "pcg" ? gp::cloth::SolverStrategy::pcg_reused_factor
                                               : gp::cloth::SolverStrategy::refactor_every_step;
     const gp::PoseSet poses = gp::load_pose_set(poses_path);
@@ -111,6 +120,7 @@ int main(int argc, char** argv) {
                       {"area_fraction_above_limit", k.area_fraction_above},
                       {"deepest_penetration_m", k.deepest_penetration},
                       {"rest_area_growth", k.rest_area_growth},
+                      {"rest_area_change_last_window", k.rest_area_change},
                       {"steps", k.steps},
                       {"settle_steps", k.settle_steps},
                       {"settled", k.settled}});
@@ -131,7 +141,12 @@ int main(int argc, char** argv) {
                          {"settle_speed_m_per_s", options.settle_speed},
                          {"settle_stretch_change", options.settle_stretch_change},
                          {"settle_max_steps", options.settle_max_steps},
+                         {"fixed_point_steps", options.fixed_point_steps},
+                         {"fixed_point_area_change", options.fixed_point_area_change},
                          {"reach_m", options.reach},
+                         {"contact", contact},
+                         {"contact_band_m", options.contact_band},
+                         {"contact_release_fraction", options.solver.contact_release_fraction},
                          {"solver", gp::cloth::solver_strategy_name(options.solver.strategy)},
                          {"cg_tolerance", options.solver.cg_tolerance},
                          {"factorization_cost", options.solver.factorization_cost},

@@ -141,7 +141,14 @@ TEST_CASE("simulate-adapt grows the rest shape where the body stretches the clot
   CHECK(up["rest_area_growth"].get<double>() > 1.005);
   CHECK(up["p99_stretch"].get<double>() <= 1.12);
   CHECK(up["area_fraction_above_limit"].get<double>() < 0.01);
-  for (const auto& k : report["key_poses"]) CHECK(k["deepest_penetration_m"].get<double>() <= 0.002);
+  for (const auto& k : report["key_poses"]) {
+    CHECK(k["deepest_penetration_m"].get<double>() <= 0.002);
+    // Settled means the rest shape reached its fixed point: under 0.1 % area
+    // change over the last 100 settle steps.
+    CHECK(k["settled"] == true);
+    CHECK(k["settle_steps"].get<int>() >= 100);
+    CHECK(k["rest_area_change_last_window"].get<double>() < 1e-3);
+  }
   CHECK(report["run"]["arap_converged"] == true);
   CHECK(fs::exists(dir / "adapted" / "rest.ply"));
   CHECK(fs::exists(dir / "adapted" / "timing.json"));

@@ -180,3 +180,33 @@ TEST_CASE("a cloth falling on a sphere stays outside the comfort offset", "[coll
   CHECK(sim.positions()(0, 1) < 0.05);
   CHECK(sim.positions().allFinite());
 }
+
+TEST_CASE("contacts lists vertices within offset plus band with normals and body normal speed", "[collision]") {
+  const gp::Mesh cube = make_cube(0.5);
+  BodyCollider collider(cube.F);
+  // The body moves up at 0.3 m/s.
+  Eigen::MatrixXd body_velocity = Eigen::MatrixXd::Zero(cube.V.rows(), 3);
+  body_velocity.col(1).setConstant(0.3);
+  collider.set_body(cube.V, &body_velocity);
+  Eigen::MatrixXd X(5, 3);
+  X << 0.0, 0.51, 0.0,     // 1 cm above the top face: in contact (offset 0.01, band 0.001)
+      0.0, 0.5105, 0.1,    // in the band
+      0.0, 0.52, 0.2,      // beyond offset + band: not listed
+      0.0, 0.45, 0.0,      // 5 cm inside, below the top face
+      0.505, 0.0, 0.0;     // 5 mm from the +x face
+  const std::vector<Contact> c = collider.contacts(X, 0.01, 0.001);
+  REQUIRE(c.size() == 4);
+  CHECK(c[0].vertex == 0);
+  CHECK(c[1].vertex == 1);
+  CHECK(c[2].vertex == 3);
+  CHECK(c[3].vertex == 4);
+  CHECK(c[0].signed_distance == Approx(0.01).margin(1e-12));
+  CHECK(c[1].signed_distance == Approx(0.0105).margin(1e-12));
+  CHECK(c[2].signed_distance == Approx(-0.05).margin(1e-12));
+  CHECK(c[0].outward.isApprox(Eigen::Vector3d::UnitY(), 1e-12));
+  CHECK(c[2].outward.isApprox(Eigen::Vector3d::UnitY(), 1e-12));
+  CHECK(c[3].outward.isApprox(Eigen::Vector3d::UnitX(), 1e-12));
+  CHECK(c[0].body_normal_speed == Approx(0.3));
+  CHECK(c[3].body_normal_speed == Approx(0.0).margin(1e-12));
+  CHECK_THROWS_AS(collider.contacts(X, -0.01, 0.0), gp::UsageError);
+}
