@@ -117,16 +117,39 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   sim_options.dt = options.dt;
   cloth::ClothSimulator sim(V_garment, F_garment, parameters_from(garment.material), sim_options);
   sim.set_pinned(pin_ids);
+  // A garment offset along the body normals can start closer than the offset to
+  // another body part (concave regions: armpits, between arm and torso); pushing
+  // it out in one step is a jump of centimetres that tears the cloth. Each
+  // vertex's offset therefore starts at its initial distance and grows to the
+  // comfort offset at options.initial_push_speed.
+  Eigen::VectorXd offsets = Eigen::VectorXd::Constant(V_garment.rows(), offset);
+  {
+    int hint = -1;
+    for (int v = 0; v < V_garment.rows(); ++v) {
+      const collision::Proximity q = collider.query(V_garment.row(v).transpose(), hint);
+      hint = q.face;
+      offsets(v) = std::min(offset, q.signed_distance);
+    }
+  }
+  result.initial_min_distance = offsets.minCoeff();
+  bool ramp_done = offsets.minCoeff() >= offset;
+  auto advance_offsets = [&]() {
+    if (ramp_done) return;
+    const double grow = options.initial_push_speed * options.dt;
+    for (int v = 0; v < offsets.size(); ++v) offsets(v) = std::min(offset, offsets(v) + grow);
+    ramp_done = offsets.minCoeff() >= offset;
+  };
   sim.set_collision_handler(
-      [&collider, offset](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider.resolve(X, Vel, offset); });
+      [&collider, &offsets](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider.resolve(X, Vel, offsets); });
   if (options.velocity_contacts) {
     // Contact as a velocity constraint in the solve: the normal velocity follows
     // the body and closes any gap below the offset within the step; never pulls
     // a vertex in the band towards the body.
     const double band = options.contact_band;
-    sim.set_contact_handler([&collider, offset, band](const Eigen::MatrixXd& X, double h,
-                                                      std::vector<cloth::VelocityConstraint>& out) {
-      for (const collision::Contact& c : collider.contacts(X, offset, band)) {
+    sim.set_contact_handler([&collider, &offsets, band](const Eigen::MatrixXd& X, double h,
+                                                        std::vector<cloth::VelocityConstraint>& out) {
+      for (const collision::Contact& c : collider.contacts(X, offsets, band)) {
+        const double vertex_offset = offsets(c.vertex);
         cloth::VelocityConstraint k;
         k.vertex = c.vertex;
         k.normal = c.outward;
@@ -134,8 +157,8 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
         // kMaxCorrectionSpeed (halved substeps would otherwise turn a depth into
         // a huge speed); the position projection after the step does the rest.
         k.normal_velocity =
-            c.body_normal_speed + std::min(std::max(offset - c.signed_distance, 0.0) / h, kMaxCorrectionSpeed);
-        k.touching = c.signed_distance <= offset + kTouchTolerance;
+            c.body_normal_speed + std::min(std::max(vertex_offset - c.signed_distance, 0.0) / h, kMaxCorrectionSpeed);
+        k.touching = c.signed_distance <= vertex_offset + kTouchTolerance;
         out.push_back(k);
       }
     });
@@ -176,6 +199,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
 
   auto step = [&](const Eigen::MatrixXd& T) {
     sim.set_pin_targets(T);
+    advance_offsets();
     sim.step();
     ++result.steps;
     if (options.adapt && result.steps % options.adapt_every == 0) adapt_now();
@@ -244,7 +268,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
       key.rest_area_change = area_change_over_window();
       const bool fixed = !options.adapt || (key.settle_steps >= options.fixed_point_steps &&
                                             key.rest_area_change < options.fixed_point_area_change);
-      if (slow && steady && fixed) {
+      if (slow && steady && fixed && ramp_done) {
         key.settled = true;
         break;
       }

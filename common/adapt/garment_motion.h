@@ -41,6 +41,9 @@ struct MotionRunOptions {
   // a velocity constraint along the body normal inside the implicit solve
   // (filtered CG); false: only the position projection after each step.
   bool velocity_contacts = true;
+  // Speed [m/s] at which vertices that start closer to the body than the comfort
+  // offset (or inside it) are pushed out to the offset.
+  double initial_push_speed = 0.1;
   double contact_band = 5e-4;
   cloth::SimulatorOptions solver;     // strategy, tolerances (dt is taken from above)
 };
@@ -83,6 +86,7 @@ struct MotionRunResult {
   bool arap_converged = true;         // every stitching reached its tolerance
   bool all_settled = true;
   size_t culled_body_faces = 0;       // body faces kept for collisions
+  double initial_min_distance = 0.0;  // m, smallest signed distance of the design garment to the body
   long factorizations = 0;
   long cg_iterations = 0;
   long rejected_steps = 0;

@@ -195,15 +195,15 @@ struct BodyCollider::Impl {
     return v_body;
   }
 
-  std::vector<Contact> contacts(const Eigen::MatrixXd& X, double offset, double band) {
+  std::vector<Contact> contacts(const Eigen::MatrixXd& X, const double* offsets, double offset, double band) {
     const auto t0 = Clock::now();
     if (!built) throw UsageError("BodyCollider::contacts before set_body");
     if (X.cols() != 3) throw UsageError("positions must be #V by 3");
     if (cache.size() != static_cast<size_t>(X.rows())) cache.assign(X.rows(), VertexCache{});
-    const double reach = offset + band;
     std::vector<Contact> out;
     int previous_face = -1;
     for (int i = 0; i < X.rows(); ++i) {
+      const double reach = (offsets ? offsets[i] : offset) + band;
       const Eigen::Vector3d x = X.row(i).transpose();
       VertexCache& c = cache[i];
       if (c.valid && c.outside && c.distance - (x - c.x).norm() - (travel - c.travel) > reach) {
@@ -380,13 +380,19 @@ void BodyCollider::resolve(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, double offs
 
 void BodyCollider::resolve(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, const Eigen::VectorXd& offsets) {
   if (offsets.size() != X.rows()) throw UsageError("one offset per cloth vertex is needed");
-  if (!(offsets.minCoeff() >= 0.0)) throw UsageError("comfort offsets must be non-negative");
+  if (!offsets.allFinite()) throw UsageError("comfort offsets must be finite");
   impl_->resolve(X, Vel, offsets.data(), 0.0);
 }
 
 std::vector<Contact> BodyCollider::contacts(const Eigen::MatrixXd& X, double offset, double band) {
   if (!(offset >= 0.0) || !(band >= 0.0)) throw UsageError("offset and contact band must be non-negative");
-  return impl_->contacts(X, offset, band);
+  return impl_->contacts(X, nullptr, offset, band);
+}
+
+std::vector<Contact> BodyCollider::contacts(const Eigen::MatrixXd& X, const Eigen::VectorXd& offsets, double band) {
+  if (offsets.size() != X.rows()) throw UsageError("one offset per cloth vertex is needed");
+  if (!offsets.allFinite() || !(band >= 0.0)) throw UsageError("offsets must be finite and the band non-negative");
+  return impl_->contacts(X, offsets.data(), 0.0, band);
 }
 
 const std::vector<int>& BodyCollider::face_ids() const { return impl_->faces; }

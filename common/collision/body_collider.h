@@ -77,7 +77,9 @@ class BodyCollider {
   // Collision response for cloth positions X and velocities Vel (#V by 3; row i is
   // cloth vertex i across calls, for warm starts). offset [m] >= 0.
   void resolve(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, double offset);
-  // Same with a per-vertex offset (#V).
+  // Same with a per-vertex offset (#V) [m]; an offset may be negative: the vertex
+  // may then be that deep inside the body (used to push a garment that starts
+  // inside the body out gradually instead of in one jump).
   void resolve(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, const Eigen::VectorXd& offsets);
 
   // Cloth vertices of X (#V by 3) closer to the body than offset + band [m], in
@@ -85,6 +87,8 @@ class BodyCollider {
   // points (for velocity constraints in the implicit solve). Shares the warm
   // starts and the motion bound of resolve().
   std::vector<Contact> contacts(const Eigen::MatrixXd& X, double offset, double band);
+  // Same with a per-vertex offset (#V) [m], which may be negative as in resolve().
+  std::vector<Contact> contacts(const Eigen::MatrixXd& X, const Eigen::VectorXd& offsets, double band);
 
   const std::vector<int>& face_ids() const;
   const CollisionStats& stats() const;

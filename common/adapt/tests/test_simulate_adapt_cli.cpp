@@ -30,7 +30,8 @@ std::string read_bytes(const fs::path& p) {
 }
 
 // Writes poses.json (poses "a" and "b"), motion.json and garment.json/.ply into dir.
-void write_scene(const fs::path& dir) {
+// The cap garment sits at radius r + start_distance (the offset by default).
+void write_scene(const fs::path& dir, double start_distance = 0.01) {
   const double r = 0.2, offset = 0.01;
   const gp::Mesh body = gp::testing::make_icosphere(3, r);
   gp::Mesh grown = body;
@@ -76,7 +77,7 @@ void write_scene(const fs::path& dir) {
   }
   gp::Mesh cap;
   cap.V.resize(old_id.size(), 3);
-  for (size_t i = 0; i < old_id.size(); ++i) cap.V.row(i) = body.V.row(old_id[i]) * ((r + offset) / r);
+  for (size_t i = 0; i < old_id.size(); ++i) cap.V.row(i) = body.V.row(old_id[i]) * ((r + start_distance) / r);
   cap.F.resize(faces.size(), 3);
   for (size_t f = 0; f < faces.size(); ++f) cap.F.row(f) = faces[f].transpose();
   gp::write_mesh(dir / "garment.ply", cap);
@@ -189,4 +190,20 @@ TEST_CASE("simulate-adapt reports bad inputs with their exit codes", "[cli]") {
   CHECK(spec.exit_code == 4);
   CHECK(spec.err.find("sequence") != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "o3"));
+}
+
+TEST_CASE("simulate-adapt pushes a garment that starts inside the body out gradually", "[cli]") {
+  // The cap starts 1 cm inside the sphere, 2 cm short of its offset: one
+  // projection would tear it; the ramped offsets push it out over steps.
+  const fs::path dir = gp::testing::fresh_temp_dir("simulate_adapt_cli_inside");
+  write_scene(dir, -0.01);
+  const auto run = gp::testing::run_command(command(dir, "adapted"));
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  const gp::Json report = gp::read_json_file(dir / "adapted" / "report.json");
+  CHECK(report["run"]["initial_min_distance_m"].get<double>() < -0.005);
+  for (const auto& k : report["key_poses"]) {
+    CHECK(k["deepest_penetration_m"].get<double>() <= 0.002);
+    CHECK(k["settled"] == true);
+  }
 }
