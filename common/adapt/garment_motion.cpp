@@ -263,11 +263,22 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
       const double stretch = principal_stretches(V_rest, sim.positions(), F_garment).col(0).maxCoeff();
       const bool slow = sim.max_speed() < options.settle_speed;
       const bool steady = std::abs(stretch - previous_stretch) < options.settle_stretch_change;
+      const double previous_stretch_at_check = previous_stretch;
       previous_stretch = stretch;
       area_history.emplace_back(key.settle_steps, mesh_area(V_rest, F_garment));
       key.rest_area_change = area_change_over_window();
       const bool fixed = !options.adapt || (key.settle_steps >= options.fixed_point_steps &&
                                             key.rest_area_change < options.fixed_point_area_change);
+      if (progress && key.settle_steps % 200 == 0) {
+        char line[200];
+        std::snprintf(line, sizeof(line),
+                      "settling %s: %d steps, max speed %.4f m/s, max stretch %.4f (change %.4f), rest area "
+                      "change %.3f%% over the last %d steps",
+                      motion.keys[static_cast<size_t>(frame.key)].pose.c_str(), key.settle_steps, sim.max_speed(),
+                      stretch, std::abs(stretch - previous_stretch_at_check), 100.0 * key.rest_area_change,
+                      std::min(key.settle_steps, options.fixed_point_steps));
+        progress(line);
+      }
       if (slow && steady && fixed && ramp_done) {
         key.settled = true;
         break;
