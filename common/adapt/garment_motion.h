@@ -33,7 +33,11 @@ struct MotionRunOptions {
   AdaptOptions adaptation;            // delta (0.1) and ARAP tolerance
   double settle_speed = 0.05;         // m/s: largest vertex speed of a settled cloth
   double settle_stretch_change = 1e-3;  // change of the largest stretch between checks
-  int settle_max_steps = 600;         // cap on the settling steps at each key pose
+  // Cap on the settling steps at each key pose. Measured on the shared-body shirt
+  // (1,085 vertices) in the A-pose: the rest-area change per 100 steps decays
+  // from 0.71 % (200 steps) to 0.11 % (600) and passes the 0.1 % fixed-point
+  // test after 664 steps, at a growth of 1.191 (1.191 at 600: converging).
+  int settle_max_steps = 1000;
   int fixed_point_steps = 100;        // with adaptation: window of the fixed-point test [steps]
   double fixed_point_area_change = 1e-3;  // largest relative rest-area change over that window
   double reach = 0.15;                // m: body faces farther from the garment are culled
