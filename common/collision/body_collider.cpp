@@ -1,5 +1,6 @@
 #include "collision/body_collider.h"
 
+#include <optional>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -194,6 +195,28 @@ struct BodyCollider::Impl {
     for (int k = 0; k < 3; ++k) v_body += w(k) * V_dot.row(F(f, k)).transpose();
     return v_body;
   }
+  // The closest body point to vertex i at x, or nothing when the cached
+  // query proves the vertex farther than `reach`: the cached distance can have
+  // shrunk at most by the vertex's own motion plus the body's largest motion
+  // since that query. Updates the cache and warm-starts from its face.
+  std::optional<Proximity> cached_query(int i, const Eigen::Vector3d& x, double reach, int& previous_face) {
+    VertexCache& c = cache[i];
+    if (c.valid && c.outside && c.distance - (x - c.x).norm() - (travel - c.travel) > reach) {
+      ++stats.skipped;
+      return std::nullopt;
+    }
+    const Proximity q = query(x, c.valid ? c.face : previous_face);
+    ++stats.queries;
+    previous_face = q.face;
+    c.valid = true;
+    c.face = q.face;
+    c.travel = travel;
+    c.x = x;
+    c.distance = std::abs(q.signed_distance);
+    c.outside = q.signed_distance > 0.0;
+    return q;
+  }
+
 
   std::vector<Contact> contacts(const Eigen::MatrixXd& X, const double* offsets, double offset, double band) {
     const auto t0 = Clock::now();
@@ -204,21 +227,9 @@ struct BodyCollider::Impl {
     int previous_face = -1;
     for (int i = 0; i < X.rows(); ++i) {
       const double reach = (offsets ? offsets[i] : offset) + band;
-      const Eigen::Vector3d x = X.row(i).transpose();
-      VertexCache& c = cache[i];
-      if (c.valid && c.outside && c.distance - (x - c.x).norm() - (travel - c.travel) > reach) {
-        ++stats.skipped;
-        continue;
-      }
-      const Proximity q = query(x, c.valid ? c.face : previous_face);
-      ++stats.queries;
-      previous_face = q.face;
-      c.valid = true;
-      c.face = q.face;
-      c.travel = travel;
-      c.x = x;
-      c.distance = std::abs(q.signed_distance);
-      c.outside = q.signed_distance > 0.0;
+      const std::optional<Proximity> found = cached_query(i, X.row(i).transpose(), reach, previous_face);
+      if (!found) continue;
+      const Proximity& q = *found;
       if (!(q.signed_distance < reach)) continue;
       Contact k;
       k.vertex = i;
@@ -241,26 +252,9 @@ struct BodyCollider::Impl {
     int previous_face = -1;
     for (int i = 0; i < X.rows(); ++i) {
       const double off = offsets ? offsets[i] : offset;
-      const Eigen::Vector3d x = X.row(i).transpose();
-      VertexCache& c = cache[i];
-      if (c.valid && c.outside) {
-        // Lower bound on the current distance: it can have shrunk at most by the
-        // vertex's own motion plus the body's largest motion since the query.
-        const double bound = c.distance - (x - c.x).norm() - (travel - c.travel);
-        if (bound > off) {
-          ++stats.skipped;
-          continue;
-        }
-      }
-      const Proximity q = query(x, c.valid ? c.face : previous_face);
-      ++stats.queries;
-      previous_face = q.face;
-      c.valid = true;
-      c.face = q.face;
-      c.travel = travel;
-      c.x = x;
-      c.distance = std::abs(q.signed_distance);
-      c.outside = q.signed_distance > 0.0;
+      const std::optional<Proximity> found = cached_query(i, X.row(i).transpose(), off, previous_face);
+      if (!found) continue;
+      const Proximity& q = *found;
       if (!(q.signed_distance < off)) continue;
       if (q.signed_distance < 0.0) stats.deepest_penetration = std::max(stats.deepest_penetration, -q.signed_distance);
       const Eigen::Vector3d x_new = q.closest + off * q.outward;
@@ -269,6 +263,7 @@ struct BodyCollider::Impl {
       const Eigen::Vector3d v = Vel.row(i).transpose();
       const double vn = (v - v_body).dot(q.outward);
       if (vn < 0.0) Vel.row(i) = (v - vn * q.outward).transpose();
+      VertexCache& c = cache[i];
       c.x = x_new;
       c.distance = off;
       c.outside = off > 0.0;
