@@ -108,7 +108,7 @@ DesignBody load_design_body(const GarmentFile& garment, const std::filesystem::p
 
 std::vector<SeamPath> resolve_seams(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
                                     const SeamSpec& spec, const GarmentFile* garment,
-                                    const DesignBody* body) {
+                                    const DesignBody* body, const Eigen::MatrixXd* V_design) {
   const int n = static_cast<int>(V_rest.rows());
   const auto neighbors = vertex_neighbors(F, n);
   std::vector<char> used(static_cast<size_t>(n), 0);
@@ -121,20 +121,28 @@ std::vector<SeamPath> resolve_seams(const Eigen::MatrixXd& V_rest, const Eigen::
   // Body points of the bound boundary vertices, for the binding-exact mapping.
   std::vector<std::pair<int, Eigen::Vector3d>> bound;
 
-  auto nearest_rest_vertex = [&](const Eigen::Vector3d& x, const std::string& seam, const std::string& where) {
-    if (!rest_locator) rest_locator = std::make_unique<SurfaceLocator>(V_rest, F);
-    const auto hit = rest_locator->closest(x);
+  // Nearest vertex of the rest shape (or of the design shape, which shares its
+  // connectivity) to the surface point closest to x.
+  std::unique_ptr<SurfaceLocator> design_locator;
+  auto nearest_vertex = [&](const Eigen::MatrixXd& V, std::unique_ptr<SurfaceLocator>& locator,
+                            const char* shape, const Eigen::Vector3d& x, const std::string& seam,
+                            const std::string& where) {
+    if (!locator) locator = std::make_unique<SurfaceLocator>(V, F);
+    const auto hit = locator->closest(x);
     if (hit.distance > spec.snap_tolerance)
-      throw SpecError("seam '" + seam + "': the point is " + std::to_string(hit.distance) +
-                          " m from the rest shape (snap tolerance " + std::to_string(spec.snap_tolerance) +
+      throw SpecError("seam '" + seam + "': the point is " + std::to_string(hit.distance) + " m from the " +
+                          shape + " (snap tolerance " + std::to_string(spec.snap_tolerance) +
                           " m): the path would leave the mesh",
                       where);
     int best = F(hit.at.face, 0);
     for (int k = 1; k < 3; ++k)
-      if ((V_rest.row(F(hit.at.face, k)).transpose() - hit.point).squaredNorm() <
-          (V_rest.row(best).transpose() - hit.point).squaredNorm())
+      if ((V.row(F(hit.at.face, k)).transpose() - hit.point).squaredNorm() <
+          (V.row(best).transpose() - hit.point).squaredNorm())
         best = F(hit.at.face, k);
     return best;
+  };
+  auto nearest_rest_vertex = [&](const Eigen::Vector3d& x, const std::string& seam, const std::string& where) {
+    return nearest_vertex(V_rest, rest_locator, "rest shape", x, seam, where);
   };
 
   auto body_to_rest = [&](const SeamSpecPoint& p, const std::string& seam) {
@@ -171,6 +179,7 @@ std::vector<SeamPath> resolve_seams(const Eigen::MatrixXd& V_rest, const Eigen::
     }
     if (best >= 0) return best;
     const Eigen::Vector3d target = x + garment->offset * evaluate_normal(N_body, body->F, at);
+    if (V_design) return nearest_vertex(*V_design, design_locator, "garment as designed", target, seam, p.where);
     return nearest_rest_vertex(target, seam, p.where);
   };
 

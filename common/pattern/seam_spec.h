@@ -81,6 +81,10 @@ struct SeamPath {
 
 // Resolves every seam of `spec` on the rest shape (V_rest #V by 3, F #F by 3).
 // `garment` and `body` are needed only for body points (nullptr otherwise).
+// `V_design` (optional, same connectivity as V_rest) is the garment as
+// designed; body points away from the bound boundary are snapped to it rather
+// than to the rest shape, which adaptation may have grown centimetres away
+// from the body.
 // Throws SpecError (bad vertex id, point beyond the snap tolerance, body
 // points without a body, fewer than two points) and GeometryError (points on
 // different components: the path would leave the mesh; a path crossing
@@ -89,6 +93,6 @@ struct SeamPath {
 // One end of an open seam may lie inside the surface: the seam is then a dart.
 std::vector<SeamPath> resolve_seams(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
                                     const SeamSpec& spec, const GarmentFile* garment,
-                                    const DesignBody* body);
+                                    const DesignBody* body, const Eigen::MatrixXd* V_design = nullptr);
 
 }  // namespace gp

@@ -100,7 +100,17 @@ int main(int argc, char** argv) {
           throw gp::UsageError("seams on the body need the garment file (--garment) for its binding", seams_path);
         body = gp::load_design_body(garment, garment_path, body_path);
       }
-      seams = gp::resolve_seams(rest.V, rest.F, spec, have_garment ? &garment : nullptr, on_body ? &body : nullptr);
+      // The garment as designed (beside its garment file) lies at the comfort
+      // offset from the body; the adapted rest shape may not.
+      gp::Mesh design;
+      if (on_body) {
+        const fs::path design_path = fs::path(garment_path).parent_path() / garment.mesh_file;
+        design = gp::read_mesh(design_path).mesh;
+        if (design.F.rows() != rest.F.rows() || design.V.rows() != rest.V.rows() || design.F != rest.F)
+          throw gp::GeometryError("the rest shape does not have the designed garment's connectivity", design_path.string());
+      }
+      seams = gp::resolve_seams(rest.V, rest.F, spec, have_garment ? &garment : nullptr, on_body ? &body : nullptr,
+                                on_body ? &design.V : nullptr);
     }
     lap("read");
 

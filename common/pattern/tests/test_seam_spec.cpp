@@ -136,4 +136,15 @@ TEST_CASE("seams clicked on the body map to the garment through its binding", "[
   const SeamSpec bad = parse_seam_spec(Json::parse(R"({"schema": "seam-spec/1", "seams": [
       {"name": "far", "on": "body", "points": [3, 99999]}]})"), "seams.json");
   CHECK_THROWS_WITH(resolve_seams(rest.V, rest.F, bad, &garment, &body), Catch::Contains("seam 'far'"));
+
+  // After adaptation the rest shape may have grown away from the body (here
+  // to a 16 cm radius, 5 cm beyond the snap tolerance's reach): body clicks
+  // then land through the garment as designed, which shares its connectivity.
+  const Mesh grown = testing::make_open_cylinder(nu, nv, 0.16, 0.5);
+  CHECK_THROWS_WITH(resolve_seams(grown.V, grown.F, spec, &garment, &body),
+                    Catch::Contains("from the rest shape"));
+  const auto through_design = resolve_seams(grown.V, grown.F, spec, &garment, &body, &rest.V);
+  REQUIRE(through_design.size() == 1);
+  CHECK(through_design[0].vertex_ids.front() == 0);
+  CHECK(through_design[0].vertex_ids.back() == 243);
 }
