@@ -21,6 +21,23 @@ Eigen::Matrix<double, 3, 4> stencil_positions(const Eigen::MatrixXd& V, const Ei
   return X;
 }
 
+// Per-triangle rest frames, total area and lumped masses (a third of each
+// triangle's mass to each corner) into `rest`, whose triangles are sized and
+// masses zeroed by the caller.
+void set_triangles_and_masses(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
+                              const ClothParameters& params, ClothRestState& rest) {
+  for (int f = 0; f < F.rows(); ++f) {
+    try {
+      rest.triangles[f] = triangle_rest(triangle_positions(V_rest, F, f), params.material_direction);
+    } catch (const GeometryError& e) {
+      throw GeometryError(e.what(), "face " + std::to_string(f));
+    }
+    const double A = rest.triangles[f].area;
+    rest.total_area += A;
+    for (int k = 0; k < 3; ++k) rest.masses(F(f, k)) += params.density * A / 3.0;
+  }
+}
+
 }  // namespace
 
 ClothRestState build_rest_state(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
@@ -37,16 +54,7 @@ ClothRestState build_rest_state(const Eigen::MatrixXd& V_rest, const Eigen::Matr
   ClothRestState rest;
   rest.triangles.resize(F.rows());
   rest.masses = Eigen::VectorXd::Zero(n);
-  for (int f = 0; f < F.rows(); ++f) {
-    try {
-      rest.triangles[f] = triangle_rest(triangle_positions(V_rest, F, f), params.material_direction);
-    } catch (const GeometryError& e) {
-      throw GeometryError(e.what(), "face " + std::to_string(f));
-    }
-    const double A = rest.triangles[f].area;
-    rest.total_area += A;
-    for (int k = 0; k < 3; ++k) rest.masses(F(f, k)) += params.density * A / 3.0;
-  }
+  set_triangles_and_masses(V_rest, F, params, rest);
 
   // Interior edges: exactly two faces; (a, b) in the first face's order.
   std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> edge_faces;  // -> (face, corner opposite)
@@ -89,16 +97,7 @@ void update_rest_state(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
   }
   rest.masses.setZero();
   rest.total_area = 0.0;
-  for (int f = 0; f < F.rows(); ++f) {
-    try {
-      rest.triangles[f] = triangle_rest(triangle_positions(V_rest, F, f), params.material_direction);
-    } catch (const GeometryError& e) {
-      throw GeometryError(e.what(), "face " + std::to_string(f));
-    }
-    const double A = rest.triangles[f].area;
-    rest.total_area += A;
-    for (int k = 0; k < 3; ++k) rest.masses(F(f, k)) += params.density * A / 3.0;
-  }
+  set_triangles_and_masses(V_rest, F, params, rest);
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(rest.stencils.size() * 16);
   for (BendingStencil& s : rest.stencils) {
