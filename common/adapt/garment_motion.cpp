@@ -117,6 +117,10 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   sim_options.dt = options.dt;
   cloth::ClothSimulator sim(V_garment, F_garment, parameters_from(garment.material), sim_options);
   sim.set_pinned(pin_ids);
+  if (!options.rest_triangles.empty()) {
+    if (options.adapt) throw UsageError("per-face rest triangles need adapt off (the rest shape is then fixed)");
+    sim.set_rest_triangles(options.rest_triangles);
+  }
   // A garment offset along the body normals can start closer than the offset to
   // another body part (concave regions: armpits, between arm and torso); pushing
   // it out in one step is a jump of centimetres that tears the cloth. Each

@@ -49,6 +49,10 @@ struct MotionRunOptions {
   // offset (or inside it) are pushed out to the offset.
   double initial_push_speed = 0.1;
   double contact_band = 5e-4;
+  // When non-empty (one per garment face): rest triangles used instead of those
+  // of V_garment, e.g. the flat pieces of the exported pattern sewn back
+  // together (export-rest's round trip). Requires adapt == false.
+  std::vector<cloth::TriangleRest> rest_triangles;
   cloth::SimulatorOptions solver;     // strategy, tolerances (dt is taken from above)
 };
 

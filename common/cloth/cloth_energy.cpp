@@ -155,6 +155,24 @@ TriangleRest triangle_rest(const Eigen::Matrix3d& X_rest, const Eigen::Vector3d&
   return rest;
 }
 
+TriangleRest triangle_rest_flat(const Eigen::Matrix<double, 2, 3>& P) {
+  Eigen::Matrix2d Dm;
+  Dm.col(0) = P.col(1) - P.col(0);
+  Dm.col(1) = P.col(2) - P.col(0);
+  const double longest2 = std::max({Dm.col(0).squaredNorm(), Dm.col(1).squaredNorm(),
+                                    (Dm.col(1) - Dm.col(0)).squaredNorm()});
+  const double area2 = std::abs(Dm.determinant());
+  if (!P.allFinite() || !(area2 >= 1e-8 * longest2) || longest2 <= 0.0) {
+    throw GeometryError("degenerate (zero-area) rest triangle");
+  }
+  const Eigen::Matrix2d B = Dm.inverse();
+  TriangleRest rest;
+  rest.area = 0.5 * area2;
+  rest.a = Eigen::Vector3d(-B(0, 0) - B(1, 0), B(0, 0), B(1, 0));
+  rest.b = Eigen::Vector3d(-B(0, 1) - B(1, 1), B(0, 1), B(1, 1));
+  return rest;
+}
+
 Eigen::Matrix<double, 3, 2> triangle_w(const Eigen::Matrix3d& X, const TriangleRest& rest) {
   Matrix32d W;
   W.col(0) = X * rest.a;

@@ -52,6 +52,11 @@ struct TriangleRest {
 TriangleRest triangle_rest(const Eigen::Matrix3d& X_rest,
                            const Eigen::Vector3d& material_direction = Eigen::Vector3d::UnitY());
 
+// Rest data from a flat triangle given by its 2D corners P = [p0 p1 p2] (a sewing
+// pattern piece, the pattern's x axis the warp direction). A mirrored triangle
+// gives the same energies (they depend on |w_u|, |w_v| and w_u . w_v only).
+// Throws GeometryError for a zero-area triangle, as triangle_rest.
+TriangleRest triangle_rest_flat(const Eigen::Matrix<double, 2, 3>& P);
 // W = [w_u w_v] of triangle X.
 Eigen::Matrix<double, 3, 2> triangle_w(const Eigen::Matrix3d& X, const TriangleRest& rest);
 

@@ -1,5 +1,6 @@
 #include "cloth/cloth_model.h"
 
+#include <cmath>
 #include <map>
 #include <string>
 #include <utility>
@@ -116,6 +117,24 @@ void update_rest_state(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
     }
   }
   rest.Q.setFromTriplets(triplets.begin(), triplets.end());
+}
+
+void set_rest_triangles(const std::vector<TriangleRest>& triangles, const Eigen::MatrixXi& F,
+                        const ClothParameters& params, ClothRestState& rest) {
+  if (triangles.size() != rest.triangles.size() || static_cast<size_t>(F.rows()) != triangles.size()) {
+    throw UsageError("set_rest_triangles needs one rest triangle per face of the rest state's mesh");
+  }
+  rest.masses.setZero();
+  rest.total_area = 0.0;
+  for (int f = 0; f < F.rows(); ++f) {
+    const double A = triangles[f].area;
+    if (!(A > 0.0) || !std::isfinite(A)) {
+      throw GeometryError("rest triangle has zero or non-finite area", "face " + std::to_string(f));
+    }
+    rest.triangles[f] = triangles[f];
+    rest.total_area += A;
+    for (int k = 0; k < 3; ++k) rest.masses(F(f, k)) += params.density * A / 3.0;
+  }
 }
 
 ClothEnergies cloth_energies(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,

@@ -46,6 +46,15 @@ ClothRestState build_rest_state(const Eigen::MatrixXd& V_rest, const Eigen::Matr
 void update_rest_state(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
                        const ClothParameters& params, ClothRestState& rest);
 
+// Replaces the per-face rest triangles of `rest` (for example the flat pieces of
+// a sewn pattern, see triangle_rest_flat) and recomputes the lumped masses and
+// total area from their areas; the bending stencils stay (the model assumes a
+// flat rest state either way). Throws UsageError when the count differs from
+// the rest state's faces, GeometryError naming the face for a zero or
+// non-finite area.
+void set_rest_triangles(const std::vector<TriangleRest>& triangles, const Eigen::MatrixXi& F,
+                        const ClothParameters& params, ClothRestState& rest);
+
 // Energies of the configuration V [J].
 struct ClothEnergies {
   double stretch = 0.0;

@@ -696,6 +696,13 @@ void ClothSimulator::set_rest_shape(const Eigen::MatrixXd& V_rest) {
   impl_->constant_h = -1.0;
 }
 
+void ClothSimulator::set_rest_triangles(const std::vector<TriangleRest>& triangles) {
+  ClothRestState rest = impl_->rest;
+  cloth::set_rest_triangles(triangles, impl_->F, impl_->params, rest);
+  impl_->rest = std::move(rest);
+  impl_->constant_h = -1.0;
+}
+
 void ClothSimulator::set_pinned(const std::vector<int>& pinned_ids) {
   std::vector<int> sorted = pinned_ids;
   std::sort(sorted.begin(), sorted.end());

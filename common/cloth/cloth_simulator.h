@@ -139,6 +139,9 @@ class ClothSimulator {
 
   // New rest shape with the same connectivity (after adaptation); keeps the state.
   void set_rest_shape(const Eigen::MatrixXd& V_rest);
+  // Per-face rest triangles replacing those of the rest shape (the flat pieces
+  // of a sewn pattern); keeps the state. Throws as cloth::set_rest_triangles.
+  void set_rest_triangles(const std::vector<TriangleRest>& triangles);
   // Pinned vertex ids (distinct, in range); their targets start at their positions.
   void set_pinned(const std::vector<int>& pinned_ids);
   // Positions the pinned vertices reach at the end of the next step (#pinned by 3,
