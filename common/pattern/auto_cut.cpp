@@ -79,6 +79,22 @@ double path_length(const Eigen::MatrixXd& V, const std::vector<int>& path) {
   return s;
 }
 
+// Angle defect 2 pi - sum of the corner angles at every vertex (intrinsic:
+// from edge lengths only); 0 on the boundary.
+std::vector<double> angle_defects(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  std::vector<double> defect(static_cast<size_t>(V.rows()), 2.0 * M_PI);
+  for (int f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d a = V.row(F(f, (k + 1) % 3)) - V.row(F(f, k));
+      const Eigen::Vector3d b = V.row(F(f, (k + 2) % 3)) - V.row(F(f, k));
+      const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
+      defect[static_cast<size_t>(F(f, k))] -= angle;
+    }
+  for (const auto& loop : boundary_loops(F))
+    for (int v : loop) defect[static_cast<size_t>(v)] = 0.0;
+  return defect;
+}
+
 }  // namespace
 
 bool meets_limit(const FlattenResult& flat, const PatternOptions& options) {
@@ -96,6 +112,7 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   std::map<std::vector<int>, double> boundary_weight;  // raised where seam sides differ
   std::set<std::vector<int>> stuck;  // pieces where no further cut can be placed
   int added_distortion_cuts = 0, topology_cuts = 0;
+  const std::vector<double> defect = angle_defects(V, F);
 
   auto loop_name = [&](const PatternPiece& piece, const std::vector<int>& loop) {
     for (int v : loop) {
@@ -333,6 +350,59 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
           }
       }
       const auto neighbors = vertex_neighbors(p.F, nv);
+      // Cone points first (Gu, Gortler and Hoppe 2002, sec. 3.2; Ben-Chen,
+      // Gotsman and Bunin 2008): an inner vertex with angle defect K forces a
+      // stretch of about |K| / (2 pi) on its neighbourhood whatever the
+      // flattening, and a cut through it lets the angle open (K > 0) or the
+      // excess spread to both sides (K < 0). In order of |K|, each cone is
+      // joined by a shortest path to the boundary or to a path cut for a
+      // cone before it (a tree of slits: the piece stays a disk).
+      if (distorted && options.cone_angle > 0.0) {
+        std::vector<int> cones;
+        for (int v = 0; v < nv; ++v)
+          if (!on_boundary[static_cast<size_t>(v)] &&
+              std::abs(defect[static_cast<size_t>(p.rest_vertex_ids[v])]) >= options.cone_angle)
+            cones.push_back(v);
+        auto abs_defect = [&](int v) { return std::abs(defect[static_cast<size_t>(p.rest_vertex_ids[v])]); };
+        std::sort(cones.begin(), cones.end(), [&](int a, int b) {
+          return abs_defect(a) > abs_defect(b) || (abs_defect(a) == abs_defect(b) && a < b);
+        });
+        std::vector<char> reached_by_cut = on_boundary;
+        int cone_cuts = 0;
+        for (int cone : cones) {
+          if (reached_by_cut[static_cast<size_t>(cone)] || added_distortion_cuts >= options.max_added_cuts) continue;
+          std::vector<double> cone_dist;
+          std::vector<int> cone_parent;
+          int reached = -1;
+          dijkstra(p.V, neighbors, {cone}, cone_dist, cone_parent, [&](int v) {
+            if (!reached_by_cut[static_cast<size_t>(v)]) return false;
+            reached = v;
+            return true;
+          });
+          if (reached < 0) continue;
+          std::vector<int> cone_path = trace(cone_parent, reached);
+          std::reverse(cone_path.begin(), cone_path.end());
+          for (int v : cone_path) reached_by_cut[static_cast<size_t>(v)] = 1;
+          PatternSeam seam;
+          seam.name = "cut" + std::to_string(added_distortion_cuts + 1);
+          seam.kind = "cone";
+          for (int v : cone_path) seam.vertex_ids.push_back(p.rest_vertex_ids[v]);
+          char deg[32];
+          std::snprintf(deg, sizeof(deg), "%.1f", defect[static_cast<size_t>(p.rest_vertex_ids[cone])] * 180.0 / M_PI);
+          seam.reason = "piece " + p.name + ": distortion p95 " + percent(p.flat.stats.p95_error) + ", max " +
+                        percent(p.flat.stats.max_error) + " exceeds the limit; inner rest vertex " +
+                        std::to_string(p.rest_vertex_ids[cone]) + " is a cone point (angle defect " + deg +
+                        " degrees): cut from it to the boundary or an earlier cut along a shortest path (" +
+                        std::to_string(path_length(p.V, cone_path)) + " m)";
+          pattern.seams.push_back(seam);
+          ++added_distortion_cuts;
+          ++cone_cuts;
+        }
+        if (cone_cuts > 0) {
+          added = true;
+          continue;
+        }
+      }
       std::vector<double> depth, dist;
       std::vector<int> parent_b, parent;
       std::vector<int> path;

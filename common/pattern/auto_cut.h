@@ -34,6 +34,10 @@ struct PatternOptions {
   double max_limit = 0.05;
   int max_added_cuts = 200;  // stop adding distortion cuts after this many
   double tip_weight = 0.5;   // weight of the distance from the worst vertex when placing a dart's tip
+  // Cone points: in a piece over the limit, every inner vertex whose angle
+  // defect |2 pi - sum of its angles| reaches cone_angle (radians) is cut
+  // through to the boundary before any other cut (0: never).
+  double cone_angle = 0.0;
   // Seam tolerance: the two flat sides of a seam may differ by
   // max(seam_tolerance, seam_tolerance_relative * 3D length). Pieces on a
   // seam beyond it are flattened again with 4 times the boundary weight, up to

@@ -4,6 +4,7 @@
 // (R12, mm), pieces.obj (3D + flat texture coordinates), pieces_flat.ply
 // (2D pieces), timing.json and report.json ("export-rest-report/1", last).
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <map>
 
@@ -17,6 +18,8 @@
 #include "pattern/dxf_writer.h"
 #include "pattern/export_report.h"
 #include "pattern/layout.h"
+#include "pattern/round_trip.h"
+#include "pose/pose_set.h"
 #include "pattern/seam_spec.h"
 #include "pattern/svg_writer.h"
 #include "spec/json_file.h"
@@ -41,6 +44,19 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(1e-6, 1.0));
   app.add_option("--max-cuts", pattern_options.max_added_cuts, "Most extra cuts added for distortion [count]")
       ->capture_default_str()->check(CLI::Range(0, 100000));
+  double cone_angle_degrees = 0.0;
+  app.add_option("--cone-angle", cone_angle_degrees,
+                 "Cut through inner vertices whose angle defect reaches this, in pieces over the limit; 0: never [degrees]")
+      ->capture_default_str()->check(CLI::Range(0.0, 360.0));
+  std::string round_trip_poses;
+  gp::RoundTripOptions round_trip_options;
+  app.add_option("--round-trip", round_trip_poses,
+                 "Pose set (poses.json) with the garment's design pose: drape the rest shape and the sewn flat pieces "
+                 "on it and compare (needs --garment); none: no round trip");
+  app.add_option("--round-trip-dt", round_trip_options.dt, "Time step of the round-trip drapes [s]")
+      ->capture_default_str()->check(CLI::Range(1e-5, 0.1));
+  app.add_option("--round-trip-steps", round_trip_options.settle_max_steps, "Most settling steps per round-trip drape [count]")
+      ->capture_default_str()->check(CLI::Range(1, 1000000));
   app.add_option("--arap-iterations", pattern_options.flatten.max_iterations, "Most ARAP iterations per piece [count]")
       ->capture_default_str()->check(CLI::Range(1, 1000000));
   app.add_option("--boundary-weight", pattern_options.flatten.boundary_weight,
@@ -63,6 +79,8 @@ int main(int argc, char** argv) {
       timing[phase] = std::chrono::duration<double>(now - last).count();
       last = now;
     };
+    if (!round_trip_poses.empty() && garment_path.empty())
+      throw gp::UsageError("--round-trip needs the garment file (--garment): pins, material, design pose", "--round-trip");
     if (pattern_options.p95_limit > pattern_options.max_limit)
       throw gp::UsageError("--p95-limit must not exceed --max-limit", "--p95-limit");
 
@@ -114,6 +132,7 @@ int main(int argc, char** argv) {
     }
     lap("read");
 
+    pattern_options.cone_angle = cone_angle_degrees * M_PI / 180.0;
     pattern_options.seam_tolerance = tolerance.absolute;
     pattern_options.seam_tolerance_relative = tolerance.relative;
     const gp::Pattern pattern = gp::make_pattern(rest.V, rest.F, seams, pattern_options, boundary_names);
@@ -124,7 +143,22 @@ int main(int argc, char** argv) {
       tool.log().warning("the distortion limit is not met after " + std::to_string(pattern_options.max_added_cuts) +
                          " extra cuts (see report.json)");
 
+    gp::RoundTripResult trip;
+    if (!round_trip_poses.empty()) {
+      const gp::PoseSet poses = gp::load_pose_set(round_trip_poses);
+      trip = gp::round_trip(poses, garment, rest.V, rest.F, pattern, layout, round_trip_options);
+      lap("round_trip");
+    }
+
     gp::StagedOutputDir out(tool.common().out_dir, tool.common().force);
+    if (!round_trip_poses.empty()) {
+      gp::Mesh drape;
+      drape.F = rest.F;
+      drape.V = trip.V_rest_drape;
+      gp::write_mesh(out.file("round_trip_rest_drape.ply"), drape);
+      drape.V = trip.V_sewn_drape;
+      gp::write_mesh(out.file("round_trip_sewn_drape.ply"), drape);
+    }
     gp::write_file_atomic(out.file("pattern.svg"), [&](std::ostream& s) { gp::write_svg(s, pattern, layout, {name}); }, false);
     gp::write_file_atomic(out.file("pattern.dxf"), [&](std::ostream& s) { gp::write_dxf(s, pattern, layout, name); }, false);
     gp::write_file_atomic(out.file("pieces.obj"), [&](std::ostream& s) { gp::write_pieces_obj(s, pattern, layout); }, false);
@@ -143,6 +177,7 @@ int main(int argc, char** argv) {
                          {"max_limit", pattern_options.max_limit},
                          {"max_cuts", pattern_options.max_added_cuts},
                          {"tip_weight", pattern_options.tip_weight},
+                         {"cone_angle_deg", cone_angle_degrees},
                          {"arap_iterations", pattern_options.flatten.max_iterations},
                          {"arap_tolerance", pattern_options.flatten.tolerance},
                          {"line_search_margin", pattern_options.flatten.line_search_margin},
@@ -157,10 +192,36 @@ int main(int argc, char** argv) {
                          {"seam_mismatch_tolerance", {{"absolute", tolerance.absolute}, {"relative", tolerance.relative}}},
                          {"threads", tool.common().threads},
                          {"seam_spec", seams_path.empty() ? gp::OrderedJson() : gp::to_json(spec)}};
-    report["round_trip"] = {{"checked", false},
-                            {"why", "needs the simulation stage (simulate-adapt), which does not exist yet"}};
+    auto stretch_json = [](const gp::StretchFigures& f) {
+      return gp::OrderedJson{{"max_s1", f.max_s1}, {"p95_s1", f.p95_s1}, {"mean_s1", f.mean_s1}, {"min_s2", f.min_s2}};
+    };
+    auto run_json = [](const gp::DrapeRun& r) {
+      return gp::OrderedJson{{"settle_steps", r.settle_steps}, {"settled", r.settled}};
+    };
+    if (round_trip_poses.empty())
+      report["round_trip"] = {{"checked", false}, {"why", "not requested (--round-trip POSES_JSON)"}};
+    else
+      report["round_trip"] = {{"checked", true},
+                              {"poses", round_trip_poses},
+                              {"pose", trip.pose},
+                              {"dt_s", round_trip_options.dt},
+                              {"settle_max_steps", round_trip_options.settle_max_steps},
+                              {"settle_speed_m_per_s", round_trip_options.settle_speed},
+                              {"distance_mm",
+                               {{"max", 1000.0 * trip.max_distance},
+                                {"mean", 1000.0 * trip.mean_distance},
+                                {"p95", 1000.0 * trip.p95_distance}}},
+                              {"sewn_stretch_against_flat_pieces", stretch_json(trip.sewn_drape_stretch)},
+                              {"rest_drape_stretch_against_rest_shape", stretch_json(trip.rest_drape_stretch)},
+                              {"rest_drape", run_json(trip.rest_run)},
+                              {"sewn_drape", run_json(trip.sewn_run)},
+                              {"meshes", {"round_trip_rest_drape.ply", "round_trip_sewn_drape.ply"}}};
     const gp::OrderedJson body = gp::pattern_report(pattern, layout, pattern_options, tolerance);
     for (auto it = body.begin(); it != body.end(); ++it) report[it.key()] = it.value();
+    if (!round_trip_poses.empty()) {
+      timing["round_trip_rest_drape"] = trip.rest_run.seconds;
+      timing["round_trip_sewn_drape"] = trip.sewn_run.seconds;
+    }
     timing["total"] = std::chrono::duration<double>(Clock::now() - start).count();
     gp::write_json_file(out.file("timing.json"), {{"schema", gp::schema_tag("timing", 1)}, {"seconds", timing}});
     gp::write_json_file(out.file("report.json"), report);

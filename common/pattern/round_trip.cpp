@@ -1,0 +1,143 @@
+#include "pattern/round_trip.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include <Eigen/Dense>
+
+#include "adapt/garment_motion.h"
+#include "core/error.h"
+#include "interp/motion_spec.h"
+#include "interp/pose_interpolator.h"
+
+namespace gp {
+namespace {
+
+// Area-weighted figures of the principal stretches of every face: X (#V by 3)
+// against the rest triangles.
+StretchFigures stretch_figures(const Eigen::MatrixXd& X, const Eigen::MatrixXi& F,
+                               const std::vector<cloth::TriangleRest>& rest) {
+  StretchFigures s;
+  const int m = static_cast<int>(F.rows());
+  std::vector<double> s1(static_cast<size_t>(m)), area(static_cast<size_t>(m));
+  double total = 0.0, weighted = 0.0;
+  s.min_s2 = std::numeric_limits<double>::infinity();
+  for (int f = 0; f < m; ++f) {
+    Eigen::Matrix3d T;
+    for (int k = 0; k < 3; ++k) T.col(k) = X.row(F(f, k)).transpose();
+    const Eigen::Matrix<double, 3, 2> W = cloth::triangle_w(T, rest[static_cast<size_t>(f)]);
+    const Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>> svd(W);
+    const size_t i = static_cast<size_t>(f);
+    s1[i] = svd.singularValues()[0];
+    area[i] = rest[i].area;
+    s.max_s1 = std::max(s.max_s1, s1[i]);
+    s.min_s2 = std::min(s.min_s2, svd.singularValues()[1]);
+    weighted += area[i] * s1[i];
+    total += area[i];
+  }
+  if (m == 0) return StretchFigures{};
+  s.mean_s1 = weighted / total;
+  std::vector<int> order(static_cast<size_t>(m));
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return s1[static_cast<size_t>(a)] < s1[static_cast<size_t>(b)] ||
+           (s1[static_cast<size_t>(a)] == s1[static_cast<size_t>(b)] && a < b);
+  });
+  double acc = 0.0;
+  s.p95_s1 = s1[static_cast<size_t>(order.back())];
+  for (int f : order) {
+    acc += area[static_cast<size_t>(f)];
+    if (acc >= 0.95 * total) {
+      s.p95_s1 = s1[static_cast<size_t>(f)];
+      break;
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+std::vector<cloth::TriangleRest> sewn_rest_triangles(const Pattern& pattern, const Layout& layout, int face_count) {
+  std::vector<cloth::TriangleRest> rest(static_cast<size_t>(face_count));
+  std::vector<char> done(static_cast<size_t>(face_count), 0);
+  for (size_t c = 0; c < pattern.pieces.size(); ++c) {
+    const PatternPiece& p = pattern.pieces[c];
+    const Eigen::MatrixXd& UV = layout.pieces[c].UV;
+    for (size_t i = 0; i < p.face_ids.size(); ++i) {
+      Eigen::Matrix<double, 2, 3> P;
+      for (int k = 0; k < 3; ++k) {
+        // Sheet (x, y) turned by -90 degrees to (y, -x): the grain (+y) becomes the warp (+u).
+        const Eigen::RowVector2d x = UV.row(p.F(static_cast<int>(i), k));
+        P.col(k) << x.y(), -x.x();
+      }
+      const int f = p.face_ids[i];
+      rest[static_cast<size_t>(f)] = cloth::triangle_rest_flat(P);
+      done[static_cast<size_t>(f)] = 1;
+    }
+  }
+  if (std::find(done.begin(), done.end(), 0) != done.end())
+    throw GeometryError("the pattern does not cover every rest face");
+  return rest;
+}
+
+RoundTripResult round_trip(const PoseSet& poses, const GarmentFile& garment, const Eigen::MatrixXd& V_rest,
+                           const Eigen::MatrixXi& F, const Pattern& pattern, const Layout& layout,
+                           const RoundTripOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  RoundTripResult result;
+  result.pose = garment.body.design_pose.empty() ? poses.reference : garment.body.design_pose;
+  const int pose = poses.index_of(result.pose, "garment body.design_pose");
+  // One still key pose: only the design pose is needed by the interpolator.
+  PoseSet still;
+  still.names = {result.pose};
+  still.V = {poses.V[static_cast<size_t>(pose)]};
+  still.F = poses.F;
+  still.reference = result.pose;
+  MotionSpec motion;
+  motion.keys = {MotionKey{result.pose, 0, 0}};
+
+  adapt::MotionRunOptions run_options;
+  run_options.adapt = false;
+  run_options.dt = options.dt;
+  run_options.settle_max_steps = options.settle_max_steps;
+  run_options.settle_speed = options.settle_speed;
+
+  std::vector<cloth::TriangleRest> own(static_cast<size_t>(F.rows()));
+  for (int f = 0; f < F.rows(); ++f) {
+    Eigen::Matrix3d T;
+    for (int k = 0; k < 3; ++k) T.col(k) = V_rest.row(F(f, k)).transpose();
+    own[static_cast<size_t>(f)] = cloth::triangle_rest(T);
+  }
+  const std::vector<cloth::TriangleRest> sewn = sewn_rest_triangles(pattern, layout, static_cast<int>(F.rows()));
+
+  auto drape = [&](const std::vector<cloth::TriangleRest>* triangles, DrapeRun& run) {
+    PoseInterpolator interpolator(still);
+    adapt::MotionRunOptions o = run_options;
+    if (triangles) o.rest_triangles = *triangles;
+    const auto start = Clock::now();
+    const adapt::MotionRunResult r = adapt::run_garment_motion(interpolator, motion, V_rest, F, garment, o);
+    run.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    if (r.keys.empty()) throw NumericalError("the round-trip drape returned no key pose");
+    run.settle_steps = r.keys.front().settle_steps;
+    run.settled = r.keys.front().settled;
+    return r.keys.front().V_draped;
+  };
+  result.V_rest_drape = drape(nullptr, result.rest_run);
+  result.V_sewn_drape = drape(&sewn, result.sewn_run);
+
+  const Eigen::VectorXd d = (result.V_rest_drape - result.V_sewn_drape).rowwise().norm();
+  result.max_distance = d.size() ? d.maxCoeff() : 0.0;
+  result.mean_distance = d.size() ? d.mean() : 0.0;
+  std::vector<double> sorted(d.data(), d.data() + d.size());
+  std::sort(sorted.begin(), sorted.end());
+  if (!sorted.empty())
+    result.p95_distance = sorted[std::min(sorted.size() - 1, static_cast<size_t>(std::ceil(0.95 * sorted.size())) - 1)];
+  result.rest_drape_stretch = stretch_figures(result.V_rest_drape, F, own);
+  result.sewn_drape_stretch = stretch_figures(result.V_sewn_drape, F, sewn);
+  return result;
+}
+
+}  // namespace gp
