@@ -7,7 +7,7 @@
 #   make demo       fit a garment on a generated body (pipelines/customers/demo)
 #   make fit CUSTOMER=dir [OUT=dir]   one customer's fit (see pipelines/fit.mk)
 #   make -j2 fit-all CUSTOMERS="dir dir ..."   several customers in parallel
-#   make bench      benchmarks -> BENCHMARKS.md and bench-out/ plots
+#   make bench      benchmarks -> BENCHMARKS.md and benchmarks/*.png (under 15 min)
 #   make fuzz       libFuzzer on the mesh and spec readers, FUZZ_SECONDS per target
 #   make update-golden  rewrite testdata/golden/ from the current build, showing what changed
 #   make clean      remove the build folder
@@ -58,8 +58,13 @@ fit-all: build
 fit-customer/%:
 	@$(MAKE) --no-print-directory -f pipelines/fit.mk CUSTOMER=$* BIN=$(GP_BIN)
 
-bench: build
-	$(PYTHON) scripts/bench.py --bin $(GP_BIN) --out BENCHMARKS.md --plots bench-out
+# Builds only the stages (in $(BUILD); e.g. make bench BUILD=build-bench), then
+# runs them; BENCH_FLAGS=--quick for a reduced run while developing.
+BENCH_TOOLS := register-check make-avatar interp-poses make-garment extend-boundary simulate-adapt export-rest
+BENCH_FLAGS ?=
+bench: configure
+	cmake --build $(BUILD) -j$(JOBS) --target $(BENCH_TOOLS)
+	$(PYTHON) scripts/bench.py --bin $(GP_BIN) --out BENCHMARKS.md --plots benchmarks $(BENCH_FLAGS)
 
 update-golden: build
 	$(PYTHON) scripts/golden.py --bin $(GP_BIN) --update

@@ -1,27 +1,42 @@
 #!/usr/bin/python3
-"""Benchmarks of the pipeline's stages, written to BENCHMARKS.md.
+"""Benchmarks of the pipeline's stages, written to BENCHMARKS.md with PNG
+plots in a regenerated folder.
 
-Each benchmark runs a stage as a user would (a separate process), several
-times, and reports the median wall time, the spread, and figures the stage
-writes into its timing.json / report.json. Machine, thread count and date are
-stated. Inputs are generated bodies (always available) and the shared
-registered avatars where ../shared/avatars exists.
+Each benchmark runs a stage as a user would (a separate process), repeated
+where the time allows, and reports the median wall time, the spread, the
+peak resident memory of the process and figures the stage writes into its
+timing.json / report.json. Machine, thread count, load and date are stated.
+
+Inputs: the shared registered body (../shared/avatars) with the example
+shirt and dress of pipelines/customers/slim-shirt and slim-dress, and the
+demo customer's generated body; without ../shared the simulation benchmarks
+fall back to the demo shirt on the generated body.
+
+The whole run keeps to --budget seconds: the cheap stages run first with
+their repeats, then simulate-adapt gets the time left (see bench_sim.py).
+Progress lines go to stdout.
 """
 import argparse
 import datetime
 import json
 import os
 import platform
-import resource
 import shutil
-import statistics
-import subprocess
 import sys
 import tempfile
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bench_plots  # noqa: E402
+import bench_report  # noqa: E402
+import bench_run  # noqa: E402
+import bench_sim  # noqa: E402
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 SHARED = os.path.abspath(os.path.join(ROOT, "..", "shared", "avatars"))
+CUSTOMERS = os.path.join(ROOT, "pipelines", "customers")
+# Seconds kept at the end for the comparison of meshes, plots and the file.
+RESERVE_S = 30.0
 
 
 def machine():
@@ -37,232 +52,249 @@ def machine():
     return f"{cpu}, {os.cpu_count()} cores, {platform.system()} {platform.release()}"
 
 
-class Runner:
-    def __init__(self, bin_dir, work, repeats):
-        self.bin = bin_dir
-        self.work = work
-        self.repeats = repeats
-
-    def tool(self, name):
-        return os.path.join(self.bin, name)
-
-    def run_once(self, args, out_dir):
-        if os.path.exists(out_dir):
-            shutil.rmtree(out_dir)
-        t0 = time.perf_counter()
-        before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-        r = subprocess.run(args + ["--out", out_dir, "--quiet"], capture_output=True, text=True)
-        wall = time.perf_counter() - t0
-        if r.returncode != 0:
-            raise RuntimeError(f"{' '.join(args)} exited {r.returncode}: {r.stderr.strip()}")
-        peak_kib = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-        return wall, max(peak_kib, before)
-
-    def measure(self, args, name):
-        """Median over repeats of wall time; returns (median, min, max, out_dir, peak MiB)."""
-        out_dir = os.path.join(self.work, name)
-        times = []
-        for _ in range(self.repeats):
-            wall, _peak = self.run_once(args, out_dir)
-            times.append(wall)
-        # Peak resident memory of one more run, measured alone through /usr/bin/time's
-        # equivalent: getrusage of a fresh child process group is cumulative, so use
-        # a dedicated subprocess that reports its own child's maximum.
-        peak = peak_memory_mib(args + ["--out", out_dir + "-mem", "--quiet"])
-        return statistics.median(times), min(times), max(times), out_dir, peak
+def load_average():
+    try:
+        return "/".join(f"{x:.1f}" for x in os.getloadavg())
+    except OSError:
+        return "unknown"
 
 
-def peak_memory_mib(args):
-    code = ("import resource,subprocess,sys;"
-            "r=subprocess.run(sys.argv[1:],capture_output=True);"
-            "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss if r.returncode==0 else -1)")
-    out = subprocess.run([sys.executable, "-c", code] + args, capture_output=True, text=True)
-    kib = int(out.stdout.strip() or -1)
-    return kib / 1024.0 if kib > 0 else float("nan")
+class Bench:
+    def __init__(self, run, quick):
+        self.run = run
+        self.quick = quick
+        self.rows = []      # (stage, case, threads, Measurement, detail)
+        self.notes = []
+        self.results = {"interp": [], "export": []}
 
+    def row(self, stage, case, threads, m, detail):
+        self.rows.append((stage, case, threads, m, detail))
 
-def load_json(path):
-    with open(path) as f:
-        return json.load(f)
+    # --- cheap stages ---------------------------------------------------------
 
-
-def bench_register_check(run, rows, notes):
-    if not os.path.isdir(SHARED):
-        notes.append("register-check on the shared avatars: skipped (../shared/avatars not found)")
-        return
-    poses = [os.path.join(SHARED, f"slim_{p}.ply") for p in ("apose", "tpose", "armsup", "armsbent")]
-    for threads in (1, 2):
-        med, lo, hi, out, mem = run.measure(
-            [run.tool("register-check"), *poses, "--threads", str(threads)], f"rc{threads}")
-        t = load_json(os.path.join(out, "timing.json"))
-        rows.append(("register-check", f"shared body, 4 poses x 27,578 vertices, self-intersections on",
-                     threads, med, lo, hi, mem,
+    def register_check(self):
+        if not os.path.isdir(SHARED):
+            self.notes.append("register-check on the shared avatars: skipped (../shared/avatars not found)")
+            return
+        poses = [os.path.join(SHARED, f"slim_{p}.ply") for p in ("apose", "tpose", "armsup", "armsbent")]
+        for threads in (1, 2):
+            m = self.run.measure(f"rc{threads}", [self.run.tool("register-check"), *poses, "--threads", str(threads)])
+            t = m.json("timing.json")
+            self.row("register-check", "shared body, 4 poses x 27,578 vertices, self-intersections on", threads, m,
                      f"read {t['read_s']:.3f} s, checks {t['checks_s']:.3f} s, "
-                     f"self-intersections {t['self_intersections_s']:.3f} s (target < 2 s)"))
+                     f"self-intersections {t['self_intersections_s']:.3f} s (target < 2 s)")
 
+    def make_avatar(self):
+        poses = "apose,tpose,armsup,armsforward,elbowsbent,stepforward"
+        for res in ("default", "small"):
+            m = self.run.measure(f"avatar-{res}", [self.run.tool("make-avatar"), "--poses", poses, "--resolution", res])
+            r = m.json("report.json")
+            t = m.json("timing.json")
+            phases = ", ".join(f"{k} {v:.2f} s" for k, v in t.items() if isinstance(v, float) and k != "total")
+            self.row("make-avatar", f"default body, 6 poses, {r['mesh']['vertex_count']} vertices ({res})", 1, m,
+                     f"largest girth error {1000 * r['max_girth_error_m']:.2f} mm, largest volume change between "
+                     f"poses {100 * r['max_pairwise_volume_change']:.2f} % (target < 2 s at default); {phases}")
 
-def bench_interp_poses(run, rows, notes):
-    if not os.path.isdir(SHARED):
-        notes.append("interp-poses on the shared avatars: skipped (../shared/avatars not found)")
-        return
-    poses = [os.path.join(SHARED, f"slim_{p}.ply") for p in ("apose", "armsup")]
-    motion = os.path.join(ROOT, "testdata", "motions", "apose_armsup.json")
-    for method in ("nonlinear", "linear"):
-        med, lo, hi, out, mem = run.measure(
-            [run.tool("interp-poses"), *poses, "--motion", motion, "--method", method, "--keys-only",
-             "--threads", "1"], f"interp-{method}")
-        t = load_json(os.path.join(out, "timing.json"))
-        r = load_json(os.path.join(out, "report.json"))
-        summary = r["summary"]
-        detail = (f"factorization {t['factorization_ms']:.1f} ms, {t['ms_per_frame_mean']:.2f} ms/frame wall "
-                  f"({t['cpu_ms_per_frame_mean']:.2f} ms CPU; target < 15 ms), 61 frames; edge-length "
-                  f"excursion beyond the keys' range max {100 * summary['edge_excess_max']:.1f} %, volume "
-                  f"{100 * summary['volume_excess_max']:.2f} %")
-        if "linear_vs_nonlinear" in summary:
-            d = summary["linear_vs_nonlinear"]
-            detail += (f"; linear baseline against it: edge deviation max {100 * d['edge_deviation_max']:.0f} % "
-                       f"/ mean {100 * d['edge_deviation_mean']:.1f} %, volume {100 * d['volume_error']:.1f} %, "
-                       f"vertex distance {d['vertex_distance_max_m']:.3f} m")
-        rows.append(("interp-poses", f"shared body A-pose -> arms up, 60 steps, {method}", 1, med, lo, hi, mem,
-                     detail))
+    def interp_poses(self):
+        if not os.path.isdir(SHARED):
+            self.notes.append("interp-poses on the shared avatars: skipped (../shared/avatars not found)")
+            return
+        poses = [os.path.join(SHARED, f"slim_{p}.ply") for p in ("apose", "armsup")]
+        motion = os.path.join(ROOT, "testdata", "motions", "apose_armsup.json")
+        for method in ("nonlinear", "linear"):
+            m = self.run.measure(f"interp-{method}", [self.run.tool("interp-poses"), *poses, "--motion", motion,
+                                                      "--method", method, "--keys-only", "--threads", "1"])
+            t = m.json("timing.json")
+            summary = m.json("report.json")["summary"]
+            detail = (f"factorization {t['factorization_ms']:.1f} ms, {t['ms_per_frame_mean']:.2f} ms/frame wall "
+                      f"({t['cpu_ms_per_frame_mean']:.2f} ms CPU; target < 15 ms), 61 frames; edge-length "
+                      f"excursion beyond the keys' range max {100 * summary['edge_excess_max']:.1f} %, volume "
+                      f"{100 * summary['volume_excess_max']:.2f} %")
+            if "linear_vs_nonlinear" in summary:
+                d = summary["linear_vs_nonlinear"]
+                detail += (f"; linear baseline against it: edge deviation max {100 * d['edge_deviation_max']:.0f} % "
+                           f"/ mean {100 * d['edge_deviation_mean']:.1f} %, volume {100 * d['volume_error']:.1f} %, "
+                           f"vertex distance {d['vertex_distance_max_m']:.3f} m")
+            self.row("interp-poses", f"shared body A-pose -> arms up, 60 steps, {method}", 1, m, detail)
+            self.results["interp"].append({
+                "method": method, "ms_per_frame": t["ms_per_frame_mean"], "runs": m.runs,
+                "edge_excess": summary["edge_excess_max"], "volume_excess": summary["volume_excess_max"]})
 
+    def register_for(self, reference):
+        return self.run.prepare([self.run.tool("register-check"), SHARED, "--reference", reference,
+                                 "--no-self-intersections"], self.run.path(f"poses-{reference}"),
+                                f"the shared poses (reference {reference})")
 
-def bench_make_garment(run, rows, notes):
-    if not os.path.isdir(SHARED):
-        notes.append("make-garment on the shared avatars: skipped (../shared/avatars not found)")
-        return
-    rc = os.path.join(run.work, "poses")
-    subprocess.run([run.tool("register-check"), SHARED, "--reference", "slim_apose", "--out", rc, "--force",
-                    "--quiet", "--no-self-intersections"], check=True)
-    for name in ("shirt", "dress"):
-        spec = os.path.join(ROOT, "pipelines", "specs", f"{name}.json")
-        med, lo, hi, out, mem = run.measure(
-            [run.tool("make-garment"), spec, "--poses", os.path.join(rc, "poses.json")], f"garment-{name}")
-        r = load_json(os.path.join(out, "report.json"))
-        q = r["quality"]
-        t = load_json(os.path.join(out, "timing.json"))
-        phases = ", ".join(f"{k[:-2]} {v:.2f} s" for k, v in t.items() if k.endswith("_s") and k != "total_s")
-        g = load_json(os.path.join(out, "garment.json"))
-        rows.append(("make-garment", f"{name} on the shared body, {g['mesh']['vertex_count']} garment vertices", 1,
-                     med, lo, hi, mem,
+    def make_garment(self):
+        """Design rows for the shared shirt and dress at their spec resolution;
+        returns {name: garment.json} of the designed garments."""
+        designed = {}
+        if not os.path.isdir(SHARED):
+            self.notes.append("make-garment on the shared avatars: skipped (../shared/avatars not found)")
+            return designed
+        for name, reference in (("shirt", "slim_tpose"), ("dress", "slim_apose")):
+            customer = os.path.join(CUSTOMERS, f"slim-{name}")
+            poses = os.path.join(self.register_for(reference), "poses.json")
+            m = self.run.measure(f"garment-{name}", [self.run.tool("make-garment"),
+                                                     os.path.join(customer, "garment-spec.json"), "--poses", poses])
+            q = m.json("report.json")["quality"]
+            t = m.json("timing.json")
+            phases = ", ".join(f"{k[:-2]} {v:.2f} s" for k, v in t.items() if k.endswith("_s") and k != "total_s")
+            g = m.json("garment.json")
+            self.row("make-garment", f"{name} on the shared body, {g['mesh']['vertex_count']} garment vertices", 1, m,
                      f"{phases}; min angle > 20 deg for {100 * q['fraction_min_angle_over_20_deg']:.1f} % of "
                      f"triangles, edges within 30 % for {100 * q['fraction_edges_within_30_percent']:.1f} %, "
-                     f"offset error max {1000 * q['offset_max_error']:.2f} mm (target < 3 s)"))
-        if name == "dress":
-            ext = os.path.join(ROOT, "pipelines", "specs", "dress-extend.json")
-            med, lo, hi, eout, mem = run.measure(
-                [run.tool("extend-boundary"), os.path.join(out, "garment.json"), ext], "extend-dress")
-            e = load_json(os.path.join(eout, "report.json"))["extension"]
-            rows.append(("extend-boundary", "dress waist -> skirt hem on the shared body", 1, med, lo, hi, mem,
-                         f"hem girth {e['new_girth']:.3f} m"))
+                     f"offset error max {1000 * q['offset_max_error']:.2f} mm (target < 3 s)")
+            designed[name] = os.path.join(m.out_dir, "garment.json")
+            extend = os.path.join(customer, "extend.json")
+            if os.path.exists(extend):
+                e = self.run.measure(f"extend-{name}", [self.run.tool("extend-boundary"), designed[name], extend])
+                ext = e.json("report.json")["extension"]
+                g = e.json("garment.json")
+                self.row("extend-boundary", f"{name} waist -> skirt hem on the shared body, "
+                         f"{g['mesh']['vertex_count']} garment vertices after", 1, e, f"hem girth {ext['new_girth']:.3f} m")
+                designed[name] = os.path.join(e.out_dir, "garment.json")
+        return designed
 
+    def demo_fit(self):
+        """The demo customer's body and garment through pipelines/fit.mk (not
+        measured here: make-avatar has its own rows)."""
+        import subprocess
 
-def bench_make_avatar(run, rows, notes):
-    poses = "apose,tpose,armsup,armsforward,elbowsbent,stepforward"
-    for res in ("default", "small"):
-        med, lo, hi, out, mem = run.measure(
-            [run.tool("make-avatar"), "--poses", poses, "--resolution", res], f"avatar-{res}")
-        r = load_json(os.path.join(out, "report.json"))
-        t = load_json(os.path.join(out, "timing.json"))
-        phases = ", ".join(f"{k} {v:.2f} s" for k, v in t.items() if isinstance(v, float) and k != "total")
-        rows.append(("make-avatar", f"default body, 6 poses, {r['mesh']['vertex_count']} vertices ({res})", 1,
-                     med, lo, hi, mem,
-                     f"largest girth error {1000 * r['max_girth_error_m']:.2f} mm, largest volume change between "
-                     f"poses {100 * r['max_pairwise_volume_change']:.2f} % (target < 2 s at default); {phases}"))
+        out = self.run.path("demo-fit")
+        demo = os.path.join(CUSTOMERS, "demo")
+        r = subprocess.run(["make", "--no-print-directory", "-s", "-f", os.path.join(ROOT, "pipelines", "fit.mk"),
+                            f"CUSTOMER={demo}", f"OUT={out}", f"BIN={self.run.bin}", f"{out}/garment/report.json"],
+                           capture_output=True, text=True)
+        if r.returncode != 0:
+            raise bench_run.StageFailed(f"preparing the demo fit: {r.stderr.strip()}")
+        self.run.say("demo customer's body and garment ready")
+        return out
 
+    def export_rest(self, designed, demo):
+        """Distortion limit against pieces, seam length and time, on the
+        designed garments (make-garment output) as rest shapes, so that the
+        rows do not depend on how far the simulation ran."""
+        cases = [("demo shirt", os.path.join(demo, "garment", "garment.json"),
+                  os.path.join(CUSTOMERS, "demo", "seams.json"), os.path.join(demo, "poses", "poses.json"),
+                  self.run.repeats)]
+        for name in ("shirt", "dress"):
+            if name in designed:
+                seams = os.path.join(CUSTOMERS, f"slim-{name}", "seams.json")
+                body = self.run.path(f"poses-{'slim_tpose' if name == 'shirt' else 'slim_apose'}", "poses.json")
+                cases.append((f"shared-body {name}", designed[name], seams, body, 1))
+        limits = [("looser", 0.05, 0.10), ("default", 0.02, 0.05), ("tighter", 0.01, 0.03)]
+        if self.quick:
+            limits = limits[1:2]
+        for case, garment, seams, body, repeats in cases:
+            with open(garment) as f:
+                vertices = json.load(f)["mesh"]["vertex_count"]
+            rest = os.path.join(os.path.dirname(garment), "garment.ply")
+            for label, p95, mx in limits:
+                key = f"export-{case.replace(' ', '-')}-{label}"
+                try:
+                    m = self.run.measure(key, [self.run.tool("export-rest"), rest, "--garment", garment, "--seams", seams,
+                                               "--body", body, "--p95-limit", repr(p95), "--max-limit", repr(mx)],
+                                         repeats=repeats)
+                except bench_run.StageFailed as e:
+                    self.notes.append(f"export-rest, {case}, {label} limit: failed: {e}")
+                    continue
+                sm = m.json("report.json")["summary"]
+                self.row("export-rest", f"{case} as designed ({vertices} vertices), {label} limit "
+                         f"{100 * p95:.0f} % / {100 * mx:.0f} %", 1, m,
+                         f"{sm['pieces']} pieces, {sm['added_cuts']} added cuts, seam length "
+                         f"{sm['total_seam_length']:.2f} m, worst p95 {100 * sm['worst_p95_error']:.2f} %, max "
+                         f"{100 * sm['worst_max_error']:.2f} %, limit met: {'yes' if sm['meets_distortion_limit'] else 'no'}")
+                self.results["export"].append({
+                    "garment": case, "vertices": vertices, "label": label, "p95_limit": p95, "max_limit": mx,
+                    "pieces": sm["pieces"], "seam_length": sm["total_seam_length"], "median_s": m.median,
+                    "runs": m.runs, "met": sm["meets_distortion_limit"]})
 
-def generated_fit(run, name):
-    """Runs the demo customer's first stages once, for the later benches."""
-    out = os.path.join(run.work, name)
-    subprocess.run(["make", "--no-print-directory", "-s", "-f", os.path.join(ROOT, "pipelines", "fit.mk"),
-                    f"CUSTOMER={os.path.join(ROOT, 'pipelines', 'customers', 'demo')}", f"OUT={out}",
-                    f"BIN={run.bin}", f"{out}/garment/report.json"], check=True, capture_output=True)
-    return out
+    # --- simulation -----------------------------------------------------------
 
+    def scenes(self, demo):
+        if os.path.isdir(SHARED):
+            return [
+                bench_sim.Scene("shirt", "shared", os.path.join(self.run.path("poses-slim_tpose"), "poses.json"),
+                                os.path.join(CUSTOMERS, "slim-shirt", "garment-spec.json"), None,
+                                os.path.join(CUSTOMERS, "slim-shirt", "seams.json"), ["slim_tpose", "slim_apose"]),
+                bench_sim.Scene("dress", "shared", os.path.join(self.run.path("poses-slim_apose"), "poses.json"),
+                                os.path.join(CUSTOMERS, "slim-dress", "garment-spec.json"),
+                                os.path.join(CUSTOMERS, "slim-dress", "extend.json"),
+                                os.path.join(CUSTOMERS, "slim-dress", "seams.json"), ["slim_apose", "slim_armsup"]),
+            ]
+        self.notes.append("simulate-adapt: ../shared/avatars not found, so the demo shirt on the generated body "
+                          "stands in for the shared shirt, and there is no dress row")
+        return [bench_sim.Scene("demo shirt", "generated", os.path.join(demo, "poses", "poses.json"),
+                                os.path.join(CUSTOMERS, "demo", "garment-spec.json"), None,
+                                os.path.join(CUSTOMERS, "demo", "seams.json"), ["apose", "tpose"])]
 
-def bench_simulate_adapt(run, rows, notes):
-    fit = generated_fit(run, "demo-fit")
-    motion = os.path.join(ROOT, "pipelines", "customers", "demo", "motion.json")
-    args = [run.tool("simulate-adapt"), "--poses", os.path.join(fit, "poses", "poses.json"), "--motion", motion,
-            "--garment", os.path.join(fit, "garment", "garment.json"), "--threads", "1"]
-    for label, extra in (("adapt", []), ("no-adapt", ["--no-adapt"])):
-        med, lo, hi, out, mem = run.measure(args + extra, f"sim-{label}")
-        r = load_json(os.path.join(out, "report.json"))
-        t = load_json(os.path.join(out, "timing.json"))
-        ms = t["ms_per_step"]
-        keys = r["key_poses"]
-        worst = max(k["max_stretch"] for k in keys)
-        p99 = max(k["p99_stretch"] for k in keys)
-        pen = max(k["deepest_penetration_m"] for k in keys)
-        steps = keys[-1]["steps"]
-        rows.append(("simulate-adapt",
-                     f"demo shirt on the generated body, {r['counts']['garment_vertices']} vertices, "
-                     f"A -> T -> arms up -> A, 30 frames per transition, {label}", 1, med, lo, hi, mem,
-                     f"{steps} steps, {t['steps_per_s']:.1f} steps/s; ms per step: forces "
-                     f"{ms['forces_assembly']:.2f}, factorization {ms['factorization']:.2f}, solve {ms['solve']:.2f}, "
-                     f"collisions {ms['collisions']:.2f}, adaptation {ms['adaptation']:.2f}; over all key poses: "
-                     f"max stretch {worst:.3f}, p99 {p99:.3f}, deepest penetration {1000 * pen:.1f} mm, rest area "
-                     f"x{keys[-1]['rest_area_growth']:.3f}"))
-    notes.append("The paper's published figures (Wolff et al. 2023, 12-core 2.7 GHz CPU): 1.70 frames/s at 3,926 "
-                 "garment vertices and 7.82 frames/s at 1,103, one frame being one simulation step.")
-
-
-def bench_export_rest(run, rows, notes):
-    fit = os.path.join(run.work, "sim-adapt")
-    garment = os.path.join(run.work, "demo-fit", "garment", "garment.json")
-    seams = os.path.join(ROOT, "pipelines", "customers", "demo", "seams.json")
-    for label, limits in (("looser 5 % / 10 %", ["--p95-limit", "0.05", "--max-limit", "0.1"]),
-                          ("default 2 % / 5 %", []),
-                          ("tighter 1 % / 3 %", ["--p95-limit", "0.01", "--max-limit", "0.03"])):
-        med, lo, hi, out, mem = run.measure(
-            [run.tool("export-rest"), os.path.join(fit, "rest.ply"), "--garment", garment, "--seams", seams,
-             "--body", os.path.join(run.work, "demo-fit", "poses", "poses.json"), *limits],
-            "export-" + label.split()[0])
-        sm = load_json(os.path.join(out, "report.json"))["summary"]
-        rows.append(("export-rest", f"demo shirt rest shape, side and shoulder seams, limit {label}", 1,
-                     med, lo, hi, mem,
-                     f"{sm['pieces']} pieces, {sm['added_cuts']} added cuts, seam length {sm['total_seam_length']:.2f} m, "
-                     f"worst p95 {100 * sm['worst_p95_error']:.2f} %, max {100 * sm['worst_max_error']:.2f} %, "
-                     f"limit met: {'yes' if sm['meets_distortion_limit'] else 'no'}"))
-
-
-BENCHES = [bench_register_check, bench_make_avatar, bench_interp_poses, bench_make_garment,
-           bench_simulate_adapt, bench_export_rest]
+    def simulate(self, demo):
+        if os.path.isdir(SHARED):
+            for reference in ("slim_tpose", "slim_apose"):
+                if not os.path.exists(os.path.join(self.run.path(f"poses-{reference}"), "poses.json")):
+                    self.register_for(reference)
+        sim = bench_sim.SimBench(self.run, self.scenes(demo), self.quick, self.results, self.notes)
+        sim.execute(RESERVE_S)
+        for key, s in sim.measured.items():
+            m = s["measurement"]
+            self.row("simulate-adapt", f"{s['scene']}, {s['vertices']} vertices, {s['motion']}, settle cap "
+                     f"{s['cap']}{', ' + ' '.join(s['args']) if s['args'] else ''}", 1, m,
+                     f"{s['steps']} steps ({s['settle_steps']} settling, {s['rejected_steps']} rejected), "
+                     f"{s['steps_per_s']:.2f} steps/s, {s['cg_iterations']} CG iterations, {s['adaptations']} "
+                     f"adaptations, solver {s['solver']}; over the key poses: max stretch {s['max_stretch']:.3f}, "
+                     f"p99 {s['p99_stretch']:.3f}, deepest penetration {1000 * s['penetration_m']:.1f} mm, rest "
+                     f"area x{s['rest_area_growth']:.3f}, settled: {'yes' if s['all_settled'] else 'no'}")
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__)
-    p.add_argument("--bin", required=True, help="folder with the built stages")
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--bin", default=os.environ.get("GP_BIN", os.path.join(ROOT, "build", "bin")),
+                   help="folder with the built stages (default: $GP_BIN, else build/bin)")
     p.add_argument("--out", default=os.path.join(ROOT, "BENCHMARKS.md"), help="Markdown file to write")
-    p.add_argument("--plots", default=os.path.join(ROOT, "bench-out"), help="folder for plots (regenerated)")
-    p.add_argument("--repeats", type=int, default=5, help="runs per measurement (median reported)")
+    p.add_argument("--plots", default=os.path.join(ROOT, "benchmarks"), help="folder for the PNG plots (regenerated)")
+    p.add_argument("--repeats", type=int, default=3, help="runs per measurement of the fast stages (median reported)")
+    p.add_argument("--budget", type=float, default=780.0, help="wall time the whole benchmark keeps to [s]")
+    p.add_argument("--quick", action="store_true", default=os.environ.get("GP_BENCH_QUICK") == "1",
+                   help="reduced run for development: one repeat, ~1,100 vertices only, fewer points "
+                        "(also GP_BENCH_QUICK=1)")
     args = p.parse_args()
+    if args.quick:
+        args.repeats = 1
+        args.budget = min(args.budget, 240.0)
 
+    started = datetime.datetime.now(datetime.timezone.utc)
+    load_before = load_average()
     work = tempfile.mkdtemp(prefix="gp_bench_")
-    run = Runner(args.bin, work, args.repeats)
-    rows, notes = [], []
-    for bench in BENCHES:
-        bench(run, rows, notes)
+    run = bench_run.Runner(os.path.abspath(args.bin), work, args.budget, args.repeats)
+    run.say(f"binaries {run.bin}, budget {args.budget:.0f} s{', quick mode' if args.quick else ''}, "
+            f"load average {load_before}")
+    bench = Bench(run, args.quick)
+    t0 = time.perf_counter()
+    try:
+        bench.register_check()
+        bench.make_avatar()
+        bench.interp_poses()
+        designed = bench.make_garment()
+        demo = bench.demo_fit()
+        bench.export_rest(designed, demo)
+        bench.simulate(demo)
+        plots = bench_plots.write_all(bench, args.plots)
+    except bench_run.StageFailed as e:
+        print(f"bench: error: {e}", file=sys.stderr)
+        shutil.rmtree(work, ignore_errors=True)
+        return 1
+    meta = {
+        "date": started.strftime("%Y-%m-%d %H:%M UTC"), "machine": machine(), "repeats": args.repeats,
+        "budget_s": args.budget, "quick": args.quick, "load_before": load_before, "load_after": load_average(),
+        "total_s": time.perf_counter() - t0, "processes": run.processes,
+        "plots_rel": os.path.relpath(os.path.abspath(args.plots), os.path.dirname(os.path.abspath(args.out))),
+    }
+    bench_report.write(args.out, bench, meta, plots)
     shutil.rmtree(work, ignore_errors=True)
-
-    lines = [
-        "# Benchmarks",
-        "",
-        f"Generated by `make bench` on {datetime.date.today().isoformat()}; machine: {machine()}.",
-        f"Each figure is the median of {args.repeats} runs of the stage as a separate process "
-        "(min and max beside it); peak memory is the resident-set maximum of one run.",
-        "",
-        "| stage | case | threads | median [s] | min [s] | max [s] | peak memory [MiB] | breakdown |",
-        "| --- | --- | ---: | ---: | ---: | ---: | ---: | --- |",
-    ]
-    for stage, case, threads, med, lo, hi, mem, detail in rows:
-        lines.append(f"| {stage} | {case} | {threads} | {med:.3f} | {lo:.3f} | {hi:.3f} | {mem:.0f} | {detail} |")
-    if notes:
-        lines += ["", "Notes:", ""] + [f"- {n}" for n in notes]
-    with open(args.out, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print(f"bench: wrote {args.out}")
+    run.say(f"wrote {args.out} and {len(plots)} plots in {args.plots}; total {meta['total_s']:.0f} s")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
