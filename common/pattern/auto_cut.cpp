@@ -95,6 +95,93 @@ std::vector<double> angle_defects(const Eigen::MatrixXd& V, const Eigen::MatrixX
   return defect;
 }
 
+// Cuts the rest shape along the pattern's seams and extracts the pieces
+// (faces, vertices, local ids); boundaries and flattenings are left empty.
+void assemble_pieces(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Pattern& pattern) {
+  pattern.cut = cut_mesh(V, F, cut_paths(pattern.seams));
+  const CutMesh& cut = pattern.cut;
+  Eigen::VectorXi component;
+  const int count = face_components(cut.F, component);
+  pattern.pieces.assign(static_cast<size_t>(count), PatternPiece{});
+  pattern.piece_of_face.assign(static_cast<size_t>(F.rows()), -1);
+  pattern.local_vertex.assign(static_cast<size_t>(cut.V.rows()), -1);
+  for (int f = 0; f < F.rows(); ++f) {
+    const int c = component[f];
+    pattern.piece_of_face[static_cast<size_t>(f)] = c;
+    pattern.pieces[static_cast<size_t>(c)].face_ids.push_back(f);
+  }
+  for (int c = 0; c < count; ++c) {
+    PatternPiece& p = pattern.pieces[static_cast<size_t>(c)];
+    p.name = "P" + std::to_string(c + 1);
+    std::vector<int> cut_ids;
+    for (int f : p.face_ids)
+      for (int k = 0; k < 3; ++k) {
+        const int v = cut.F(f, k);
+        if (pattern.local_vertex[static_cast<size_t>(v)] < 0) {
+          pattern.local_vertex[static_cast<size_t>(v)] = static_cast<int>(cut_ids.size());
+          cut_ids.push_back(v);
+        }
+      }
+    // Local ids in ascending cut-vertex order, for a stable numbering.
+    std::vector<int> sorted = cut_ids;
+    std::sort(sorted.begin(), sorted.end());
+    for (size_t i = 0; i < sorted.size(); ++i) pattern.local_vertex[static_cast<size_t>(sorted[i])] = static_cast<int>(i);
+    const int nv = static_cast<int>(sorted.size());
+    p.V.resize(nv, 3);
+    p.cut_vertex_ids.resize(nv);
+    p.rest_vertex_ids.resize(nv);
+    for (int i = 0; i < nv; ++i) {
+      p.cut_vertex_ids[i] = sorted[static_cast<size_t>(i)];
+      p.rest_vertex_ids[i] = cut.origin[sorted[static_cast<size_t>(i)]];
+      p.V.row(i) = cut.V.row(sorted[static_cast<size_t>(i)]);
+    }
+    p.F.resize(static_cast<int>(p.face_ids.size()), 3);
+    for (size_t i = 0; i < p.face_ids.size(); ++i)
+      for (int k = 0; k < 3; ++k)
+        p.F(static_cast<int>(i), k) = pattern.local_vertex[static_cast<size_t>(cut.F(p.face_ids[i], k))];
+  }
+}
+
+// Cache key of piece c: its faces and the cut edges inside it (slits).
+std::vector<int> piece_key(const Pattern& pattern, size_t c) {
+  std::vector<int> key = pattern.pieces[c].face_ids;
+  key.push_back(-1);
+  for (const CutEdge& e : pattern.cut.edges)
+    if (pattern.piece_of_face[static_cast<size_t>(e.left_face)] == static_cast<int>(c) &&
+        pattern.piece_of_face[static_cast<size_t>(e.right_face)] == static_cast<int>(c)) {
+      key.push_back(std::min(e.a, e.b));
+      key.push_back(std::max(e.a, e.b));
+    }
+  return key;
+}
+
+// Whether the two flat sides of every seam have the same length within the
+// tolerance; fills the pieces on seams that do not.
+bool seam_sides_match(const Pattern& pattern, const PatternOptions& options, std::set<int>* mismatched) {
+  std::vector<double> left(pattern.seams.size(), 0.0), right(pattern.seams.size(), 0.0),
+      length(pattern.seams.size(), 0.0);
+  for (const CutEdge& e : pattern.cut.edges) {
+    length[static_cast<size_t>(e.seam)] += e.length;
+    for (int side = 0; side < 2; ++side) {
+      const auto& q = pattern.pieces[static_cast<size_t>(pattern.piece_of_face[static_cast<size_t>(side == 0 ? e.left_face : e.right_face)])];
+      const int a = pattern.local_vertex[static_cast<size_t>(side == 0 ? e.left_a : e.right_a)];
+      const int b = pattern.local_vertex[static_cast<size_t>(side == 0 ? e.left_b : e.right_b)];
+      (side == 0 ? left : right)[static_cast<size_t>(e.seam)] += (q.flat.UV.row(a) - q.flat.UV.row(b)).norm();
+    }
+  }
+  bool ok = true;
+  for (const CutEdge& e : pattern.cut.edges) {
+    const size_t i = static_cast<size_t>(e.seam);
+    if (std::abs(left[i] - right[i]) <= std::max(options.seam_tolerance, options.seam_tolerance_relative * length[i]))
+      continue;
+    ok = false;
+    if (!mismatched) return false;
+    mismatched->insert(pattern.piece_of_face[static_cast<size_t>(e.left_face)]);
+    mismatched->insert(pattern.piece_of_face[static_cast<size_t>(e.right_face)]);
+  }
+  return ok;
+}
+
 }  // namespace
 
 bool meets_limit(const FlattenResult& flat, const PatternOptions& options) {
@@ -123,49 +210,7 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   };
 
   for (;;) {
-    pattern.cut = cut_mesh(V, F, cut_paths(pattern.seams));
-    const CutMesh& cut = pattern.cut;
-    Eigen::VectorXi component;
-    const int count = face_components(cut.F, component);
-    pattern.pieces.assign(static_cast<size_t>(count), PatternPiece{});
-    pattern.piece_of_face.assign(static_cast<size_t>(F.rows()), -1);
-    pattern.local_vertex.assign(static_cast<size_t>(cut.V.rows()), -1);
-    std::vector<int> vertex_count(static_cast<size_t>(count), 0);
-    for (int f = 0; f < F.rows(); ++f) {
-      const int c = component[f];
-      pattern.piece_of_face[static_cast<size_t>(f)] = c;
-      pattern.pieces[static_cast<size_t>(c)].face_ids.push_back(f);
-    }
-    for (int c = 0; c < count; ++c) {
-      PatternPiece& p = pattern.pieces[static_cast<size_t>(c)];
-      p.name = "P" + std::to_string(c + 1);
-      std::vector<int> cut_ids;
-      for (int f : p.face_ids)
-        for (int k = 0; k < 3; ++k) {
-          const int v = cut.F(f, k);
-          if (pattern.local_vertex[static_cast<size_t>(v)] < 0) {
-            pattern.local_vertex[static_cast<size_t>(v)] = static_cast<int>(cut_ids.size());
-            cut_ids.push_back(v);
-          }
-        }
-      // Local ids in ascending cut-vertex order, for a stable numbering.
-      std::vector<int> sorted = cut_ids;
-      std::sort(sorted.begin(), sorted.end());
-      for (size_t i = 0; i < sorted.size(); ++i) pattern.local_vertex[static_cast<size_t>(sorted[i])] = static_cast<int>(i);
-      const int nv = static_cast<int>(sorted.size());
-      p.V.resize(nv, 3);
-      p.cut_vertex_ids.resize(nv);
-      p.rest_vertex_ids.resize(nv);
-      for (int i = 0; i < nv; ++i) {
-        p.cut_vertex_ids[i] = sorted[static_cast<size_t>(i)];
-        p.rest_vertex_ids[i] = cut.origin[sorted[static_cast<size_t>(i)]];
-        p.V.row(i) = cut.V.row(sorted[static_cast<size_t>(i)]);
-      }
-      p.F.resize(static_cast<int>(p.face_ids.size()), 3);
-      for (size_t i = 0; i < p.face_ids.size(); ++i)
-        for (int k = 0; k < 3; ++k)
-          p.F(static_cast<int>(i), k) = pattern.local_vertex[static_cast<size_t>(cut.F(p.face_ids[i], k))];
-    }
+    assemble_pieces(V, F, pattern);
 
     // Topology first: every piece must be a disk before it can be flattened.
     bool added_topology = false;
@@ -232,14 +277,7 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
     for (size_t c = 0; c < pattern.pieces.size(); ++c) {
       PatternPiece& p = pattern.pieces[c];
       std::vector<int>& key = keys[c];
-      key = p.face_ids;
-      key.push_back(-1);
-      for (const CutEdge& e : cut.edges)
-        if (pattern.piece_of_face[static_cast<size_t>(e.left_face)] == static_cast<int>(c) &&
-            pattern.piece_of_face[static_cast<size_t>(e.right_face)] == static_cast<int>(c)) {
-          key.push_back(std::min(e.a, e.b));
-          key.push_back(std::max(e.a, e.b));
-        }
+      key = piece_key(pattern, c);
       auto it = cache.find(key);
       if (it == cache.end()) {
         FlattenOptions flatten = options.flatten;
@@ -256,27 +294,8 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
     // Seams whose two flat sides differ by more than the tolerance: the
     // pieces on them are flattened again with 4 times the boundary-length
     // weight (up to max_boundary_weight) before any further cut.
-    std::vector<double> left(pattern.seams.size(), 0.0), right(pattern.seams.size(), 0.0),
-        length(pattern.seams.size(), 0.0);
-    for (const CutEdge& e : cut.edges) {
-      length[static_cast<size_t>(e.seam)] += e.length;
-      for (int side = 0; side < 2; ++side) {
-        const auto& q = pattern.pieces[static_cast<size_t>(pattern.piece_of_face[static_cast<size_t>(side == 0 ? e.left_face : e.right_face)])];
-        const int a = pattern.local_vertex[static_cast<size_t>(side == 0 ? e.left_a : e.right_a)];
-        const int b = pattern.local_vertex[static_cast<size_t>(side == 0 ? e.left_b : e.right_b)];
-        (side == 0 ? left : right)[static_cast<size_t>(e.seam)] += (q.flat.UV.row(a) - q.flat.UV.row(b)).norm();
-      }
-    }
     std::set<int> mismatched;
-    pattern.seams_within_tolerance = true;
-    for (const CutEdge& e : cut.edges) {
-      const size_t i = static_cast<size_t>(e.seam);
-      if (std::abs(left[i] - right[i]) <= std::max(options.seam_tolerance, options.seam_tolerance_relative * length[i]))
-        continue;
-      pattern.seams_within_tolerance = false;
-      mismatched.insert(pattern.piece_of_face[static_cast<size_t>(e.left_face)]);
-      mismatched.insert(pattern.piece_of_face[static_cast<size_t>(e.right_face)]);
-    }
+    pattern.seams_within_tolerance = seam_sides_match(pattern, options, &mismatched);
     bool reflatten = false;
     for (int c : mismatched) {
       const auto& key = keys[static_cast<size_t>(c)];
@@ -522,6 +541,79 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
       added = true;
     }
     if (!added) break;
+  }
+  // Scraps: the greedy cuts can leave small pieces (down to single
+  // triangles where several cuts meet). Each added cut that borders a piece
+  // smaller than merge_area is removed again, smallest piece first, when the
+  // pieces it joins form a disk that meets the limit and every seam still
+  // matches; the pieces' flattenings are reused where unchanged.
+  if (options.merge_area > 0.0) {
+    std::set<std::string> tried;
+    for (bool merged = true; merged;) {
+      merged = false;
+      std::vector<std::pair<double, size_t>> candidates;  // (smaller bordering piece area, seam)
+      {
+        std::vector<double> smallest(pattern.seams.size(), std::numeric_limits<double>::infinity());
+        std::vector<char> joins(pattern.seams.size(), 0);
+        for (const CutEdge& e : pattern.cut.edges) {
+          const int l = pattern.piece_of_face[static_cast<size_t>(e.left_face)];
+          const int r = pattern.piece_of_face[static_cast<size_t>(e.right_face)];
+          if (l == r) continue;
+          joins[static_cast<size_t>(e.seam)] = 1;
+          const double a = std::min(pattern.pieces[static_cast<size_t>(l)].flat.stats.area_3d,
+                                    pattern.pieces[static_cast<size_t>(r)].flat.stats.area_3d);
+          smallest[static_cast<size_t>(e.seam)] = std::min(smallest[static_cast<size_t>(e.seam)], a);
+        }
+        for (size_t i = 0; i < pattern.seams.size(); ++i)
+          if (pattern.seams[i].kind != "user" && joins[i] && smallest[i] < options.merge_area &&
+              !tried.count(pattern.seams[i].name))
+            candidates.push_back({smallest[i], i});
+        std::sort(candidates.begin(), candidates.end());
+      }
+      for (const auto& [area, i] : candidates) {
+        tried.insert(pattern.seams[i].name);
+        Pattern trial;
+        trial.seams = pattern.seams;
+        trial.seams.erase(trial.seams.begin() + static_cast<long>(i));
+        assemble_pieces(V, F, trial);
+        if (trial.pieces.size() >= pattern.pieces.size()) continue;
+        bool ok = true;
+        for (size_t c = 0; c < trial.pieces.size() && ok; ++c) {
+          PatternPiece& p = trial.pieces[c];
+          const auto loops = boundary_loops(p.F);
+          if (loops.size() != 1 || euler_characteristic(p.F) != 1) {
+            ok = false;
+            break;
+          }
+          p.boundary = loops.front();
+          const std::vector<int> key = piece_key(trial, c);
+          auto it = cache.find(key);
+          if (it == cache.end()) {
+            FlattenOptions flatten = options.flatten;
+            flatten.injective_fallback = false;
+            it = cache.emplace(key, flatten_piece(p.V, p.F, flatten, &p.rest_vertex_ids)).first;
+            ++pattern.flattenings;
+          }
+          p.flat = it->second;
+          p.meets_limit = meets_limit(p.flat, options);
+          // Pieces that failed before may still fail; a merged piece must meet the limit.
+          ok = p.meets_limit || std::any_of(pattern.pieces.begin(), pattern.pieces.end(), [&](const PatternPiece& q) {
+                 return q.face_ids == p.face_ids;
+               });
+        }
+        if (!ok || (pattern.seams_within_tolerance && !seam_sides_match(trial, options, nullptr))) continue;
+        trial.meets_limit = std::all_of(trial.pieces.begin(), trial.pieces.end(),
+                                        [](const PatternPiece& p) { return p.meets_limit; });
+        trial.seams_within_tolerance = seam_sides_match(trial, options, nullptr);
+        trial.rounds = pattern.rounds;
+        trial.flattenings = pattern.flattenings;
+        trial.merged_cuts = pattern.merged_cuts;
+        trial.merged_cuts.push_back(pattern.seams[i].name);
+        pattern = std::move(trial);
+        merged = true;
+        break;
+      }
+    }
   }
   // Pieces left with flipped triangles (the limit was not reached within
   // max_added_cuts) are flattened injectively: the output never has flips.

@@ -38,6 +38,9 @@ struct PatternOptions {
   // defect |2 pi - sum of its angles| reaches cone_angle (radians) is cut
   // through to the boundary before any other cut (0: never).
   double cone_angle = 0.0;
+  // Scraps: an added cut bordering a piece of less than merge_area (m^2 of
+  // 3D area) is removed again when the joined piece meets the limit (0: never).
+  double merge_area = 0.01;
   // Seam tolerance: the two flat sides of a seam may differ by
   // max(seam_tolerance, seam_tolerance_relative * 3D length). Pieces on a
   // seam beyond it are flattened again with 4 times the boundary weight, up to
@@ -78,6 +81,7 @@ struct Pattern {
   bool seams_within_tolerance = false;
   int rounds = 0;                  // flatten rounds
   int flattenings = 0;             // pieces flattened (a piece unchanged by a round is reused)
+  std::vector<std::string> merged_cuts;  // added cuts removed again to merge scraps, in order
 };
 
 // V #V by 3 (metres), F #F by 3: the rest shape, edge-manifold and

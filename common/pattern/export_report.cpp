@@ -124,6 +124,7 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
                   {"flipped_triangles", flipped},
                   {"overlapping_pieces", overlapping},
                   {"seams_within_tolerance", seams_ok == static_cast<int>(seams.size())},
+                  {"merged_cuts", pattern.merged_cuts.size()},
                   {"flatten_rounds", pattern.rounds},
                   {"flattenings", pattern.flattenings},
                   {"sheet_width", layout.width},
@@ -184,6 +185,7 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
                        {"length_3d", seams[i].length_3d},
                        {"reason", pattern.seams[i].reason}});
   j["added_cuts"] = added;
+  j["merged_cuts"] = pattern.merged_cuts;
   j["summary"]["limit"] = {{"p95_error", options.p95_limit}, {"max_error", options.max_limit}};
   return j;
 }

@@ -57,6 +57,10 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(1e-5, 0.1));
   app.add_option("--round-trip-steps", round_trip_options.settle_max_steps, "Most settling steps per round-trip drape [count]")
       ->capture_default_str()->check(CLI::Range(1, 1000000));
+  app.add_option("--merge-area", pattern_options.merge_area,
+                 "Pieces smaller than this are merged back across added cuts where the merged piece meets the limit; "
+                 "0: never [m^2]")
+      ->capture_default_str()->check(CLI::Range(0.0, 100.0));
   app.add_option("--arap-iterations", pattern_options.flatten.max_iterations, "Most ARAP iterations per piece [count]")
       ->capture_default_str()->check(CLI::Range(1, 1000000));
   app.add_option("--boundary-weight", pattern_options.flatten.boundary_weight,
@@ -178,6 +182,7 @@ int main(int argc, char** argv) {
                          {"max_cuts", pattern_options.max_added_cuts},
                          {"tip_weight", pattern_options.tip_weight},
                          {"cone_angle_deg", cone_angle_degrees},
+                         {"merge_area", pattern_options.merge_area},
                          {"arap_iterations", pattern_options.flatten.max_iterations},
                          {"arap_tolerance", pattern_options.flatten.tolerance},
                          {"line_search_margin", pattern_options.flatten.line_search_margin},

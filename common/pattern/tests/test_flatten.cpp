@@ -180,3 +180,38 @@ TEST_CASE("a closed or multiply bounded piece gets topological cuts first", "[au
   CHECK(closed.seams.front().kind == "topology");
   for (const auto& p : closed.pieces) CHECK(p.flat.stats.flipped_triangles == 0);
 }
+
+TEST_CASE("scraps merge back across added cuts when the merged piece meets the limit", "[auto_cut][merge]") {
+  // A tight limit on a sphere's cap: greedy cuts leave small pieces.
+  const Mesh cap = testing::make_hemisphere(3, 0.15);
+  PatternOptions options;
+  options.p95_limit = 0.01;
+  options.max_limit = 0.03;
+  options.merge_area = 0.0;
+  const Pattern greedy = make_pattern(cap.V, cap.F, {}, options);
+  options.merge_area = 1.0;  // every added cut is a candidate
+  const Pattern merged = make_pattern(cap.V, cap.F, {}, options);
+  auto smallest = [](const Pattern& p) {
+    double a = 1e9;
+    for (const auto& q : p.pieces) a = std::min(a, q.flat.stats.area_3d);
+    return a;
+  };
+  INFO("greedy: " << greedy.pieces.size() << " pieces, " << greedy.seams.size() << " seams, smallest "
+                  << smallest(greedy) << " m^2; merged: " << merged.pieces.size() << " pieces, "
+                  << merged.seams.size() << " seams, smallest " << smallest(merged) << " m^2");
+  REQUIRE(greedy.meets_limit);
+  CHECK(greedy.merged_cuts.empty());
+  CHECK(merged.meets_limit);
+  CHECK(merged.seams_within_tolerance);
+  CHECK(!merged.merged_cuts.empty());
+  CHECK(merged.pieces.size() < greedy.pieces.size());
+  CHECK(merged.seams.size() + merged.merged_cuts.size() == greedy.seams.size());
+  CHECK(smallest(merged) >= smallest(greedy));
+  for (const auto& name : merged.merged_cuts)
+    for (const auto& s : merged.seams) CHECK(s.name != name);
+  for (const auto& p : merged.pieces) {
+    CHECK(p.meets_limit);
+    CHECK(p.flat.stats.flipped_triangles == 0);
+    CHECK(!p.flat.boundary_overlaps);
+  }
+}
