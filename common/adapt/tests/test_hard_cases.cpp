@@ -1,0 +1,292 @@
+// Hard cases for the adaptation and the motion run (issue 8, item 3), at the
+// library level: a collapsed simulated triangle inside a stretched mesh (the
+// pseudo-inverse path through the whole adapter), a garment starting partly
+// inside a generated body, a pose change in a single frame, and a time step
+// four times the paper's. Each test states its expectation; figures measured
+// on this machine are in the comments.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "adapt/garment_motion.h"
+#include "adapt/rest_adapter.h"
+#include "collision/body_collider.h"
+#include "core/error.h"
+#include "garment/garment_file.h"
+#include "hard_case_scene.h"
+#include "interp/motion_spec.h"
+#include "interp/pose_interpolator.h"
+#include "io/mesh_io.h"
+#include "pose/pose_set.h"
+#include "testing/test_meshes.h"
+
+using namespace gp::adapt;
+namespace hc = gp::hard_cases;
+
+namespace {
+
+Eigen::Vector3d face_normal(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int f) {
+  const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+  return (b - a).cross(c - a);
+}
+
+double face_quality(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int f) {
+  const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+  const double longest2 = std::max({(b - a).squaredNorm(), (c - a).squaredNorm(), (c - b).squaredNorm()});
+  return (b - a).cross(c - a).norm() / longest2;
+}
+
+// Largest edge length / rest edge length.
+double max_edge_stretch(const Eigen::MatrixXd& X, const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F) {
+  double s = 0.0;
+  for (int f = 0; f < F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(f, k), b = F(f, (k + 1) % 3);
+      s = std::max(s, (X.row(a) - X.row(b)).norm() / (V_rest.row(a) - V_rest.row(b)).norm());
+    }
+  }
+  return s;
+}
+
+// Everything a motion run needs, read back from a scene's files.
+struct Loaded {
+  gp::PoseSet poses;
+  gp::GarmentFile garment;
+  gp::Mesh mesh;
+};
+
+Loaded load(const hc::Scene& scene) {
+  Loaded l;
+  l.poses = gp::load_pose_set(scene.poses);
+  l.garment = gp::read_garment_file(scene.garment);
+  l.mesh = gp::read_mesh(scene.garment.parent_path() / l.garment.mesh_file).mesh;
+  return l;
+}
+
+gp::MotionSpec motion_of(const gp::PoseSet& poses, const std::vector<std::string>& sequence, int steps) {
+  gp::Json j;
+  j["schema"] = "motion/1";
+  j["steps"] = steps;
+  j["sequence"] = sequence;
+  return gp::parse_motion_spec(j, "motion.json", poses);
+}
+
+// simulate-adapt's defaults (1 % hysteresis) with a settling cap.
+MotionRunOptions run_options(int settle_max_steps) {
+  MotionRunOptions o;
+  o.adaptation.hysteresis = 0.01;
+  o.settle_max_steps = settle_max_steps;
+  return o;
+}
+
+MotionRunResult run(const Loaded& l, const gp::MotionSpec& motion, const Eigen::MatrixXd& V_start,
+                    const MotionRunOptions& options) {
+  gp::InterpolationOptions io;
+  io.anchor = motion.anchor;
+  gp::PoseInterpolator interpolator(l.poses, io);
+  return run_garment_motion(interpolator, motion, V_start, l.mesh.F, l.garment, options);
+}
+
+}  // namespace
+
+TEST_CASE("a collapsed triangle in a stretched patch adapts through the pseudo-inverse to a sound rest shape",
+          "[adapt][hard]") {
+  // A 0.3 m patch stretched by 1.3 along x (every triangle clipped), with one
+  // vertex moved onto the opposite edge of its triangle: that triangle's
+  // deformation gradient has a zero singular value. Expectation: its target
+  // is the rest triangle stretched by 1.3/1.1 along the surviving direction
+  // and left alone along the collapsed one (pseudo-inverse, factor 1), so it
+  // is neither degenerate nor flipped; the stitched rest shape is finite,
+  // every face keeps its orientation and a quality above 0.2 (measured
+  // 0.31), and the collapsed face keeps at least half its rest area (its
+  // target grows along the diagonal while its neighbours grow along x, so
+  // the stitching compromises: measured 0.76 of the rest area).
+  const int n = 8;
+  const gp::Mesh grid = gp::testing::make_grid(n, n, 0.3, 0.3);
+  Eigen::MatrixXd V_sim = grid.V;
+  V_sim.col(0) *= 1.3;
+  // Cell (3,3), face (i,j),(i+1,j+1),(i+1,j): (i+1,j) onto the diagonal's midpoint.
+  const int collapsed = 2 * (3 * n + 3) + 1;
+  const int moved = grid.F(collapsed, 2);
+  V_sim.row(moved) = 0.5 * (V_sim.row(grid.F(collapsed, 0)) + V_sim.row(grid.F(collapsed, 1)));
+
+  Eigen::Matrix3d X_rest, X_sim;
+  for (int k = 0; k < 3; ++k) {
+    X_rest.col(k) = grid.V.row(grid.F(collapsed, k)).transpose();
+    X_sim.col(k) = V_sim.row(grid.F(collapsed, k)).transpose();
+  }
+  const Eigen::Matrix2d Fg = deformation_gradient(X_rest, X_sim);
+  const Eigen::JacobiSVD<Eigen::Matrix2d> svd(Fg);
+  INFO("singular values of the collapsed face " << svd.singularValues().transpose());
+  CHECK(svd.singularValues()(1) < 1e-12);
+  CHECK(svd.singularValues()(0) > 1.1);
+  const Eigen::Matrix2d D_rest = triangle_frame_edges(X_rest);
+  const Eigen::Matrix2d T = clipped_target(D_rest, Fg, 0.1);
+  CHECK(T.allFinite());
+  // Area factor s1 / 1.1 along the stretched direction, 1 along the collapsed one.
+  CHECK(T.determinant() == Approx(D_rest.determinant() * svd.singularValues()(0) / 1.1).epsilon(1e-9));
+
+  RestShapeAdapter adapter(grid.V, grid.F);
+  Eigen::MatrixXd V_rest = grid.V;
+  const AdaptReport r = adapter.adapt(V_sim, V_rest);
+  INFO("clipped " << r.clip.clipped_faces << " of " << grid.F.rows() << ", ARAP iterations " << r.arap.iterations
+                  << " residual " << r.arap.residual << ", area " << r.area_before << " -> " << r.area_after);
+  CHECK(r.changed);
+  CHECK(r.arap.converged);
+  REQUIRE(V_rest.allFinite());
+  double q_min = 1e300;
+  for (int f = 0; f < grid.F.rows(); ++f) {
+    q_min = std::min(q_min, face_quality(V_rest, grid.F, f));
+    CHECK(face_normal(V_rest, grid.F, f).dot(face_normal(grid.V, grid.F, f)) > 0.0);
+  }
+  INFO("smallest rest quality after adaptation " << q_min);
+  CHECK(q_min > 0.2);
+  const double area_ratio = face_normal(V_rest, grid.F, collapsed).norm() / face_normal(grid.V, grid.F, collapsed).norm();
+  INFO("collapsed face: rest area after / before " << area_ratio);
+  CHECK(T.determinant() >= D_rest.determinant());
+  CHECK(area_ratio > 0.5);
+  // The patch as a whole grew by about 1.3 / 1.1 along x.
+  CHECK(r.area_after / r.area_before == Approx(1.3 / 1.1).epsilon(0.02));
+}
+
+TEST_CASE("a top starting partly inside the body is pushed out without tearing", "[adapt][hard][body]") {
+  // The front of the top (vertices within 12 cm of the chest's front and at
+  // most 2.5 cm from the body) is pushed 2.5 cm into the body, so it starts
+  // up to 1.5 cm inside (3.5 cm where the design was already closer than its
+  // offset). Expectation (run_garment_motion, A-pose, 200 settling steps,
+  // simulate-adapt's defaults): the garment ends outside, deepest
+  // penetration under 2 mm (measured 0); nothing torn: the largest edge
+  // stretch against the design rest shape is no worse than that of the same
+  // top started where it was designed (measured 1.46 against 1.53: the
+  // design itself is stretched at the armpits in the A-pose), the stretch
+  // against the adapted rest shape is at the limit (p99 <= 1.1, measured
+  // 1.0994) and the rest area grows by no more than 1 % more than the clean
+  // start's (measured 1.0131 against 1.0124). The two drapes differ by up
+  // to 2.3 cm (free hem and sleeves), which is not asserted.
+  const hc::Scene& scene = hc::default_scene();
+  const Loaded l = load(scene);
+  const Eigen::MatrixXd& V_body = l.poses.V[static_cast<size_t>(l.poses.index_of("apose", "test"))];
+  Eigen::MatrixXd V_start = l.mesh.V;
+  gp::collision::BodyCollider collider(l.poses.F);
+  collider.set_body(V_body);
+  int pushed = 0;
+  for (int v = 0; v < V_start.rows(); ++v) {
+    const Eigen::Vector3d p = V_start.row(v);
+    if (std::abs(p.y() - scene.chest_y) > 0.12 || std::abs(p.x()) > 0.12 || p.z() < 0.0) continue;
+    const gp::collision::Proximity q = collider.query(p);
+    if (q.signed_distance > 0.025) continue;
+    V_start.row(v) -= 0.025 * q.outward.transpose();
+    ++pushed;
+  }
+  double deepest_start = 0.0;
+  for (int v = 0; v < V_start.rows(); ++v) {
+    deepest_start = std::max(deepest_start, -collider.query(V_start.row(v).transpose()).signed_distance);
+  }
+  INFO("vertices pushed in " << pushed << " of " << V_start.rows() << ", deepest at the start " << deepest_start
+                             << " m");
+  REQUIRE(pushed >= 10);
+  REQUIRE(deepest_start > 0.01);
+
+  const MotionRunOptions options = run_options(200);
+  const gp::MotionSpec motion = motion_of(l.poses, {"apose"}, 1);
+  const MotionRunResult clean = run(l, motion, l.mesh.V, options);
+  const MotionRunResult r = run(l, motion, V_start, options);
+  REQUIRE(r.keys.size() == 1);
+  const KeyPoseResult& k = r.keys[0];
+  const double tear = max_edge_stretch(k.V_draped, l.mesh.V, l.mesh.F);
+  const double tear_clean = max_edge_stretch(clean.keys[0].V_draped, l.mesh.V, l.mesh.F);
+  INFO("initial min distance " << r.initial_min_distance << " m; deepest at the key pose " << k.deepest_penetration
+                               << " m; largest edge stretch vs design " << tear << " (clean start " << tear_clean
+                               << "); max stretch vs rest " << k.max_stretch << ", p99 " << k.p99_stretch
+                               << "; rest area x" << k.rest_area_growth << " (clean start x"
+                               << clean.keys[0].rest_area_growth << "); max distance to the clean start's drape "
+                               << (k.V_draped - clean.keys[0].V_draped).rowwise().norm().maxCoeff()
+                               << " m; rejected steps " << r.rejected_steps << ", folds " << r.accepted_folds);
+  CHECK(r.initial_min_distance < -0.01);
+  CHECK(k.V_draped.allFinite());
+  CHECK(r.V_rest.allFinite());
+  CHECK(k.deepest_penetration < 0.002);
+  CHECK(tear <= tear_clean + 0.05);
+  CHECK(k.p99_stretch <= 1.1);
+  CHECK(k.rest_area_growth < clean.keys[0].rest_area_growth + 0.01);
+}
+
+TEST_CASE("a pose change in one frame ends untorn or stops with NumericalError", "[adapt][hard][body]") {
+  // A-pose to arms-up in a single frame: the arms sweep through the sleeves
+  // within one 2.5 ms step (body speeds of ~100 m/s). Expectation: either the
+  // run completes with a finite drape whose edges are stretched by less than
+  // 1.5 against the rest shape and that is outside the body, or it throws
+  // NumericalError (the step cannot be taken safely) and nothing is returned.
+  const hc::Scene& scene = hc::default_scene();
+  const Loaded l = load(scene);
+  const gp::MotionSpec motion = motion_of(l.poses, {"apose", "armsup"}, 1);
+  MotionRunOptions options = run_options(200);
+  bool threw = false;
+  std::string message;
+  MotionRunResult r;
+  try {
+    r = run(l, motion, l.mesh.V, options);
+  } catch (const gp::NumericalError& e) {
+    threw = true;
+    message = e.what();
+  }
+  if (threw) {
+    INFO("stopped: " << message);
+    CHECK(message.find("step") != std::string::npos);
+  } else {
+    REQUIRE(r.keys.size() == 2);
+    const KeyPoseResult& up = r.keys[1];
+    const double tear = max_edge_stretch(up.V_draped, r.V_rest, l.mesh.F);
+    INFO("completed: arms-up max stretch " << up.max_stretch << ", largest edge stretch " << tear << ", deepest "
+                                           << up.deepest_penetration << " m, rejected steps " << r.rejected_steps
+                                           << ", folds " << r.accepted_folds);
+    CHECK(up.V_draped.allFinite());
+    CHECK(r.V_rest.allFinite());
+    CHECK(tear < 1.5);
+    CHECK(up.deepest_penetration < 0.002);
+  }
+}
+
+TEST_CASE("four times the paper's time step gives nearly the same fit", "[adapt][hard][body]") {
+  // A-pose to T-pose in 10 frames, then settling, at dt = 2.5 ms (240
+  // settling steps) and at dt = 10 ms (60 steps: the same simulated time).
+  // Expectation: both complete; at every key pose the drapes agree within
+  // 5 cm at any vertex and 1 cm on average (measured: A-pose 6.4 mm and
+  // 0.3 mm, T-pose 3.2 cm and 4.0 mm; the free hem and sleeve ends settle
+  // differently), the rest-area growth within 1 % (measured A-pose 1.0126
+  // against 1.0122, T-pose 1.0505 against 1.0443) and the 99th-percentile
+  // stretch within 0.01 (measured 1.0991 against 1.0983 and 1.0973 against
+  // 1.0975).
+  const hc::Scene& scene = hc::default_scene();
+  const Loaded l = load(scene);
+  const gp::MotionSpec motion = motion_of(l.poses, {"apose", "tpose"}, 10);
+  MotionRunOptions small = run_options(240);
+  MotionRunOptions large = run_options(60);
+  large.dt = 4.0 * small.dt;
+  large.fixed_point_steps = small.fixed_point_steps / 4;
+  const MotionRunResult a = run(l, motion, l.mesh.V, small);
+  const MotionRunResult b = run(l, motion, l.mesh.V, large);
+  REQUIRE(a.keys.size() == 2);
+  REQUIRE(b.keys.size() == 2);
+  for (size_t k = 0; k < 2; ++k) {
+    const Eigen::VectorXd d = (a.keys[k].V_draped - b.keys[k].V_draped).rowwise().norm();
+    const double distance = d.maxCoeff();
+    INFO("key " << a.keys[k].pose << ": max vertex distance " << distance << " m, mean " << d.mean() << " m; growth "
+                << a.keys[k].rest_area_growth << " vs " << b.keys[k].rest_area_growth << "; p99 stretch "
+                << a.keys[k].p99_stretch << " vs " << b.keys[k].p99_stretch << "; max stretch " << a.keys[k].max_stretch
+                << " vs " << b.keys[k].max_stretch << "; deepest " << a.keys[k].deepest_penetration << " vs "
+                << b.keys[k].deepest_penetration << "; steps " << a.keys[k].steps << " vs " << b.keys[k].steps
+                << "; rejected " << a.rejected_steps << " vs " << b.rejected_steps);
+    CHECK(b.keys[k].V_draped.allFinite());
+    CHECK(distance < 0.05);
+    CHECK(d.mean() < 0.01);
+    CHECK(std::abs(a.keys[k].rest_area_growth - b.keys[k].rest_area_growth) < 0.01);
+    CHECK(std::abs(a.keys[k].p99_stretch - b.keys[k].p99_stretch) < 0.01);
+    CHECK(b.keys[k].deepest_penetration < 0.002);
+  }
+}
