@@ -118,7 +118,14 @@ RoundTripResult round_trip(const PoseSet& poses, const GarmentFile& garment, con
     adapt::MotionRunOptions o = run_options;
     if (triangles) o.rest_triangles = *triangles;
     const auto start = Clock::now();
-    const adapt::MotionRunResult r = adapt::run_garment_motion(interpolator, motion, V_rest, F, garment, o);
+    adapt::MotionRunResult r;
+    try {
+      r = adapt::run_garment_motion(interpolator, motion, V_rest, F, garment, o);
+    } catch (const NumericalError& e) {
+      throw NumericalError(std::string("round trip, drape with the ") +
+                               (triangles ? "flat pieces' triangles" : "rest shape's own triangles") + ": " + e.what(),
+                           e.where());
+    }
     run.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (r.keys.empty()) throw NumericalError("the round-trip drape returned no key pose");
     run.settle_steps = r.keys.front().settle_steps;

@@ -26,7 +26,10 @@ struct RoundTripOptions {
   // on the shared shirt in README.md.
   double dt = 0.005;
   int settle_max_steps = 1000;   // cap per drape [steps]
-  double settle_speed = 0.05;    // m/s: largest vertex speed of a settled cloth
+  // m/s: largest vertex speed of a settled cloth. Stricter than the fit's
+  // 0.05 m/s: a garment that starts at rest passes 0.05 m/s within a few
+  // steps, before gravity and the pins have shaped it.
+  double settle_speed = 0.005;
 };
 
 // The flat rest triangle of every rest face (#F, in rest face order): its
@@ -62,7 +65,9 @@ struct RoundTripResult {
 
 // V_rest, F: the rest shape the pattern was made from. `poses` must hold the
 // garment's design pose (garment.body.design_pose). Throws SpecError when the
-// pose is missing, GeometryError/NumericalError from the simulation.
+// pose is missing, GeometryError from the simulation, NumericalError naming
+// the drape when a simulation step fails (a pattern far from its rest shape
+// can start with forces no step survives).
 RoundTripResult round_trip(const PoseSet& poses, const GarmentFile& garment, const Eigen::MatrixXd& V_rest,
                            const Eigen::MatrixXi& F, const Pattern& pattern, const Layout& layout,
                            const RoundTripOptions& options);

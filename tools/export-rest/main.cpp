@@ -18,6 +18,7 @@
 #include "pattern/dxf_writer.h"
 #include "pattern/export_report.h"
 #include "pattern/layout.h"
+#include "pattern/rest_diagnostics.h"
 #include "pattern/round_trip.h"
 #include "pose/pose_set.h"
 #include "pattern/seam_spec.h"
@@ -55,6 +56,9 @@ int main(int argc, char** argv) {
                  "on it and compare (needs --garment); none: no round trip");
   app.add_option("--round-trip-dt", round_trip_options.dt, "Time step of the round-trip drapes [s]")
       ->capture_default_str()->check(CLI::Range(1e-5, 0.1));
+  app.add_option("--round-trip-settle-speed", round_trip_options.settle_speed,
+                 "Largest vertex speed of a settled round-trip drape [m/s]")
+      ->capture_default_str()->check(CLI::Range(1e-6, 10.0));
   app.add_option("--round-trip-steps", round_trip_options.settle_max_steps, "Most settling steps per round-trip drape [count]")
       ->capture_default_str()->check(CLI::Range(1, 1000000));
   app.add_option("--merge-area", pattern_options.merge_area,
@@ -147,15 +151,57 @@ int main(int argc, char** argv) {
       tool.log().warning("the distortion limit is not met after " + std::to_string(pattern_options.max_added_cuts) +
                          " extra cuts (see report.json)");
 
+    // Figures of the rest shape against the garment as designed (beside its
+    // garment file): growth, tucks and cone points explain a pattern that
+    // cannot meet the limit (rest_diagnostics.h).
+    gp::OrderedJson diagnostics;
+    if (have_garment) {
+      const fs::path design_path = fs::path(garment_path).parent_path() / garment.mesh_file;
+      if (fs::exists(design_path)) {
+        const gp::Mesh design = gp::read_mesh(design_path).mesh;
+        if (design.V.rows() == rest.V.rows() && design.F == rest.F) {
+          // A cone point with defect 2 pi * max_limit cannot be flattened within the limit unless its
+          // neighbourhood takes that error in full (see rest_diagnostics.h).
+          const double cone = 2.0 * M_PI * pattern_options.max_limit;
+          const gp::RestShapeDiagnostics d = gp::diagnose_rest_shape(design.V, rest.V, rest.F, cone);
+          diagnostics = {{"design_mesh", design_path.string()},
+                         {"area_growth", d.area_growth},
+                         {"face_growth_p95", d.growth_p95},
+                         {"face_growth_max", d.growth_max},
+                         {"turned_faces", d.turned_faces},
+                         {"turned_area_fraction", d.turned_area_fraction},
+                         {"cone_angle_deg", d.cone_angle * 180.0 / M_PI},
+                         {"cone_points", d.cone_points},
+                         {"cone_points_design", d.cone_points_design},
+                         {"max_abs_angle_defect_deg", d.max_abs_defect * 180.0 / M_PI},
+                         {"abs_angle_defect_sum_rad", d.abs_defect_sum},
+                         {"abs_angle_defect_sum_design_rad", d.abs_defect_sum_design}};
+          if (!pattern.meets_limit && d.cone_points > d.cone_points_design)
+            tool.log().warning("the rest shape has " + std::to_string(d.cone_points) + " cone points (the design " +
+                               std::to_string(d.cone_points_design) + ") and " + std::to_string(d.turned_faces) +
+                               " faces turned over in tucks; they cannot be flattened within the limit without a "
+                               "cut through each (see rest_shape in report.json)");
+        }
+      }
+    }
+
     gp::RoundTripResult trip;
+    std::string round_trip_failure;
     if (!round_trip_poses.empty()) {
       const gp::PoseSet poses = gp::load_pose_set(round_trip_poses);
-      trip = gp::round_trip(poses, garment, rest.V, rest.F, pattern, layout, round_trip_options);
+      // A failed drape is a finding about the pattern, not a failed export:
+      // it is reported and the pattern still written.
+      try {
+        trip = gp::round_trip(poses, garment, rest.V, rest.F, pattern, layout, round_trip_options);
+      } catch (const gp::NumericalError& e) {
+        round_trip_failure = e.what();
+        tool.log().warning(round_trip_failure);
+      }
       lap("round_trip");
     }
 
     gp::StagedOutputDir out(tool.common().out_dir, tool.common().force);
-    if (!round_trip_poses.empty()) {
+    if (!round_trip_poses.empty() && round_trip_failure.empty()) {
       gp::Mesh drape;
       drape.F = rest.F;
       drape.V = trip.V_rest_drape;
@@ -205,6 +251,11 @@ int main(int argc, char** argv) {
     };
     if (round_trip_poses.empty())
       report["round_trip"] = {{"checked", false}, {"why", "not requested (--round-trip POSES_JSON)"}};
+    else if (!round_trip_failure.empty())
+      report["round_trip"] = {{"checked", false},
+                              {"poses", round_trip_poses},
+                              {"dt_s", round_trip_options.dt},
+                              {"why", round_trip_failure}};
     else
       report["round_trip"] = {{"checked", true},
                               {"poses", round_trip_poses},
@@ -221,9 +272,10 @@ int main(int argc, char** argv) {
                               {"rest_drape", run_json(trip.rest_run)},
                               {"sewn_drape", run_json(trip.sewn_run)},
                               {"meshes", {"round_trip_rest_drape.ply", "round_trip_sewn_drape.ply"}}};
+    report["rest_shape"] = diagnostics.is_null() ? gp::OrderedJson::object() : diagnostics;
     const gp::OrderedJson body = gp::pattern_report(pattern, layout, pattern_options, tolerance);
     for (auto it = body.begin(); it != body.end(); ++it) report[it.key()] = it.value();
-    if (!round_trip_poses.empty()) {
+    if (!round_trip_poses.empty() && round_trip_failure.empty()) {
       timing["round_trip_rest_drape"] = trip.rest_run.seconds;
       timing["round_trip_sewn_drape"] = trip.sewn_run.seconds;
     }

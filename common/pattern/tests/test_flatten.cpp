@@ -10,6 +10,7 @@
 #include "pattern/layout.h"
 #include "pattern/flatten.h"
 #include "pattern/mesh_cut.h"
+#include "pattern/rest_diagnostics.h"
 #include "pattern/tests/test_helpers.h"
 #include "testing/test_meshes.h"
 #include "garment/surface_path.h"
@@ -214,4 +215,38 @@ TEST_CASE("scraps merge back across added cuts when the merged piece meets the l
     CHECK(p.flat.stats.flipped_triangles == 0);
     CHECK(!p.flat.boundary_overlaps);
   }
+}
+
+TEST_CASE("rest-shape diagnostics find growth, tucks and cone points", "[diagnostics]") {
+  const Mesh grid = testing::make_grid(6, 6, 0.3, 0.3);  // flat, 7 x 7 vertices, 5 cm edges
+  const double cone = 2.0 * M_PI * 0.05;
+  const RestShapeDiagnostics same = diagnose_rest_shape(grid.V, grid.V, grid.F, cone);
+  CHECK(same.area_growth == Approx(1.0));
+  CHECK(same.growth_max == Approx(1.0));
+  CHECK(same.turned_faces == 0);
+  CHECK(same.cone_points == 0);
+  CHECK(same.abs_defect_sum == Approx(0.0).margin(1e-9));
+  // Grown 1.5 times along x: no cone, growth 1.5 everywhere.
+  Mesh wide = grid;
+  wide.V.col(0) *= 1.5;
+  const RestShapeDiagnostics grown = diagnose_rest_shape(grid.V, wide.V, grid.F, cone);
+  CHECK(grown.area_growth == Approx(1.5));
+  CHECK(grown.growth_p95 == Approx(1.5));
+  CHECK(grown.cone_points == 0);
+  // An inner vertex lifted 10 cm: a tent, a cone point with a large defect.
+  const int centre = 3 * 7 + 3;
+  REQUIRE(grid.V(centre, 0) == Approx(0.15));
+  Mesh tent = grid;
+  tent.V(centre, 1) += 0.1;
+  const RestShapeDiagnostics lifted = diagnose_rest_shape(grid.V, tent.V, grid.F, cone);
+  CHECK(lifted.cone_points >= 1);
+  CHECK(lifted.max_abs_defect > cone);
+  CHECK(lifted.growth_max > 1.5);
+  // The same vertex pushed across its neighbour (8 cm along x): faces turn over.
+  Mesh tuck = grid;
+  tuck.V(centre, 0) += 0.08;
+  const RestShapeDiagnostics turned = diagnose_rest_shape(grid.V, tuck.V, grid.F, cone);
+  CHECK(turned.turned_faces >= 1);
+  CHECK(turned.turned_area_fraction > 0.0);
+  CHECK_THROWS_AS(diagnose_rest_shape(grid.V, grid.V.topRows(10), grid.F, cone), GeometryError);
 }

@@ -1,0 +1,100 @@
+#include "pattern/rest_diagnostics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "core/error.h"
+#include "mesh/topology.h"
+
+namespace gp {
+namespace {
+
+std::vector<double> angle_defects(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<char>& inner) {
+  std::vector<double> defect(static_cast<size_t>(V.rows()), 2.0 * M_PI);
+  for (int f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d a = (V.row(F(f, (k + 1) % 3)) - V.row(F(f, k))).transpose();
+      const Eigen::Vector3d b = (V.row(F(f, (k + 2) % 3)) - V.row(F(f, k))).transpose();
+      defect[static_cast<size_t>(F(f, k))] -= std::atan2(a.cross(b).norm(), a.dot(b));
+    }
+  for (size_t v = 0; v < defect.size(); ++v)
+    if (!inner[v]) defect[v] = 0.0;
+  return defect;
+}
+
+// Corner matrix of face f in its own orthonormal frame (columns: corners 1, 2)
+// and its unit normal; false for a degenerate face.
+bool corners(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int f, Eigen::Matrix2d& P, Eigen::Vector3d& n) {
+  const Eigen::Vector3d e1 = (V.row(F(f, 1)) - V.row(F(f, 0))).transpose();
+  const Eigen::Vector3d e2 = (V.row(F(f, 2)) - V.row(F(f, 0))).transpose();
+  const Eigen::Vector3d c = e1.cross(e2);
+  const double l1 = e1.norm(), a = c.norm();
+  if (!(l1 > 0.0) || !(a > 1e-14 * std::max(e1.squaredNorm(), e2.squaredNorm())) || !std::isfinite(a)) return false;
+  P << l1, e2.dot(e1) / l1, 0.0, a / l1;
+  n = c / a;
+  return true;
+}
+
+}  // namespace
+
+RestShapeDiagnostics diagnose_rest_shape(const Eigen::MatrixXd& V_design, const Eigen::MatrixXd& V_rest,
+                                         const Eigen::MatrixXi& F, double cone_angle) {
+  if (V_design.rows() != V_rest.rows() || V_design.cols() != 3 || V_rest.cols() != 3)
+    throw GeometryError("the rest shape and the designed garment differ in size");
+  RestShapeDiagnostics d;
+  d.cone_angle = cone_angle;
+  const int m = static_cast<int>(F.rows());
+  std::vector<double> growth(static_cast<size_t>(m), 1.0), design_area(static_cast<size_t>(m), 0.0);
+  double area_design = 0.0, area_rest = 0.0, area_turned = 0.0;
+  for (int f = 0; f < m; ++f) {
+    Eigen::Matrix2d Pd, Pr;
+    Eigen::Vector3d nd, nr;
+    const bool ok_d = corners(V_design, F, f, Pd, nd), ok_r = corners(V_rest, F, f, Pr, nr);
+    const double ad = ok_d ? 0.5 * Pd.determinant() : 0.0, ar = ok_r ? 0.5 * Pr.determinant() : 0.0;
+    area_design += ad;
+    area_rest += ar;
+    design_area[static_cast<size_t>(f)] = ad;
+    if (!ok_d || !ok_r) continue;
+    growth[static_cast<size_t>(f)] = Eigen::JacobiSVD<Eigen::Matrix2d>(Pr * Pd.inverse()).singularValues()[0];
+    if (nd.dot(nr) < 0.0) {
+      ++d.turned_faces;
+      area_turned += ar;
+    }
+  }
+  d.area_growth = area_design > 0.0 ? area_rest / area_design : 1.0;
+  d.turned_area_fraction = area_rest > 0.0 ? area_turned / area_rest : 0.0;
+  std::vector<int> order(static_cast<size_t>(m));
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return growth[static_cast<size_t>(a)] < growth[static_cast<size_t>(b)] ||
+           (growth[static_cast<size_t>(a)] == growth[static_cast<size_t>(b)] && a < b);
+  });
+  double acc = 0.0;
+  for (int f : order) {
+    acc += design_area[static_cast<size_t>(f)];
+    if (acc >= 0.95 * area_design) {
+      d.growth_p95 = growth[static_cast<size_t>(f)];
+      break;
+    }
+  }
+  d.growth_max = m > 0 ? growth[static_cast<size_t>(order.back())] : 1.0;
+
+  std::vector<char> inner(static_cast<size_t>(V_rest.rows()), 1);
+  for (const auto& loop : boundary_loops(F))
+    for (int v : loop) inner[static_cast<size_t>(v)] = 0;
+  const std::vector<double> K_rest = angle_defects(V_rest, F, inner), K_design = angle_defects(V_design, F, inner);
+  for (size_t v = 0; v < K_rest.size(); ++v) {
+    d.abs_defect_sum += std::abs(K_rest[v]);
+    d.abs_defect_sum_design += std::abs(K_design[v]);
+    d.max_abs_defect = std::max(d.max_abs_defect, std::abs(K_rest[v]));
+    if (std::abs(K_rest[v]) >= cone_angle) ++d.cone_points;
+    if (std::abs(K_design[v]) >= cone_angle) ++d.cone_points_design;
+  }
+  return d;
+}
+
+}  // namespace gp
