@@ -7,7 +7,7 @@
 // the files back.
 #include <cmath>
 #include <filesystem>
-#include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 

@@ -222,10 +222,12 @@ TEST_CASE("a pose change in one frame ends untorn or stops with NumericalError",
   // run completes with a finite drape whose edges are stretched by less than
   // 1.5 against the rest shape and that is outside the body, or it throws
   // NumericalError (the step cannot be taken safely) and nothing is returned.
+  // Measured: NumericalError "cloth step failed after 4 halvings of the time
+  // step: vertex speed above 20 m/s".
   const hc::Scene& scene = hc::default_scene();
   const Loaded l = load(scene);
   const gp::MotionSpec motion = motion_of(l.poses, {"apose", "armsup"}, 1);
-  MotionRunOptions options = run_options(200);
+  const MotionRunOptions options = run_options(100);
   bool threw = false;
   std::string message;
   MotionRunResult r;
