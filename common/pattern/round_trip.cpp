@@ -85,7 +85,10 @@ std::vector<cloth::TriangleRest> sewn_rest_triangles(const Pattern& pattern, con
 
 RoundTripResult round_trip(const PoseSet& poses, const GarmentFile& garment, const Eigen::MatrixXd& V_rest,
                            const Eigen::MatrixXi& F, const Pattern& pattern, const Layout& layout,
-                           const RoundTripOptions& options) {
+                           const RoundTripOptions& options, const Eigen::MatrixXd* V_start) {
+  if (V_start && (V_start->rows() != V_rest.rows() || V_start->cols() != 3))
+    throw GeometryError("round trip: the start positions do not match the rest shape");
+  const Eigen::MatrixXd& X0 = V_start ? *V_start : V_rest;
   using Clock = std::chrono::steady_clock;
   RoundTripResult result;
   result.pose = garment.body.design_pose.empty() ? poses.reference : garment.body.design_pose;
@@ -116,11 +119,11 @@ RoundTripResult round_trip(const PoseSet& poses, const GarmentFile& garment, con
   auto drape = [&](const std::vector<cloth::TriangleRest>* triangles, DrapeRun& run) {
     PoseInterpolator interpolator(still);
     adapt::MotionRunOptions o = run_options;
-    if (triangles) o.rest_triangles = *triangles;
+    o.rest_triangles = triangles ? *triangles : own;
     const auto start = Clock::now();
     adapt::MotionRunResult r;
     try {
-      r = adapt::run_garment_motion(interpolator, motion, V_rest, F, garment, o);
+      r = adapt::run_garment_motion(interpolator, motion, X0, F, garment, o);
     } catch (const NumericalError& e) {
       throw NumericalError(std::string("round trip, drape with the ") +
                                (triangles ? "flat pieces' triangles" : "rest shape's own triangles") + ": " + e.what(),

@@ -68,8 +68,11 @@ struct RoundTripResult {
 // pose is missing, GeometryError from the simulation, NumericalError naming
 // the drape when a simulation step fails (a pattern far from its rest shape
 // can start with forces no step survives).
+// Both drapes start at V_start (#V by 3; the garment as designed, which lies
+// at the comfort offset without the tucks an adapted rest shape may have) or,
+// when null, at V_rest.
 RoundTripResult round_trip(const PoseSet& poses, const GarmentFile& garment, const Eigen::MatrixXd& V_rest,
                            const Eigen::MatrixXi& F, const Pattern& pattern, const Layout& layout,
-                           const RoundTripOptions& options);
+                           const RoundTripOptions& options, const Eigen::MatrixXd* V_start = nullptr);
 
 }  // namespace gp

@@ -155,11 +155,14 @@ int main(int argc, char** argv) {
     // garment file): growth, tucks and cone points explain a pattern that
     // cannot meet the limit (rest_diagnostics.h).
     gp::OrderedJson diagnostics;
+    gp::Mesh design;
+    bool have_design = false;
     if (have_garment) {
       const fs::path design_path = fs::path(garment_path).parent_path() / garment.mesh_file;
       if (fs::exists(design_path)) {
-        const gp::Mesh design = gp::read_mesh(design_path).mesh;
-        if (design.V.rows() == rest.V.rows() && design.F == rest.F) {
+        design = gp::read_mesh(design_path).mesh;
+        have_design = design.V.rows() == rest.V.rows() && design.F == rest.F;
+        if (have_design) {
           // A cone point with defect 2 pi * max_limit cannot be flattened within the limit unless its
           // neighbourhood takes that error in full (see rest_diagnostics.h).
           const double cone = 2.0 * M_PI * pattern_options.max_limit;
@@ -192,7 +195,8 @@ int main(int argc, char** argv) {
       // A failed drape is a finding about the pattern, not a failed export:
       // it is reported and the pattern still written.
       try {
-        trip = gp::round_trip(poses, garment, rest.V, rest.F, pattern, layout, round_trip_options);
+        trip = gp::round_trip(poses, garment, rest.V, rest.F, pattern, layout, round_trip_options,
+                              have_design ? &design.V : nullptr);
       } catch (const gp::NumericalError& e) {
         round_trip_failure = e.what();
         tool.log().warning(round_trip_failure);
@@ -260,6 +264,7 @@ int main(int argc, char** argv) {
       report["round_trip"] = {{"checked", true},
                               {"poses", round_trip_poses},
                               {"pose", trip.pose},
+                              {"start", have_design ? "designed garment" : "rest shape"},
                               {"dt_s", round_trip_options.dt},
                               {"settle_max_steps", round_trip_options.settle_max_steps},
                               {"settle_speed_m_per_s", round_trip_options.settle_speed},
