@@ -62,6 +62,8 @@ def sim_speed(plt, results, folder, written):
     ax.set_xlabel("garment vertices")
     ax.set_ylabel("simulation steps per second")
     ax.set_yscale("log")
+    ax.yaxis.set_major_formatter(plt.matplotlib.ticker.FuncFormatter(lambda y, _: f"{y:g}"))
+    ax.yaxis.set_minor_formatter(plt.matplotlib.ticker.FuncFormatter(lambda y, _: f"{y:g}"))
     ax.set_title("simulate-adapt speed")
     ax.legend()
     _save(plt, fig, folder, "sim_speed.png", written)

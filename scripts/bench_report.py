@@ -4,6 +4,8 @@ import math
 PAPER = [(3926, 1.70), (1103, 7.82)]  # Wolff et al. 2023: garment vertices, frames/s on 12 cores at 2.7 GHz
 PHASES = [("forces_assembly", "forces + assembly"), ("factorization", "factorization"), ("solve", "solve"),
           ("collisions", "collisions"), ("adaptation", "adaptation"), ("body", "body interpolation")]
+FIXED_POINT_STEPS = 664  # settling steps of the shirt's A-pose to the fixed point (commit ae6ff43)
+ROUNDING_M = 1e-5  # [m]: mesh differences below this count as rounding
 PARAM_TITLES = {"dt": ("time step --dt", "s"), "adapt_every": ("adaptation interval --adapt-every", "steps"),
                 "cg_tolerance": ("solver tolerance --cg-tolerance", "relative residual"),
                 "vertices": ("resolution (make-garment resolution.vertex_count)", "garment vertices")}
@@ -30,6 +32,18 @@ def settled(s):
     return "yes" if s["all_settled"] else "no"
 
 
+def full_motion_text(rows):
+    """Why the benchmark does not run the customers' full motions, from the
+    measured speed at the largest size."""
+    big = max(rows, key=lambda s: s["vertices"])
+    steps = 4 * 60 + FIXED_POINT_STEPS
+    minutes = steps / big["steps_per_s"] / 60.0 if big["steps_per_s"] > 0 else math.inf
+    return (f"A full customer motion is four transitions of 60 frames ({4 * 60} steps) plus settling at each key "
+            f"pose (the shirt's A-pose alone needs {FIXED_POINT_STEPS} steps to reach the rest shape's fixed point); "
+            f"at the {big['steps_per_s']:.2f} steps/s measured here at {big['vertices']:,} vertices that is at least "
+            f"{minutes:.0f} minutes per run, beyond the benchmark's budget.")
+
+
 def sim_section(lines, results, meta, plot):
     rows = results.get("sim_breakdown", [])
     lines += ["## simulate-adapt: time per step", ""]
@@ -39,12 +53,11 @@ def sim_section(lines, results, meta, plot):
     lines += [
         f"Each garment moves through one transition of {results['sim_frames']} frames (one simulation step per "
         "frame, adaptation every 8 steps and at the key pose) and stops there: `--settle-max-steps 0`, so these are "
-        "steps of a moving body, the situation of the paper's frames per second. The full customer motions "
-        "(four transitions of 60 frames, settling to the rest shape's fixed point) take minutes at 4,000 vertices "
-        "today and do not fit the benchmark's budget; the trade-off runs below add settling. One thread "
-        "(`--threads 1`), the default solver and settings. Milliseconds per step are the means over all steps of "
-        "the last run (timing.json); `other` is the rest of the step (1000 / steps per second minus the phases: "
-        "rejected and retried steps, stepping logic); steps/s is the stage's own figure.",
+        "steps of a moving body, the situation of the paper's frames per second. " + full_motion_text(rows) +
+        " One thread (`--threads 1`), the default solver and settings. Milliseconds per step are the means over all "
+        "steps of the last run (timing.json); `other` is the rest of the step (1000 / steps per second minus the "
+        "phases: rejected and retried steps, set-up spread over the steps, stepping logic); steps/s is the stage's "
+        "own figure.",
         "",
         "| garment, motion | vertices | runs | wall median [s] | steps | steps/s | " +
         " | ".join(f"{t} [ms]" for _, t in PHASES) + " | other [ms] | total [ms/step] | rejected steps | "
@@ -103,9 +116,22 @@ def culling_section(lines, results, plot):
     lines += ["", f"Results unchanged? Output meshes with the default culling against none: {diff_text(d)}."]
     if "mid" in c:
         lines += ["", f"`--reach 0.3` against none: {diff_text(c['mid_diff'])}."]
+    if "fixed" in c:
+        on, off, fd = c["fixed"]
+        lines += ["", f"The same pair with a fixed rest shape (`--no-adapt`): {on['median_s']:.1f} s with culling, "
+                  f"{off['median_s']:.1f} s without; meshes {diff_text(fd)}."]
+        if fd["max_m"] < ROUNDING_M and d["max_m"] >= ROUNDING_M:
+            lines[-1] += (" So the culling by itself changes the simulation only at rounding level (under "
+                          f"{ROUNDING_M:g} m); with adaptation (stretch clipping and stitching every few steps) such "
+                          "differences grow over the motion into the distances above.")
+        elif fd["max_m"] >= ROUNDING_M:
+            lines[-1] += (f" The culling changes the simulation itself by more than {ROUNDING_M:g} m: a dropped "
+                          "body face mattered.")
     if c.get("repeat"):
-        lines += ["", f"The default configuration run twice: {diff_text(c['repeat'])}; so a difference above comes "
-                  "from the culling, not from run-to-run noise."]
+        lines += ["", f"The default configuration run twice: {diff_text(c['repeat'])}" +
+                  ("; so a difference above comes from the culling, not from run-to-run noise."
+                   if c["repeat"]["byte_identical"] else "; runs are not reproducible, so differences above include "
+                   "run-to-run noise.")]
     lines.append("")
 
 
@@ -117,8 +143,11 @@ def tradeoff_section(lines, results, plot):
         return
     any_s = next(p[1] for pts in curves.values() for p in pts if "failed" not in p[1])
     lines += [
-        f"{any_s['scene']}, {any_s['motion']}, then settling at each key pose up to {any_s['cap']} steps (the cap "
-        "the benchmark could afford, planned from the measured speed); one parameter varied at a time from the "
+        f"{any_s['scene']}, {any_s['motion']}, " + (
+            f"then settling at each key pose up to {any_s['cap']} steps (the cap the benchmark could afford, planned "
+            "from the measured speed)" if any_s["cap"] > 0 else
+            "no settling (settle cap 0: the time left after the rows above, planned from the measured speed, "
+            "affords no settling steps for all these runs)") + "; one parameter varied at a time from the "
         "defaults (dt 0.0025 s, adapt every 8 steps, CG tolerance 1e-8, ~1,100 vertices). Residual error over all "
         "key poses after adaptation: the 99th-percentile and maximum principal stretch, the area fraction above "
         "1+delta (1.1) and the deepest penetration into the body; the time is the wall time of the whole run, a "

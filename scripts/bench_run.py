@@ -122,10 +122,11 @@ class Runner:
             raise StageFailed(f"{' '.join(args)} exited {proc.returncode}: {last}", f"exit {proc.returncode}: {last}")
         return wall, usage.ru_maxrss / 1024.0
 
-    def measure(self, name, args, repeats=None, budget_s=None, timeout_s=None):
+    def measure(self, name, args, repeats=None, budget_s=None, timeout_s=None, keep_first=False):
         """Runs args up to `repeats` times (default: the runner's count), fewer
         when the next run would end after budget_s seconds from now or after the
-        runner's deadline; at least once. Returns a Measurement."""
+        runner's deadline; at least once. Returns a Measurement. keep_first:
+        the first run's output folder is kept as <out>-run1 (for comparing runs)."""
         repeats = repeats or self.repeats
         m = Measurement(name, self.path(name))
         start = self.elapsed()
@@ -134,6 +135,8 @@ class Runner:
                 predicted = self.elapsed() + m.median
                 if predicted > self.budget_s or (budget_s is not None and predicted - start > budget_s):
                     break
+                if keep_first and m.runs == 1:
+                    os.rename(m.out_dir, m.out_dir + "-run1")
             wall, peak = self.run_once(args, m.out_dir, timeout_s)
             m.times.append(wall)
             m.peaks_mib.append(peak)

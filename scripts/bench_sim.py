@@ -39,9 +39,14 @@ OPTION = {"dt": "--dt", "adapt_every": "--adapt-every", "cg_tolerance": "--cg-to
 # estimate is corrected by every finished run, and every run has a time limit).
 COST = {("adapt_every", 2): 1.6, ("adapt_every", 4): 1.2, ("dt", 0.00125): 1.1, ("cg_tolerance", 1e-10): 1.2}
 NO_CULL_REACH = 10.0  # [m]: keeps every body face
+NO_CULL_COST = 2.0  # planning: a run without culling took about twice as long here
 # A settling step costs about this many motion steps (measured here: more
 # contacts and adaptations at rest); used for planning only.
 SETTLE_COST = 2.5
+# Time per step grows faster than the vertex count (measured here: 0.36 s per
+# step per 1,000 vertices at 1,100 and 0.49-0.56 at 4,000 on a loaded
+# machine); planning scales by (vertices / 1,000) ** SIZE_EXPONENT.
+SIZE_EXPONENT = 1.25
 
 
 class Scene:
@@ -154,12 +159,12 @@ class SimBench:
 
     def predict(self, vertices, factor, cap):
         steps = MOTION_FRAMES + SETTLE_COST * 2 * cap
-        return self.overhead + steps * self.step_cost * vertices / 1000.0 * factor
+        return self.overhead + steps * self.step_cost * (vertices / 1000.0) ** SIZE_EXPONENT * factor
 
     def learn(self, m, factor):
         s = sim_summary(m)
         weighted = s["steps"] - s["settle_steps"] + SETTLE_COST * s["settle_steps"]
-        per_step = s["run_s"] / max(1.0, weighted) / (s["vertices"] / 1000.0) / factor
+        per_step = s["run_s"] / max(1.0, weighted) / (s["vertices"] / 1000.0) ** SIZE_EXPONENT / factor
         self.overhead = max(0.0, m.median - s["run_s"])
         # The latest runs describe the machine's current load best; settling
         # steps cost more than motion steps, so the estimate only grows by
@@ -189,11 +194,12 @@ class SimBench:
     def plan(self, budget_s):
         """Largest settle cap at which the culling and tier-1 trade-off runs fit budget_s."""
         base = self.scenes[0]
-        jobs = [(TARGETS[0], 1.0), (TARGETS[0], 1.2)]  # default settings; culling off
+        # default settings; culling off; the same two with a fixed rest shape
+        jobs = [(TARGETS[0], 1.0), (TARGETS[0], NO_CULL_COST), (TARGETS[0], 0.8), (TARGETS[0], NO_CULL_COST)]
         jobs += [(target, factor) for _key, target, _extra, factor in self.tradeoff_jobs(TRADEOFF_TIER1)]
         jobs = [(base.garment(self.run, t)[1], f) for t, f in jobs]
         fixed = sum(self.predict(v, f, 0) for v, f in jobs)
-        per_cap_step = sum(SETTLE_COST * 2 * self.step_cost * v / 1000.0 * f for v, f in jobs)
+        per_cap_step = sum(SETTLE_COST * 2 * self.step_cost * (v / 1000.0) ** SIZE_EXPONENT * f for v, f in jobs)
         cap = int((budget_s - fixed) / per_cap_step) if per_cap_step > 0 else SETTLE_CAP_MAX
         self.cap = max(0, min(SETTLE_CAP_MAX, cap // 10 * 10))
         self.run.say(f"simulate-adapt plan: {len(jobs)} runs in {budget_s:.0f} s -> settle cap {self.cap} steps "
@@ -214,7 +220,8 @@ class SimBench:
         else:
             timeout = None
         try:
-            m = self.run.measure(key, self.args(scene, garment, cap, extra), repeats=repeats, timeout_s=timeout)
+            m = self.run.measure(key, self.args(scene, garment, cap, extra), repeats=repeats, timeout_s=timeout,
+                                 keep_first=True)
         except bench_run.StageFailed as e:
             self.failed[key] = e.short
             self.run.say(f"{key}: failed: {e}")
@@ -222,6 +229,8 @@ class SimBench:
         s = self.learn(m, factor)
         s.update(scene=scene.label(), motion=scene.motion_text(), cap=cap, measurement=m, args=extra,
                  factor=factor)
+        if m.runs > 1:
+            s["repeat_diff"] = compare_outputs(m.out_dir + "-run1", m.out_dir)
         self.measured[key] = s
         return s
 
@@ -254,8 +263,18 @@ class SimBench:
                          repeats=self.run.repeats if target == TARGETS[0] else 1)
         self.plan(0.85 * (self.run.remaining() - reserve_s))
         base = self.scenes[0]
-        self.sim("sim-default", base, TARGETS[0], [], self.cap, reserve_s=reserve_s)
-        self.sim("sim-noculling", base, TARGETS[0], ["--reach", repr(NO_CULL_REACH)], self.cap, 1.2, reserve_s)
+        same = self.measured.get(self.breakdown_key(base, TARGETS[0]))
+        if self.cap == 0 and same:
+            self.measured["sim-default"] = same  # the same command as the time-per-step row
+        else:
+            self.sim("sim-default", base, TARGETS[0], [], self.cap, reserve_s=reserve_s)
+        self.sim("sim-noculling", base, TARGETS[0], ["--reach", repr(NO_CULL_REACH)], self.cap, NO_CULL_COST,
+                 reserve_s)
+        # The same pair with a fixed rest shape: tells what the culling changes
+        # in the simulation alone from what adaptation makes of it.
+        self.sim("sim-noadapt-culling", base, TARGETS[0], ["--no-adapt"], self.cap, 0.8, reserve_s)
+        self.sim("sim-noadapt-noculling", base, TARGETS[0], ["--no-adapt", "--reach", repr(NO_CULL_REACH)], self.cap,
+                 NO_CULL_COST, reserve_s)
         for tier in (TRADEOFF_TIER1, TRADEOFF_TIER2):
             for key, target, extra, factor in self.tradeoff_jobs(tier):
                 self.sim(key, base, target, extra, self.cap, factor, reserve_s)
@@ -267,6 +286,7 @@ class SimBench:
         # More runs for the medians while time is left.
         primary = [self.breakdown_key(sc, t) for sc in self.scenes for t in self.targets()]
         primary = [k for k in primary + ["sim-default", "sim-noculling"] if k in self.measured]
+        primary = [k for i, k in enumerate(primary) if all(self.measured[k] is not self.measured[p] for p in primary[:i])]
         for _round in range(2):
             for key in primary:
                 self.repeat(key, reserve_s)
@@ -288,6 +308,10 @@ class SimBench:
             if mid:
                 culling["mid"] = mid
                 culling["mid_diff"] = compare_outputs(mid["measurement"].out_dir, off["measurement"].out_dir)
+            fixed_on, fixed_off = self.measured.get("sim-noadapt-culling"), self.measured.get("sim-noadapt-noculling")
+            if fixed_on and fixed_off:
+                culling["fixed"] = (fixed_on, fixed_off, compare_outputs(fixed_on["measurement"].out_dir,
+                                                                         fixed_off["measurement"].out_dir))
             self.results["culling"] = culling
         curves = {}
         if base:
