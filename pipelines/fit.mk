@@ -31,8 +31,8 @@ SIMULATE_FLAGS ?=
 EXPORT_FLAGS   ?=
 # ROUND_TRIP=1: export-rest also drapes the sewn pattern on the design pose and
 # compares it with the rest shape's drape (report.json "round_trip"). Off by
-# default: on the shared shirt it adds 45 s (designed) to 170 s (adapted) to
-# the export, against about 660 s for simulate-adapt.
+# default: on the shared shirt it adds 16 s (designed) to 100 s (adapted) to
+# the export's 10-25 s, against about 660 s for simulate-adapt.
 ROUND_TRIP     ?=
 -include $(C)/customer.mk
 
