@@ -17,6 +17,7 @@
 #include "pose/pose_set.h"
 #include "spec/json_file.h"
 #include "testing/command.h"
+#include "testing/files.h"
 #include "testing/test_meshes.h"
 
 namespace fs = std::filesystem;
@@ -175,6 +176,12 @@ TEST_CASE("export-rest --round-trip reports the drape distance and the sewn stre
   CHECK(trip["sewn_stretch_against_flat_pieces"]["p95_s1"].get<double>() < 1.05);
   CHECK(trip["rest_drape"]["settle_steps"].get<int>() > 0);
   CHECK(fs::exists(s.dir / "out" / "round_trip_sewn_drape.ply"));
+  // Same inputs, same output files.
+  const auto again = testing::run_command(base + " --round-trip " + (s.dir / "poses.json").string() + " --out " +
+                                          (s.dir / "again").string());
+  REQUIRE(again.exit_code == 0);
+  for (const char* name : {"report.json", "round_trip_rest_drape.ply", "round_trip_sewn_drape.ply"})
+    CHECK(testing::read_file(s.dir / "out" / name) == testing::read_file(s.dir / "again" / name));
   // Off by default; and it needs the garment file.
   const auto plain = testing::run_command(testing::tool_path("export-rest") + " " + (s.dir / "garment.ply").string() +
                                           " --garment " + (s.dir / "garment.json").string() + " -q --out " +
