@@ -54,10 +54,10 @@ def sim_section(lines, results, meta, plot):
         f"Each garment moves through one transition of {results['sim_frames']} frames (one simulation step per "
         "frame, adaptation every 8 steps and at the key pose) and stops there: `--settle-max-steps 0`, so these are "
         "steps of a moving body, the situation of the paper's frames per second. " + full_motion_text(rows) +
-        " One thread (`--threads 1`), the default solver and settings. Milliseconds per step are the means over all "
-        "steps of the last run (timing.json); `other` is the rest of the step (1000 / steps per second minus the "
+        " One thread (`--threads 1`), the default solver and settings. Milliseconds per step: each run's mean over "
+        "its steps (timing.json), median over the runs; `other` is the rest of the step (1000 / steps per second minus the "
         "phases: rejected and retried steps, set-up spread over the steps, stepping logic); steps/s is the stage's "
-        "own figure.",
+        "own figure (steps over the stepping time, median over the runs); the wall time adds start-up and output.",
         "",
         "| garment, motion | vertices | runs | wall median [s] | steps | steps/s | " +
         " | ".join(f"{t} [ms]" for _, t in PHASES) + " | other [ms] | total [ms/step] | rejected steps | "

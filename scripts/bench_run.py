@@ -17,9 +17,10 @@ class StageFailed(RuntimeError):
     """A stage exited with a non-zero code or was stopped at its time limit;
     `short` is the exit code and the stage's last error line."""
 
-    def __init__(self, message, short=None):
+    def __init__(self, message, short=None, signal=False):
         super().__init__(message)
         self.short = short or message
+        self.signal = signal  # ended by a signal the benchmark did not send
 
 
 class Measurement:
@@ -31,6 +32,7 @@ class Measurement:
         self.out_dir = out_dir
         self.times = []
         self.peaks_mib = []
+        self.per_run = []  # what the `collect` function of measure() returned for each run
 
     @property
     def runs(self):
@@ -119,14 +121,16 @@ class Runner:
             with open(log_path) as f:
                 err = f.read().strip().splitlines()
             last = err[-1] if err else ""
-            raise StageFailed(f"{' '.join(args)} exited {proc.returncode}: {last}", f"exit {proc.returncode}: {last}")
+            raise StageFailed(f"{' '.join(args)} exited {proc.returncode}: {last}", f"exit {proc.returncode}: {last}",
+                              signal=proc.returncode < 0)
         return wall, usage.ru_maxrss / 1024.0
 
-    def measure(self, name, args, repeats=None, budget_s=None, timeout_s=None, keep_first=False):
+    def measure(self, name, args, repeats=None, budget_s=None, timeout_s=None, keep_first=False, collect=None):
         """Runs args up to `repeats` times (default: the runner's count), fewer
         when the next run would end after budget_s seconds from now or after the
         runner's deadline; at least once. Returns a Measurement. keep_first:
-        the first run's output folder is kept as <out>-run1 (for comparing runs)."""
+        the first run's output folder is kept as <out>-run1 (for comparing runs);
+        collect(out_dir), if given, is stored in Measurement.per_run after each run."""
         repeats = repeats or self.repeats
         m = Measurement(name, self.path(name))
         start = self.elapsed()
@@ -140,6 +144,8 @@ class Runner:
             wall, peak = self.run_once(args, m.out_dir, timeout_s)
             m.times.append(wall)
             m.peaks_mib.append(peak)
+            if collect is not None:
+                m.per_run.append(collect(m.out_dir))
         self.say(f"{name}: {m.runs} run(s), median {m.median:.2f} s, peak {m.peak_mib:.0f} MiB")
         return m
 
