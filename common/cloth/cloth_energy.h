@@ -47,8 +47,9 @@ struct TriangleRest {
 // Rest data from the rest triangle X_rest = [x0 x1 x2]. The u axis is
 // `material_direction` projected into the triangle's plane (the warp direction);
 // where it is nearly normal to the triangle, the first edge is used instead.
-// Throws GeometryError for a zero-area (or non-finite) rest triangle, where
-// 2A / (longest edge)^2 < 1e-8.
+// Throws GeometryError for a degenerate (or non-finite) rest triangle, where
+// 2A / (longest edge)^2 < 1e-6 (slivers below that make the implicit system
+// too ill-conditioned for an accurate step; see cloth_energy.cpp).
 TriangleRest triangle_rest(const Eigen::Matrix3d& X_rest,
                            const Eigen::Vector3d& material_direction = Eigen::Vector3d::UnitY());
 

@@ -116,6 +116,18 @@ PoseSet load_pose_set(const std::filesystem::path& manifest_path) {
                               std::to_string(mesh.V.rows()) + " vertices, " +
                               std::to_string(mesh.F.rows()) + " faces)",
                           file.string());
+    // The manifest holds metres only ("units": "m"); a hand-written one over
+    // a scan in centimetres or millimetres would otherwise load as a body
+    // 100 or 1000 times too large, which later stages report only as a
+    // numerical failure (simulate-adapt: pins jumping at 20 m/s and more).
+    // No body or test scene spans more than kMaxExtent metres.
+    constexpr double kMaxExtent = 5.0;
+    const double extent = (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).maxCoeff();
+    if (!(extent <= kMaxExtent))
+      throw GeometryError("pose '" + e.name + "' spans " + std::to_string(extent) +
+                              " units, but pose sets are in metres (a body in centimetres or "
+                              "millimetres? register-check converts units)",
+                          file.string());
     if (set.names.empty()) set.F = mesh.F;
     set.names.push_back(e.name);
     set.V.push_back(std::move(mesh.V));

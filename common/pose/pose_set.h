@@ -67,8 +67,9 @@ PoseSetManifest read_pose_set_manifest(const std::filesystem::path& path);
 void write_pose_set_manifest(const std::filesystem::path& path, const PoseSetManifest& manifest);
 
 // Reads the manifest and every pose it lists. Checks each file's checksum
-// (InputError if it changed) and that all poses share the manifest's
-// connectivity (GeometryError otherwise).
+// (InputError if it changed), that all poses share the manifest's
+// connectivity and that no pose spans more than 5 m (a body in other units
+// than metres; GeometryError otherwise).
 PoseSet load_pose_set(const std::filesystem::path& manifest_path);
 
 // Builds a pose set straight from mesh files (name = file stem); the first is

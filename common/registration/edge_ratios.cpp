@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <string>
+
+#include "core/error.h"
+#include "mesh/topology.h"
 
 namespace gp {
 
@@ -51,6 +55,27 @@ EdgeRatioStats edge_ratio_stats(const Eigen::MatrixXd& V_ref, const Eigen::Matri
                     });
   s.worst.assign(edges.begin(), edges.begin() + static_cast<std::ptrdiff_t>(k));
   return s;
+}
+
+void check_pose_edge_ratios(const PoseSet& poses, const std::vector<int>& pose_ids, double max_factor,
+                            const std::string& where) {
+  const Eigen::MatrixXi E = unique_edges(poses.F);
+  const int ref = poses.index_of(poses.reference, where);
+  std::vector<char> checked(poses.V.size(), 0);
+  for (int id : pose_ids) {
+    if (id < 0 || id >= static_cast<int>(poses.V.size())) throw UsageError("pose index out of range");
+    if (id == ref || checked[id]) continue;
+    checked[id] = 1;
+    const EdgeRatioStats s = edge_ratio_stats(poses.V[ref], poses.V[id], E, 1);
+    if (s.worst_factor > max_factor && !s.worst.empty()) {
+      const EdgeRatioEdge& w = s.worst.front();
+      throw GeometryError("pose '" + poses.names[id] + "': edge " + std::to_string(w.v0) + "-" +
+                              std::to_string(w.v1) + " changes length by a factor of " +
+                              std::to_string(s.worst_factor) + " against '" + poses.reference +
+                              "' (a registration error? run register-check)",
+                          where);
+    }
+  }
 }
 
 }  // namespace gp

@@ -3,9 +3,12 @@
 // changes length. Skin stretches locally (shoulders, armpits), so some change
 // is expected; a vertex thrown far away by a registration error shows as a
 // handful of edges with extreme ratios.
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "pose/pose_set.h"
 
 namespace gp {
 
@@ -26,5 +29,17 @@ struct EdgeRatioStats {
 // (#E by 2). Edges of zero reference length are skipped.
 EdgeRatioStats edge_ratio_stats(const Eigen::MatrixXd& V_ref, const Eigen::MatrixXd& V_pose,
                                 const Eigen::MatrixXi& E, int worst_count = 10);
+
+// register-check's default limit on the edge-length factor between poses.
+constexpr double kDefaultMaxEdgeRatio = 8.0;
+
+// register-check's registration-error test for stages that take a pose set
+// without it (a hand-written manifest): throws GeometryError, naming the pose,
+// its worst edge and `where`, when an edge of one of the poses `pose_ids`
+// changes length against the reference pose by more than max_factor.
+// Measured (issue 8, hard cases): five vertices thrown 30 cm give a factor of
+// 54; undetected, simulate-adapt fitted the spikes into the rest shape.
+void check_pose_edge_ratios(const PoseSet& poses, const std::vector<int>& pose_ids, double max_factor,
+                            const std::string& where);
 
 }  // namespace gp

@@ -31,7 +31,7 @@ struct RegisterCheckOptions {
   // Fail (exit 8) when an edge changes length by more than this factor
   // (either way) against the reference. Skin stretches up to ~4x at the
   // armpits between A-pose and arms up; registration errors give far more.
-  double max_edge_ratio = 8.0;
+  double max_edge_ratio = kDefaultMaxEdgeRatio;
   bool self_intersections = true;  // run the (slower) self-intersection test
   int threads = 1;                 // poses checked in parallel
   int worst_edges = 10;            // worst edges named per pose in the report

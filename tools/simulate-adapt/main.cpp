@@ -16,6 +16,7 @@
 #include "interp/pose_interpolator.h"
 #include "io/mesh_io.h"
 #include "pose/pose_set.h"
+#include "registration/edge_ratios.h"
 #include "spec/json_file.h"
 
 namespace fs = std::filesystem;
@@ -76,6 +77,13 @@ int main(int argc, char** argv) {
                                               : gp::cloth::SolverStrategy::refactor_every_step;
     const gp::PoseSet poses = gp::load_pose_set(poses_path);
     const gp::MotionSpec motion = gp::read_motion_spec(motion_path, poses);
+    // A hand-written manifest bypasses register-check; a pose with vertices
+    // thrown away by a registration error would be fitted into the rest shape.
+    {
+      std::vector<int> used;
+      for (const gp::MotionKey& key : motion.keys) used.push_back(key.pose_index);
+      gp::check_pose_edge_ratios(poses, used, gp::kDefaultMaxEdgeRatio, poses_path);
+    }
     const gp::GarmentFile garment = gp::read_garment_file(garment_path);
     const fs::path mesh_path = fs::path(garment_path).parent_path() / garment.mesh_file;
     gp::MeshReadResult read = gp::read_mesh(mesh_path);

@@ -277,9 +277,9 @@ TEST_CASE("a pose with a registration error in a hand-written manifest", "[cli][
   // exit with the one-line message and no output folder), or a finished run
   // whose drapes are finite and untorn (edges within 1.5 of the rest shape).
   // Measured: exit 0, drapes untorn (largest edge stretch 1.096), but the
-  // spikes tent the top and the adaptation grows its rest area to x1.142 at
-  // the T-pose against x1.055 on the clean body: a silently wrong fit (see
-  // the [!mayfail] test below).
+  // spikes tent the top and the adaptation grew its rest area to x1.142 at
+  // the T-pose against x1.055 on the clean body: a silently wrong fit, now
+  // refused (see the test below).
   const hc::Scene& scene = hc::default_scene();
   const fs::path dir = gp::testing::fresh_temp_dir("hard_cli_thrown");
   const fs::path manifest = write_thrown_pose_set(scene, dir);
@@ -301,11 +301,11 @@ TEST_CASE("a pose with a registration error in a hand-written manifest", "[cli][
   }
 }
 
-TEST_CASE("simulate-adapt rejects a hand-written pose set with a registration error", "[cli][hard][body][!mayfail]") {
-  // KNOWN GAP (reported in issue 8): simulate-adapt trusts the manifest; a
-  // pose with thrown vertices is simulated and the spikes are fitted into
-  // the rest shape. Expectation: exit 5 (invalid geometry) naming the pose,
-  // as register-check's edge-ratio check would (its default limit 8).
+TEST_CASE("simulate-adapt rejects a hand-written pose set with a registration error", "[cli][hard][body]") {
+  // Found by the test above (issue 8): simulate-adapt trusted the manifest
+  // and fitted the spikes of thrown vertices into the rest shape. Expectation:
+  // exit 5 (invalid geometry) naming the pose, by register-check's edge-ratio
+  // test (its default limit 8) on the poses the motion uses.
   const hc::Scene& scene = hc::default_scene();
   const fs::path dir = gp::testing::fresh_temp_dir("hard_cli_thrown_gap");
   const fs::path manifest = write_thrown_pose_set(scene, dir);
@@ -317,12 +317,13 @@ TEST_CASE("simulate-adapt rejects a hand-written pose set with a registration er
   CHECK_FALSE(fs::exists(dir / "fit"));
 }
 
-TEST_CASE("simulate-adapt names the units of a pose set in centimetres", "[cli][hard][body][!mayfail]") {
-  // KNOWN GAP (reported in issue 8): a hand-written manifest without a units
-  // field over centimetre files loads as metres; the run then stops at the
-  // first step with exit 6 "vertex speed above 20 m/s" (the pins jump to
-  // the 100 times larger body), a numerical failure that does not say what
-  // is wrong. Expectation: exit 5 with a message about the units.
+TEST_CASE("simulate-adapt names the units of a pose set in centimetres", "[cli][hard][body]") {
+  // Found by this test (issue 8): a hand-written manifest without a units
+  // field over centimetre files loaded as metres and the run stopped at the
+  // first step with exit 6 "vertex speed above 20 m/s" (the pins jumped to
+  // the 100 times larger body), which does not say what is wrong.
+  // Expectation: exit 5 with a message about the units (load_pose_set
+  // refuses poses spanning more than 5 m).
   const hc::Scene& scene = hc::default_scene();
   const fs::path dir = gp::testing::fresh_temp_dir("hard_cli_cm_gap");
   fs::create_directories(dir / "cm");

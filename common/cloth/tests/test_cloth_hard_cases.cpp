@@ -193,17 +193,16 @@ TEST_CASE("sliver and needle rest triangles swing like well-shaped ones down to 
   CHECK_THROWS_AS(ClothSimulator(needle.V, needle.F), gp::GeometryError);
 }
 
-TEST_CASE("rest triangles twice the rejection threshold keep the motion accurate", "[cloth][hard][!mayfail]") {
-  // KNOWN BUG (reported in issue 8): the threshold 2A/L^2 >= 1e-8 of
-  // triangle_rest admits triangles whose membrane stiffness (~ k / q^2
-  // against a regular face) makes the implicit system too ill-conditioned for
-  // double precision: the reused-factor CG exhausts its 200 iterations every
-  // other step, the fresh-factor fallback is accepted with relative residuals
-  // of 1e-5 to 4e-3, and the motion drifts. Measured max vertex distance
-  // after 0.75 s against the q = 1e-3 sheet: q 1e-6 0.13 mm, 2e-7 0.95 mm,
-  // 1e-7 1.9 mm, 5e-8 5.3 mm, 3e-8 31 mm, 2e-8 338 mm.
-  // Expectation: q = 2e-8 (accepted by the model) moves within 5 mm of the
-  // well-shaped sheet, or is rejected with a GeometryError.
+TEST_CASE("slivers that once drifted are rejected; the sharpest accepted ones keep the motion accurate",
+          "[cloth][hard]") {
+  // Found by this test (issue 8): with the old threshold 2A/L^2 >= 1e-8 the
+  // membrane stiffness of a sliver (~ k / q^2 against a regular face) made
+  // the implicit system too ill-conditioned: the fresh-factor fallback was
+  // accepted with relative residuals of 1e-5 to 4e-3 and the motion drifted.
+  // Measured max vertex distance after 0.75 s against the q = 1e-3 sheet:
+  // q 1e-6 0.13 mm, 2e-7 0.95 mm, 1e-7 1.9 mm, 5e-8 5.3 mm, 3e-8 31 mm,
+  // 2e-8 338 mm. The threshold is now 1e-6. Expectation: q = 2e-8 is
+  // rejected with a GeometryError (or, were it accepted, moves within 5 mm).
   const int n = 12;
   const SwingResult reference = swing(sheet_with_degenerate_faces(1e-3), n, 300, 0.0025);
   const gp::Mesh m = sheet_with_degenerate_faces(2e-8);
@@ -219,6 +218,7 @@ TEST_CASE("rest triangles twice the rejection threshold keep the motion accurate
     INFO("q 2e-8: max distance to the well-shaped sheet " << distance << " m");
     CHECK(distance < 0.005);
   }
+  CHECK(rejected);
 }
 
 TEST_CASE("inverted triangles in the initial positions unfold or are counted as folds, never NaN",
