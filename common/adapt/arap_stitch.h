@@ -28,7 +28,11 @@
 namespace gp::adapt {
 
 struct ArapOptions {
-  double tolerance = 1e-6;   // relative: max edge-length change per iteration / mean target edge length
+  // Relative: max edge-length change per iteration / mean target edge length.
+  // 1e-5 (0.15 micrometres on a 1.5 cm edge) took 58 iterations per adaptation
+  // on the shared-body shirt moving T -> A against 266 at 1e-6, with the same
+  // stretch figures and rest-area growth within 0.4 %.
+  double tolerance = 1e-5;
   int max_iterations = 2000;
 };
 
