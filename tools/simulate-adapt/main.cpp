@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
                  "Clipped stretch is set to 1+delta-hysteresis (0: exactly the limit) [1]")
       ->capture_default_str()->check(CLI::Range(0.0, 1.0));
   app.add_option("--arap-tolerance", options.adaptation.arap.tolerance,
-                 "ARAP stitching tolerance: max displacement per iteration / mean edge [1]")
+                 "ARAP stitching tolerance: largest edge-length change per iteration / mean edge length [1]")
       ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--settle-speed", options.settle_speed, "Largest vertex speed of a settled cloth [m/s]")
       ->capture_default_str()->check(CLI::PositiveNumber);
@@ -158,6 +158,8 @@ int main(int argc, char** argv) {
                          {"contact_release_fraction", options.solver.contact_release_fraction},
                          {"solver", gp::cloth::solver_strategy_name(options.solver.strategy)},
                          {"cg_tolerance", options.solver.cg_tolerance},
+                         {"cg_max_iterations", options.solver.cg_max_iterations},
+                         {"fresh_factor_max_iterations", options.solver.fresh_factor_max_iterations},
                          {"factorization_cost", options.solver.factorization_cost},
                          {"warp_preconditioner", options.solver.warp_preconditioner},
                          {"threads", tool.common().threads},
