@@ -142,13 +142,15 @@ def tradeoff_section(lines, results, plot):
         lines += ["Not measured (see the notes).", ""]
         return
     any_s = next(p[1] for pts in curves.values() for p in pts if "failed" not in p[1])
+    d = results.get("tradeoff_defaults", {})
     lines += [
         f"{any_s['scene']}, {any_s['motion']}, " + (
             f"then settling at each key pose up to {any_s['cap']} steps (the cap the benchmark could afford, planned "
             "from the measured speed)" if any_s["cap"] > 0 else
             "no settling (settle cap 0: the time left after the rows above, planned from the measured speed, "
             "affords no settling steps for all these runs)") + "; one parameter varied at a time from the "
-        "defaults (dt 0.0025 s, adapt every 8 steps, CG tolerance 1e-8, ~1,100 vertices). Residual error over all "
+        f"stage's defaults (dt {d.get('dt', math.nan):g} s, adapt every {d.get('adapt_every', math.nan)} steps, CG "
+        f"tolerance {d.get('cg_tolerance', math.nan):g}, ~1,100 vertices). Residual error over all "
         "key poses after adaptation: the 99th-percentile and maximum principal stretch, the area fraction above "
         "1+delta (1.1) and the deepest penetration into the body; the time is the wall time of the whole run, a "
         "finished fit only where `settled` says yes.",

@@ -19,31 +19,31 @@ import bench_run
 MOTION_FRAMES = 30
 SETTLE_CAP_MAX = 1000  # simulate-adapt's own default
 TARGETS = (1100, 4000)
-# Trade-off points around the default (dt 0.0025 s, adapt every 8 steps, CG
-# tolerance 1e-8, ~1,100 vertices). Tier 1 is planned into the settle cap;
-# tier 2 runs only if time is left.
+# Trade-off points as multiples of the stage's defaults (read from its report,
+# so they follow changes of the defaults), and garment sizes. Tier 1 is
+# planned into the settle cap; tier 2 runs only if time is left.
 TRADEOFF_TIER1 = {
-    "dt": [0.00125, 0.005],
-    "adapt_every": [2, 32],
-    "cg_tolerance": [1e-4, 1e-6],
+    "dt": [0.25, 0.5],
+    "adapt_every": [0.25, 4],
+    "cg_tolerance": [1e4, 1e2],
     "vertices": [600, 2000],
 }
 TRADEOFF_TIER2 = {
-    "dt": [0.01],
-    "adapt_every": [4, 16],
-    "cg_tolerance": [1e-10],
+    "dt": [0.125, 2],
+    "adapt_every": [0.5, 2],
+    "cg_tolerance": [1e-2],
     "vertices": [4000],
 }
-DEFAULTS = {"dt": 0.0025, "adapt_every": 8, "cg_tolerance": 1e-8}
 OPTION = {"dt": "--dt", "adapt_every": "--adapt-every", "cg_tolerance": "--cg-tolerance"}
-# Relative cost of a step against the default, for planning only (the
+REPORT_OPTION = {"dt": "dt_s", "adapt_every": "adapt_every", "cg_tolerance": "cg_tolerance"}
+# Relative cost of a run against the default, for planning only (the
 # estimate is corrected by every finished run, and every run has a time limit).
-COST = {("adapt_every", 2): 1.6, ("adapt_every", 4): 1.2, ("dt", 0.00125): 1.1, ("cg_tolerance", 1e-10): 1.2}
+COST = {("adapt_every", 0.25): 1.6, ("adapt_every", 0.5): 1.2, ("dt", 0.125): 1.1, ("cg_tolerance", 1e-2): 1.2}
 NO_CULL_REACH = 10.0  # [m]: keeps every body face
 NO_CULL_COST = 2.0  # planning: a run without culling took about twice as long here
-# A settling step costs about this many motion steps (measured here: more
-# contacts and adaptations at rest); used for planning only.
-SETTLE_COST = 2.5
+# Settling steps of the calibration run that measures what a settling step
+# costs against a motion step (it varies with the solver: 3x to 0.5x here).
+CALIBRATION_CAP = 20
 # Time per step grows faster than the vertex count (measured here: 0.36 s per
 # step per 1,000 vertices at 1,100 and 0.49-0.56 at 4,000 on a loaded
 # machine); planning scales by (vertices / 1,000) ** SIZE_EXPONENT.
@@ -166,6 +166,8 @@ class SimBench:
         self.notes = notes
         self.step_cost = None  # wall seconds per step per 1,000 vertices at default settings
         self.overhead = 0.0
+        self.defaults = {}  # the stage's defaults of the varied options, from its report
+        self.settle_cost = 1.0  # cost of a settling step in motion steps, measured by calibrate()
         self.cap = 0
         self.measured = {}
         self.failed = {}
@@ -176,12 +178,12 @@ class SimBench:
                 "--garment", garment, "--settle-max-steps", str(cap), "--threads", "1", *extra]
 
     def predict(self, vertices, factor, cap):
-        steps = MOTION_FRAMES + SETTLE_COST * 2 * cap
+        steps = MOTION_FRAMES + self.settle_cost * 2 * cap
         return self.overhead + steps * self.step_cost * (vertices / 1000.0) ** SIZE_EXPONENT * factor
 
     def learn(self, m, factor):
         s = sim_summary(m)
-        weighted = s["steps"] - s["settle_steps"] + SETTLE_COST * s["settle_steps"]
+        weighted = s["steps"] - s["settle_steps"] + self.settle_cost * s["settle_steps"]
         per_step = s["run_s"] / max(1.0, weighted) / (s["vertices"] / 1000.0) ** SIZE_EXPONENT / factor
         self.overhead = max(0.0, m.median - s["run_s"])
         # The latest runs describe the machine's current load best; settling
@@ -198,26 +200,54 @@ class SimBench:
             return {} if self.quick else tier
         return {k: v[:1] for k, v in tier.items()} if self.quick else tier
 
+    def value(self, key, multiple):
+        v = self.defaults[key] * multiple
+        return max(1, round(v)) if key == "adapt_every" else float(f"{v:.6g}")
+
     def tradeoff_jobs(self, tier):
-        """(key, target vertices, extra options, cost factor) of a tier."""
+        """(run key, target vertices, extra options, cost factor, parameter, value) of a tier."""
         jobs = []
         for key, values in self.tier(tier).items():
-            for v in values:
+            for x in values:
                 if key == "vertices":
-                    jobs.append((f"sim-res-{v}", v, [], 1.0))
+                    jobs.append((f"sim-res-{x}", x, [], 1.0, key, x))
                 else:
-                    jobs.append((f"sim-{key}-{v}", TARGETS[0], [OPTION[key], repr(v)], COST.get((key, v), 1.0)))
+                    v = self.value(key, x)
+                    jobs.append((f"sim-{key}-{v}", TARGETS[0], [OPTION[key], str(v)], COST.get((key, x), 1.0), key, v))
         return jobs
+
+    def calibrate(self, reserve_s):
+        """Cost of a settling step against a motion step, from the base scene
+        at ~1,100 vertices run with CALIBRATION_CAP settling steps beside its
+        motion-only row."""
+        base = self.scenes[0]
+        motion = self.measured.get(self.breakdown_key(base, TARGETS[0]))
+        if motion is None:
+            return
+        garment, _count = base.garment(self.run, TARGETS[0])
+        try:
+            m = self.run.measure("sim-calibration", self.args(base, garment, CALIBRATION_CAP, []), repeats=1,
+                                 timeout_s=max(60.0, 10.0 * motion["median_s"]), collect=read_timing)
+        except bench_run.StageFailed as e:
+            self.run.say(f"sim-calibration: failed ({e.short}); settling steps costed as motion steps")
+            return
+        s = sim_summary(m)
+        motion_step = motion["run_s"] / max(1, motion["steps"])
+        extra_steps = s["steps"] - motion["steps"]
+        if extra_steps > 0:
+            ratio = (s["run_s"] - motion["run_s"]) / extra_steps / motion_step
+            self.settle_cost = min(5.0, max(0.3, ratio))
+        self.run.say(f"sim-calibration: a settling step costs {self.settle_cost:.2f} motion steps")
 
     def plan(self, budget_s):
         """Largest settle cap at which the culling and tier-1 trade-off runs fit budget_s."""
         base = self.scenes[0]
         # default settings; culling off; the same two with a fixed rest shape
         jobs = [(TARGETS[0], 1.0), (TARGETS[0], NO_CULL_COST), (TARGETS[0], 0.8), (TARGETS[0], NO_CULL_COST)]
-        jobs += [(target, factor) for _key, target, _extra, factor in self.tradeoff_jobs(TRADEOFF_TIER1)]
+        jobs += [(job[1], job[3]) for job in self.tradeoff_jobs(TRADEOFF_TIER1)]
         jobs = [(base.garment(self.run, t)[1], f) for t, f in jobs]
         fixed = sum(self.predict(v, f, 0) for v, f in jobs)
-        per_cap_step = sum(SETTLE_COST * 2 * self.step_cost * (v / 1000.0) ** SIZE_EXPONENT * f for v, f in jobs)
+        per_cap_step = sum(self.settle_cost * 2 * self.step_cost * (v / 1000.0) ** SIZE_EXPONENT * f for v, f in jobs)
         cap = int((budget_s - fixed) / per_cap_step) if per_cap_step > 0 else SETTLE_CAP_MAX
         self.cap = max(0, min(SETTLE_CAP_MAX, cap // 10 * 10))
         self.run.say(f"simulate-adapt plan: {len(jobs)} runs in {budget_s:.0f} s -> settle cap {self.cap} steps "
@@ -292,6 +322,12 @@ class SimBench:
             for target in self.targets():
                 self.sim(self.breakdown_key(scene, target), scene, target, [], 0, reserve_s=reserve_s,
                          repeats=self.run.repeats if target == TARGETS[0] else 1)
+        first = self.measured.get(self.breakdown_key(self.scenes[0], TARGETS[0]))
+        if first is None:
+            return self.collect()
+        options = first["measurement"].json("report.json")["options"]
+        self.defaults = {k: options[REPORT_OPTION[k]] for k in OPTION}
+        self.calibrate(reserve_s)
         self.plan(0.85 * (self.run.remaining() - reserve_s))
         base = self.scenes[0]
         same = self.measured.get(self.breakdown_key(base, TARGETS[0]))
@@ -307,7 +343,7 @@ class SimBench:
         self.sim("sim-noadapt-noculling", base, TARGETS[0], ["--no-adapt", "--reach", repr(NO_CULL_REACH)], self.cap,
                  NO_CULL_COST, reserve_s)
         for tier in (TRADEOFF_TIER1, TRADEOFF_TIER2):
-            for key, target, extra, factor in self.tradeoff_jobs(tier):
+            for key, target, extra, factor, _param, _value in self.tradeoff_jobs(tier):
                 self.sim(key, base, target, extra, self.cap, factor, reserve_s)
         # A reach between the default and the whole body tells a culling miss
         # (it would differ from the whole body) from rounding amplified by the
@@ -351,17 +387,20 @@ class SimBench:
             self.results["culling"] = culling
         curves = {}
         if base:
+            jobs = self.tradeoff_jobs(TRADEOFF_TIER1) + self.tradeoff_jobs(TRADEOFF_TIER2)
             for key in ("dt", "adapt_every", "cg_tolerance", "vertices"):
                 points = []
-                for v in TRADEOFF_TIER1[key] + TRADEOFF_TIER2[key]:
-                    name = f"sim-res-{v}" if key == "vertices" else f"sim-{key}-{v}"
+                for name, _target, _extra, _factor, param, v in jobs:
+                    if param != key:
+                        continue
                     s = self.measured.get(name)
                     if s:
                         points.append((s["vertices"] if key == "vertices" else v, s))
                     elif name in self.failed:
                         points.append((v, {"failed": self.failed[name]}))
-                points.append((base["vertices"] if key == "vertices" else DEFAULTS[key], base))
+                points.append((base["vertices"] if key == "vertices" else self.defaults[key], base))
                 curves[key] = sorted(points, key=lambda p: p[0])
+            self.results["tradeoff_defaults"] = dict(self.defaults)
         self.results["tradeoff"] = curves
 
 
