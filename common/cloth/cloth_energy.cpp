@@ -155,14 +155,10 @@ TriangleRest triangle_rest(const Eigen::Matrix3d& X_rest, const Eigen::Vector3d&
   if (!(d.norm() >= 0.1 * material_direction.norm())) d = e1;
   d.normalize();
   const Eigen::Vector3d v = n.cross(d);
-  Eigen::Matrix2d Dm;
-  Dm << e1.dot(d), e2.dot(d), e1.dot(v), e2.dot(v);
-  const Eigen::Matrix2d B = Dm.inverse();
-  TriangleRest rest;
-  rest.area = 0.5 * area2;
-  rest.a = Eigen::Vector3d(-B(0, 0) - B(1, 0), B(0, 0), B(1, 0));
-  rest.b = Eigen::Vector3d(-B(0, 1) - B(1, 1), B(0, 1), B(1, 1));
-  return rest;
+  // The triangle in its own (u, v) frame: a flat triangle with the warp along x.
+  Eigen::Matrix<double, 2, 3> P;
+  P << 0.0, e1.dot(d), e2.dot(d), 0.0, e1.dot(v), e2.dot(v);
+  return triangle_rest_flat(P);
 }
 
 TriangleRest triangle_rest_flat(const Eigen::Matrix<double, 2, 3>& P) {
