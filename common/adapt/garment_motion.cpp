@@ -209,6 +209,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
     if (options.adapt && result.steps % options.adapt_every == 0) adapt_now();
   };
 
+  result.times.setup = seconds_since(run_start);
   const double limit = 1.0 + options.adaptation.delta;
   const double step_time = options.dt;
   for (size_t i = 0; i < frames.size(); ++i) {

@@ -87,6 +87,7 @@ struct MotionRunTimes {               // wall seconds
   double collisions = 0.0;            // responses and tree rebuilds
   double adaptation = 0.0;
   double body = 0.0;                  // interpolation, normals, pin targets
+  double setup = 0.0;                 // before the first step: culling, collision tree, simulator, ARAP factor, initial distances
   double total = 0.0;
 };
 

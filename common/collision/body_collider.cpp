@@ -101,13 +101,20 @@ std::vector<int> reachable_body_faces(const Eigen::MatrixXd& V_body, const Eigen
   Tree tree(triangles.cbegin(), triangles.cend());
   std::vector<char> reached(F_body.rows(), 0);
   std::vector<Tree::Primitive_id> hits;
-  for (int v = 0; v < V_garment.rows(); ++v) {
+  // Stops once every face is reached: with a reach as large as the body each
+  // vertex's box lists every face, which took 3.5 s for a 1,084-vertex shirt.
+  Eigen::Index reached_count = 0;
+  for (int v = 0; v < V_garment.rows() && reached_count < F_body.rows(); ++v) {
     const Eigen::Vector3d p = V_garment.row(v);
     const CGAL::Bbox_3 box(p.x() - reach, p.y() - reach, p.z() - reach, p.x() + reach, p.y() + reach,
                            p.z() + reach);
     hits.clear();
     tree.all_intersected_primitives(box, std::back_inserter(hits));
-    for (const auto& id : hits) reached[id - triangles.cbegin()] = 1;
+    for (const auto& id : hits) {
+      char& r = reached[id - triangles.cbegin()];
+      reached_count += r == 0;
+      r = 1;
+    }
   }
   std::vector<int> ids;
   for (int f = 0; f < F_body.rows(); ++f) {

@@ -200,6 +200,7 @@ int main(int argc, char** argv) {
                              {"collisions", t.collisions * per_step},
                              {"adaptation", t.adaptation * per_step},
                              {"body", t.body * per_step}};
+    timing["setup_s"] = t.setup;
     timing["run_s"] = t.total;
     timing["total_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     gp::write_json_file(out.file("timing.json"), timing);
