@@ -1,5 +1,7 @@
 #include "testing/test_meshes.h"
 
+#include <algorithm>
+
 #include <cmath>
 #include <map>
 #include <vector>
@@ -133,6 +135,36 @@ Mesh make_grid(int nx, int nz, double sx, double sz) {
       F.push_back({id(i, j), id(i + 1, j + 1), id(i + 1, j)});
     }
   return from_lists(V, F);
+}
+
+SubMesh face_subset(const Mesh& m, const std::vector<int>& face_ids) {
+  SubMesh out;
+  std::vector<int> new_id(m.V.rows(), -1);
+  out.mesh.F.resize(static_cast<Eigen::Index>(face_ids.size()), 3);
+  for (size_t i = 0; i < face_ids.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const int v = m.F(face_ids[i], k);
+      if (new_id[v] < 0) {
+        new_id[v] = static_cast<int>(out.vertex_ids.size());
+        out.vertex_ids.push_back(v);
+      }
+      out.mesh.F(static_cast<Eigen::Index>(i), k) = new_id[v];
+    }
+  }
+  out.mesh.V.resize(static_cast<Eigen::Index>(out.vertex_ids.size()), 3);
+  for (size_t i = 0; i < out.vertex_ids.size(); ++i) out.mesh.V.row(static_cast<Eigen::Index>(i)) = m.V.row(out.vertex_ids[i]);
+  return out;
+}
+
+double max_edge_stretch(const Eigen::MatrixXd& X, const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F) {
+  double s = 0.0;
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(f, k), b = F(f, (k + 1) % 3);
+      s = std::max(s, (X.row(a) - X.row(b)).norm() / (V_rest.row(a) - V_rest.row(b)).norm());
+    }
+  }
+  return s;
 }
 
 }  // namespace gp::testing

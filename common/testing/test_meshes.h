@@ -2,6 +2,10 @@
 // Small procedural meshes for tests (named families, as in libigl's and pmp's
 // test helpers), each closed or open as its name says and consistently
 // oriented with normals pointing outward.
+#include <vector>
+
+#include <Eigen/Core>
+
 #include "io/mesh.h"
 
 namespace gp::testing {
@@ -23,5 +27,17 @@ Mesh make_open_cylinder(int nu, int nv, double radius = 1.0, double height = 2.0
 // A box-shaped grid patch in the xz-plane (open, one boundary loop),
 // (nx+1)*(nz+1) vertices, spanning [0,sx] x [0,sz].
 Mesh make_grid(int nx, int nz, double sx = 1.0, double sz = 1.0);
+
+// The faces `face_ids` of m (in that order) as a mesh of their own; its vertices
+// are m's in the order of first use, and vertex_ids maps them back to m.
+struct SubMesh {
+  Mesh mesh;
+  std::vector<int> vertex_ids;
+};
+SubMesh face_subset(const Mesh& m, const std::vector<int>& face_ids);
+
+// Largest edge length in X over the same edge's length in V_rest (faces F): a
+// tear shows as a value far above the material's stretch.
+double max_edge_stretch(const Eigen::MatrixXd& X, const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F);
 
 }  // namespace gp::testing

@@ -26,6 +26,7 @@
 #include "testing/test_meshes.h"
 
 using namespace gp::adapt;
+using gp::testing::max_edge_stretch;
 namespace hc = gp::hard_cases;
 
 namespace {
@@ -41,17 +42,6 @@ double face_quality(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int f) {
   return (b - a).cross(c - a).norm() / longest2;
 }
 
-// Largest edge length / rest edge length.
-double max_edge_stretch(const Eigen::MatrixXd& X, const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F) {
-  double s = 0.0;
-  for (int f = 0; f < F.rows(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int a = F(f, k), b = F(f, (k + 1) % 3);
-      s = std::max(s, (X.row(a) - X.row(b)).norm() / (V_rest.row(a) - V_rest.row(b)).norm());
-    }
-  }
-  return s;
-}
 
 // Everything a motion run needs, read back from a scene's files.
 struct Loaded {

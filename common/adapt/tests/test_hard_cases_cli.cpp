@@ -15,6 +15,7 @@
 #include "io/mesh_io.h"
 #include "spec/json_file.h"
 #include "testing/command.h"
+#include "testing/test_meshes.h"
 
 namespace fs = std::filesystem;
 namespace hc = gp::hard_cases;
@@ -39,14 +40,7 @@ double max_distance(const fs::path& a, const fs::path& b) {
 // Largest edge length of `draped` over its length in `rest` (same faces).
 double max_edge_stretch(const fs::path& draped, const fs::path& rest) {
   const gp::Mesh d = gp::read_mesh(draped).mesh, r = gp::read_mesh(rest).mesh;
-  double s = 0.0;
-  for (int f = 0; f < d.F.rows(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int a = d.F(f, k), b = d.F(f, (k + 1) % 3);
-      s = std::max(s, (d.V.row(a) - d.V.row(b)).norm() / (r.V.row(a) - r.V.row(b)).norm());
-    }
-  }
-  return s;
+  return gp::testing::max_edge_stretch(d.V, r.V, d.F);
 }
 
 // Every draped mesh of a finished run is finite and untorn (edges within

@@ -6,7 +6,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <sstream>
 
 #include "core/sha256.h"
@@ -56,30 +55,15 @@ void write_scene(const fs::path& dir, double start_distance = 0.01) {
   gp::write_json_file(dir / "motion.json", motion);
 
   // The cap: body faces above y = 0.1, pushed out to the offset.
-  std::map<int, int> new_id;
-  std::vector<int> old_id;
-  std::vector<Eigen::Vector3i> faces;
-  std::vector<int> body_face;
+  std::vector<int> cap_faces;
   for (int f = 0; f < body.F.rows(); ++f) {
     bool above = true;
     for (int k = 0; k < 3; ++k) above = above && body.V(body.F(f, k), 1) > 0.1;
-    if (!above) continue;
-    Eigen::Vector3i t;
-    for (int k = 0; k < 3; ++k) {
-      const int v = body.F(f, k);
-      if (!new_id.count(v)) {
-        new_id[v] = static_cast<int>(old_id.size());
-        old_id.push_back(v);
-      }
-      t(k) = new_id[v];
-    }
-    faces.push_back(t);
+    if (above) cap_faces.push_back(f);
   }
-  gp::Mesh cap;
-  cap.V.resize(old_id.size(), 3);
-  for (size_t i = 0; i < old_id.size(); ++i) cap.V.row(i) = body.V.row(old_id[i]) * ((r + start_distance) / r);
-  cap.F.resize(faces.size(), 3);
-  for (size_t f = 0; f < faces.size(); ++f) cap.F.row(f) = faces[f].transpose();
+  const gp::testing::SubMesh sub = gp::testing::face_subset(body, cap_faces);
+  gp::Mesh cap = sub.mesh;
+  cap.V *= (r + start_distance) / r;
   gp::write_mesh(dir / "garment.ply", cap);
 
   gp::GarmentFile g;
@@ -106,7 +90,7 @@ void write_scene(const fs::path& dir, double start_distance = 0.01) {
   const std::vector<std::vector<int>> incident = gp::vertex_faces(body.F, static_cast<int>(body.V.rows()));
   for (int v : loops[0]) {
     loop.vertex_ids.push_back(v);
-    const int b = old_id[static_cast<size_t>(v)];
+    const int b = sub.vertex_ids[static_cast<size_t>(v)];
     gp::SurfacePoint p;
     p.face = incident[static_cast<size_t>(b)][0];
     for (int k = 0; k < 3; ++k) p.bary(k) = body.F(p.face, k) == b ? 1.0 : 0.0;

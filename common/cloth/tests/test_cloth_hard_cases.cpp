@@ -21,6 +21,7 @@
 #include "testing/test_meshes.h"
 
 using namespace gp::cloth;
+using gp::testing::max_edge_stretch;
 
 namespace {
 
@@ -53,17 +54,6 @@ double min_quality(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
   return q;
 }
 
-// Largest edge length / rest edge length over the mesh.
-double max_edge_stretch(const Eigen::MatrixXd& X, const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F) {
-  double s = 0.0;
-  for (int f = 0; f < F.rows(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int a = F(f, k), b = F(f, (k + 1) % 3);
-      s = std::max(s, (X.row(a) - X.row(b)).norm() / (V_rest.row(a) - V_rest.row(b)).norm());
-    }
-  }
-  return s;
-}
 
 // A horizontal square sheet (side `size`, n by n cells, y = 0) whose
 // vertex (i+1, j) is moved towards the diagonal (i,j)-(i+1,j+1) of its cell

@@ -5,7 +5,6 @@
 #include <catch2/catch.hpp>
 
 #include <filesystem>
-#include <map>
 
 #include "core/sha256.h"
 #include "garment/garment_file.h"
@@ -50,28 +49,15 @@ CapScene write_cap_scene(const std::string& name) {
   write_pose_set_manifest(s.dir / "poses.json", manifest);
   s.poses = load_pose_set(s.dir / "poses.json");
 
-  std::map<int, int> new_id;
-  std::vector<int> old_id;
-  std::vector<Eigen::Vector3i> faces;
+  std::vector<int> cap_faces;
   for (int f = 0; f < body.F.rows(); ++f) {
     bool above = true;
     for (int k = 0; k < 3; ++k) above = above && body.V(body.F(f, k), 1) > 0.1;
-    if (!above) continue;
-    Eigen::Vector3i t;
-    for (int k = 0; k < 3; ++k) {
-      const int v = body.F(f, k);
-      if (!new_id.count(v)) {
-        new_id[v] = static_cast<int>(old_id.size());
-        old_id.push_back(v);
-      }
-      t(k) = new_id[v];
-    }
-    faces.push_back(t);
+    if (above) cap_faces.push_back(f);
   }
-  s.cap.V.resize(static_cast<int>(old_id.size()), 3);
-  for (size_t i = 0; i < old_id.size(); ++i) s.cap.V.row(static_cast<int>(i)) = body.V.row(old_id[i]) * ((r + offset) / r);
-  s.cap.F.resize(static_cast<int>(faces.size()), 3);
-  for (size_t f = 0; f < faces.size(); ++f) s.cap.F.row(static_cast<int>(f)) = faces[f].transpose();
+  const gp::testing::SubMesh sub = gp::testing::face_subset(body, cap_faces);
+  s.cap = sub.mesh;
+  s.cap.V *= (r + offset) / r;
   write_mesh(s.dir / "garment.ply", s.cap);
 
   GarmentFile& g = s.garment;
@@ -98,7 +84,7 @@ CapScene write_cap_scene(const std::string& name) {
   const std::vector<std::vector<int>> incident = vertex_faces(body.F, static_cast<int>(body.V.rows()));
   for (int v : loops[0]) {
     loop.vertex_ids.push_back(v);
-    const int b = old_id[static_cast<size_t>(v)];
+    const int b = sub.vertex_ids[static_cast<size_t>(v)];
     SurfacePoint p;
     p.face = incident[static_cast<size_t>(b)][0];
     for (int k = 0; k < 3; ++k) p.bary(k) = body.F(p.face, k) == b ? 1.0 : 0.0;
