@@ -6,6 +6,8 @@
 #include <map>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 namespace gp::testing {
 namespace {
 
@@ -165,6 +167,32 @@ double max_edge_stretch(const Eigen::MatrixXd& X, const Eigen::MatrixXd& V_rest,
     }
   }
   return s;
+}
+
+std::vector<int> ring_vertex_ids(const Eigen::MatrixXd& V, const Eigen::Vector3d& center, const Eigen::Vector3d& normal,
+                                 double reach, int count) {
+  const Eigen::Vector3d n = normal.normalized();
+  const Eigen::Vector3d u = n.unitOrthogonal(), w = n.cross(u);
+  std::vector<int> ids;
+  for (int j = 0; j < count; ++j) {
+    const double phi = 2.0 * M_PI * j / count;
+    const Eigen::Vector3d dir = std::cos(phi) * u + std::sin(phi) * w;
+    int best = -1;
+    double best_score = 1e300;
+    for (Eigen::Index v = 0; v < V.rows(); ++v) {
+      const Eigen::Vector3d d = V.row(v).transpose() - center;
+      const double h = d.dot(n);
+      const Eigen::Vector3d radial = d - h * n;
+      if (radial.norm() > reach || radial.norm() < 1e-9) continue;
+      const double score = std::abs(h) + 0.05 * (radial.normalized() - dir).norm();
+      if (score < best_score) {
+        best_score = score;
+        best = static_cast<int>(v);
+      }
+    }
+    ids.push_back(best);
+  }
+  return ids;
 }
 
 }  // namespace gp::testing

@@ -40,4 +40,11 @@ SubMesh face_subset(const Mesh& m, const std::vector<int>& face_ids);
 // tear shows as a value far above the material's stretch.
 double max_edge_stretch(const Eigen::MatrixXd& X, const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F);
 
+// `count` vertex ids of V around a ring: the plane through `center` with
+// normal `normal`, taking at each of `count` evenly spaced angles the vertex
+// nearest the plane in that direction within `reach` [m] of the centre (for
+// garment loop points clicked on a generated body). -1 where none is in reach.
+std::vector<int> ring_vertex_ids(const Eigen::MatrixXd& V, const Eigen::Vector3d& center, const Eigen::Vector3d& normal,
+                                 double reach, int count = 8);
+
 }  // namespace gp::testing

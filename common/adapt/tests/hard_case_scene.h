@@ -20,6 +20,7 @@
 #include "spec/json_file.h"
 #include "testing/command.h"
 #include "testing/files.h"
+#include "testing/test_meshes.h"
 
 namespace gp::hard_cases {
 
@@ -44,27 +45,7 @@ inline Json ring_vertex_ids(const Eigen::MatrixXd& V, const Json& report, const 
                                               g["plane_normal"][2].get<double>())
                                   .normalized();
     const double reach = 1.5 * g["target_m"].get<double>() / (2.0 * M_PI);
-    const Eigen::Vector3d u = n.unitOrthogonal(), w = n.cross(u);
-    Json ids = Json::array();
-    for (int j = 0; j < 8; ++j) {
-      const double phi = 2.0 * M_PI * j / 8.0;
-      const Eigen::Vector3d dir = std::cos(phi) * u + std::sin(phi) * w;
-      int best = -1;
-      double best_score = 1e300;
-      for (Eigen::Index v = 0; v < V.rows(); ++v) {
-        const Eigen::Vector3d d = V.row(v).transpose() - c;
-        const double h = d.dot(n);
-        const Eigen::Vector3d radial = d - h * n;
-        if (radial.norm() > reach || radial.norm() < 1e-9) continue;
-        const double score = std::abs(h) + 0.05 * (radial.normalized() - dir).norm();
-        if (score < best_score) {
-          best_score = score;
-          best = static_cast<int>(v);
-        }
-      }
-      ids.push_back(best);
-    }
-    return ids;
+    return Json(gp::testing::ring_vertex_ids(V, c, n, reach));
   }
   return Json::array();
 }

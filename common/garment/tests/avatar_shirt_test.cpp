@@ -8,6 +8,7 @@
 #include "avatar/make_avatar.h"
 #include "garment/make_garment.h"
 #include "mesh/topology.h"
+#include "testing/test_meshes.h"
 
 using gp::Json;
 
@@ -16,29 +17,7 @@ namespace {
 // Eight body vertices around the slice of `landmark` (plane through its
 // center with its normal), chosen by angle around the center.
 Json ring_vertices(const Eigen::MatrixXd& V, const gp::GirthResult& g) {
-  const Eigen::Vector3d n = g.normal.normalized();
-  const Eigen::Vector3d u = n.unitOrthogonal(), w = n.cross(u);
-  const double reach = 1.5 * g.target / (2 * M_PI);
-  Json ids = Json::array();
-  for (int j = 0; j < 8; ++j) {
-    const double phi = 2 * M_PI * j / 8;
-    const Eigen::Vector3d dir = std::cos(phi) * u + std::sin(phi) * w;
-    int best = -1;
-    double best_score = 1e300;
-    for (Eigen::Index v = 0; v < V.rows(); ++v) {
-      const Eigen::Vector3d d = V.row(v).transpose() - g.center;
-      const double h = d.dot(n);
-      const Eigen::Vector3d radial = d - h * n;
-      if (radial.norm() > reach || radial.norm() < 1e-9) continue;
-      const double score = std::abs(h) + 0.05 * (radial.normalized() - dir).norm();
-      if (score < best_score) {
-        best_score = score;
-        best = static_cast<int>(v);
-      }
-    }
-    ids.push_back(best);
-  }
-  return ids;
+  return Json(gp::testing::ring_vertex_ids(V, g.center, g.normal, 1.5 * g.target / (2 * M_PI)));
 }
 
 const gp::GirthResult& girth(const gp::AvatarResult& a, const std::string& name) {
