@@ -153,7 +153,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
     sim.set_contact_handler([&collider, &offsets, band](const Eigen::MatrixXd& X, double h,
                                                         std::vector<cloth::VelocityConstraint>& out) {
       for (const collision::Contact& c : collider.contacts(X, offsets, band)) {
-        const double vertex_offset = offsets(c.vertex);
+        const double vertex_offset = c.offset;
         cloth::VelocityConstraint k;
         k.vertex = c.vertex;
         k.normal = c.outward;

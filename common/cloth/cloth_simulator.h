@@ -106,7 +106,9 @@ struct SolverCounters {
 
 // Called after each (sub)step with the new positions and velocities of all
 // vertices (#V by 3); it may move vertices and change velocities (body
-// collisions). Pinned vertices are restored afterwards.
+// collisions). A free vertex it moves then gets the velocity of its actual
+// displacement over the step (position-based velocity update). Pinned vertices
+// are restored afterwards.
 using CollisionHandler = std::function<void(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel)>;
 
 // A velocity-level contact constraint inside the implicit solve (Baraff & Witkin

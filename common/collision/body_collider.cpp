@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <iterator>
+#include <limits>
 #include <list>
 #include <string>
 
@@ -78,6 +79,30 @@ Eigen::Vector3d barycentric(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
   return Eigen::Vector3d(1.0 - v - w, v, w);
 }
 
+// Distance along the ray o + t d (d unit) to triangle (a, b, c), or infinity
+// (Moeller & Trumbore 1997, "Fast, minimum storage ray-triangle intersection").
+double ray_triangle_distance(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& a,
+                             const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d e1 = b - a, e2 = c - a, h = d.cross(e2);
+  const double det = e1.dot(h);
+  const double scale = e1.norm() * e2.norm();
+  if (!(std::abs(det) > 1e-14 * scale)) return std::numeric_limits<double>::infinity();
+  const Eigen::Vector3d s = o - a;
+  const double u = s.dot(h) / det;
+  const Eigen::Vector3d q = s.cross(e1);
+  const double v = d.dot(q) / det;
+  const double t = e2.dot(q) / det;
+  if (u < 0.0 || v < 0.0 || u + v > 1.0 || t < 0.0) return std::numeric_limits<double>::infinity();
+  return t;
+}
+
+// Start of a gap ray above the surface [m], so that the faces around the closest
+// point are not hit at distance zero.
+constexpr double kGapRayLift = 1e-6;
+// A cached gap stays valid while the closest point moves less than this [m] on
+// an unchanged body and face.
+constexpr double kGapReuseDistance = 1e-3;
+
 struct VertexCache {
   Eigen::Vector3d x = Eigen::Vector3d::Zero();
   double distance = 0.0;  // unsigned distance at the last query
@@ -85,6 +110,11 @@ struct VertexCache {
   int face = -1;
   bool valid = false;
   bool outside = false;
+  // Gap in front of the closest point (see BodyCollider::gap), for reuse.
+  int gap_face = -1;
+  long gap_version = -1;
+  Eigen::Vector3d gap_point = Eigen::Vector3d::Zero();
+  double gap = 0.0;
 };
 
 }  // namespace
@@ -139,6 +169,7 @@ struct BodyCollider::Impl {
   std::vector<Triangle> triangles;
   Tree tree;
   bool built = false;
+  long version = 0;     // body frames set so far
   double travel = 0.0;  // accumulated largest body vertex motion between frames
 
   std::vector<VertexCache> cache;
@@ -221,6 +252,39 @@ struct BodyCollider::Impl {
     return out;
   }
 
+  double gap(const Proximity& q) const {
+    if (!built) throw UsageError("BodyCollider::gap before set_body");
+    const Eigen::Vector3d origin = q.closest + kGapRayLift * q.outward;
+    const int skip_local = q.face >= 0 ? local_of_face[q.face] : -1;
+    const Kernel::Ray_3 ray(to_point(origin), Kernel::Vector_3(q.outward.x(), q.outward.y(), q.outward.z()));
+    const auto hit = tree.first_intersected_primitive(
+        ray, [&](const TriangleIterator& id) { return id - triangles.cbegin() == skip_local; });
+    if (!hit) return std::numeric_limits<double>::infinity();
+    const int f = faces[*hit - triangles.cbegin()];
+    return kGapRayLift + ray_triangle_distance(origin, q.outward, corner(f, 0), corner(f, 1), corner(f, 2));
+  }
+
+  // The offset vertex i may use at its closest point q: `offset`, at most half
+  // the gap in front of q. Rays are cast only where the offset could reach the
+  // other side (that is, for every contact), and reused while the body, the
+  // face and (within kGapReuseDistance) the closest point stay the same.
+  double usable_offset(int i, const Proximity& q, double offset) {
+    if (!(offset > 0.0)) return offset;
+    VertexCache& c = cache[i];
+    if (!(c.gap_version == version && c.gap_face == q.face && (c.gap_point - q.closest).norm() < kGapReuseDistance)) {
+      c.gap = gap(q);
+      c.gap_version = version;
+      c.gap_face = q.face;
+      c.gap_point = q.closest;
+      ++stats.gap_rays;
+    }
+    if (0.5 * c.gap < offset) {
+      ++stats.pinched;
+      return 0.5 * c.gap;
+    }
+    return offset;
+  }
+
   Eigen::Vector3d body_velocity_at(const Proximity& q) const {
     Eigen::Vector3d v_body = Eigen::Vector3d::Zero();
     if (!has_velocity) return v_body;
@@ -265,8 +329,11 @@ struct BodyCollider::Impl {
       if (!found) continue;
       const Proximity& q = *found;
       if (!(q.signed_distance < reach)) continue;
+      const double usable = usable_offset(i, q, offsets ? offsets[i] : offset);
+      if (!(q.signed_distance < usable + band)) continue;
       Contact k;
       k.vertex = i;
+      k.offset = usable;
       k.signed_distance = q.signed_distance;
       k.outward = q.outward;
       k.body_normal_speed = body_velocity_at(q).dot(q.outward);
@@ -291,7 +358,9 @@ struct BodyCollider::Impl {
       const Proximity& q = *found;
       if (!(q.signed_distance < off)) continue;
       if (q.signed_distance < 0.0) stats.deepest_penetration = std::max(stats.deepest_penetration, -q.signed_distance);
-      const Eigen::Vector3d x_new = q.closest + off * q.outward;
+      const double usable = usable_offset(i, q, off);
+      if (!(q.signed_distance < usable)) continue;
+      const Eigen::Vector3d x_new = q.closest + usable * q.outward;
       X.row(i) = x_new.transpose();
       const Eigen::Vector3d v_body = body_velocity_at(q);
       const Eigen::Vector3d v = Vel.row(i).transpose();
@@ -299,8 +368,8 @@ struct BodyCollider::Impl {
       if (vn < 0.0) Vel.row(i) = (v - vn * q.outward).transpose();
       VertexCache& c = cache[i];
       c.x = x_new;
-      c.distance = off;
-      c.outside = off > 0.0;
+      c.distance = std::abs(usable);
+      c.outside = usable > 0.0;
       ++stats.projected;
     }
     stats.query_seconds += seconds_since(t0);
@@ -395,12 +464,15 @@ void BodyCollider::set_body(const Eigen::MatrixXd& V_body, const Eigen::MatrixXd
   s.tree.rebuild(s.triangles.cbegin(), s.triangles.cend());
   s.tree.do_not_accelerate_distance_queries();
   s.built = true;
+  ++s.version;
   s.stats.rebuild_seconds += seconds_since(t0);
 }
 
 Proximity BodyCollider::query(const Eigen::Vector3d& p, int hint_face) const {
   return impl_->query(p, hint_face);
 }
+
+double BodyCollider::gap(const Proximity& q) const { return impl_->gap(q); }
 
 void BodyCollider::resolve(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, double offset) {
   if (!(offset >= 0.0)) throw UsageError("comfort offset must be non-negative");

@@ -210,3 +210,46 @@ TEST_CASE("contacts lists vertices within offset plus band with normals and body
   CHECK(c[3].body_normal_speed == Approx(0.0).margin(1e-12));
   CHECK_THROWS_AS(collider.contacts(X, -0.01, 0.0), gp::UsageError);
 }
+
+TEST_CASE("in a pinch narrower than twice the offset, vertices go to the middle of the gap", "[collision]") {
+  // Two unit cubes 2 cm apart (an arm against the torso): faces at x = -0.01
+  // and x = +0.01. With a 1.5 cm offset the two offset shells overlap.
+  const gp::Mesh cube = make_cube(0.5);
+  gp::Mesh body;
+  body.V.resize(16, 3);
+  body.V << cube.V.rowwise() - Eigen::RowVector3d(0.51, 0.0, 0.0), cube.V.rowwise() + Eigen::RowVector3d(0.51, 0.0, 0.0);
+  body.F.resize(24, 3);
+  body.F << cube.F, cube.F.array() + 8;
+  BodyCollider collider(body.F);
+  collider.set_body(body.V);
+
+  const Proximity q = collider.query(Eigen::Vector3d(0.004, 0.1, 0.0));
+  CHECK(q.signed_distance == Approx(0.006).margin(1e-12));
+  CHECK(q.outward.isApprox(-Eigen::Vector3d::UnitX(), 1e-12));
+  CHECK(collider.gap(q) == Approx(0.02).margin(1e-9));
+  // Facing open space, the ray leaves the body.
+  CHECK(std::isinf(collider.gap(collider.query(Eigen::Vector3d(0.0, 0.6, 0.0)))));
+
+  Eigen::MatrixXd X(3, 3), Vel = Eigen::MatrixXd::Zero(3, 3);
+  X << 0.004, 0.1, 0.0,   // in the gap, 6 mm from the right cube
+      -0.008, -0.2, 0.1,  // in the gap, 2 mm from the left cube
+      0.7, 0.505, 0.0;    // above the right cube's top: open space, the full offset
+  collider.resolve(X, Vel, 0.015);
+  // Both gap vertices end in the middle (1 cm from either face), not 1.5 cm
+  // from one face and so 5 mm from the other.
+  CHECK(X(0, 0) == Approx(0.0).margin(1e-9));
+  CHECK(X(1, 0) == Approx(0.0).margin(1e-9));
+  CHECK(X(2, 1) == Approx(0.515).margin(1e-12));
+  CHECK(collider.stats().pinched == 2);
+  // A second call finds them at the middle already: nothing moves.
+  const Eigen::MatrixXd X_again = X;
+  collider.resolve(X, Vel, 0.015);
+  CHECK(X.isApprox(X_again, 1e-12));
+
+  // Contacts report the offset they used.
+  const std::vector<Contact> c = collider.contacts(X, 0.015, 0.001);
+  REQUIRE(c.size() == 3);
+  CHECK(c[0].offset == Approx(0.01).margin(1e-9));
+  CHECK(c[1].offset == Approx(0.01).margin(1e-9));
+  CHECK(c[2].offset == 0.015);
+}
