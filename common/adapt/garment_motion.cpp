@@ -330,6 +330,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   result.accepted_folds = sim.counters().accepted_flips;
   result.contact_constraints = sim.counters().constraints;
   result.contact_releases = sim.counters().released;
+  result.pinched_contacts = collider.stats().pinched;
   result.times.total = seconds_since(run_start);
   return result;
 }

@@ -109,6 +109,7 @@ struct MotionRunResult {
   long accepted_folds = 0;            // triangles turned over in the smallest substep (contact folds)
   long contact_constraints = 0;       // velocity constraints applied, summed over (sub)steps
   long contact_releases = 0;          // of which released because the body pulled
+  long pinched_contacts = 0;          // contacts and projections whose offset was cut to half the gap (pinches)
   MotionRunTimes times;
 };
 

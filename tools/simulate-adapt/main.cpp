@@ -177,6 +177,7 @@ int main(int argc, char** argv) {
                      {"accepted_folds", result.accepted_folds},
                      {"contact_constraints", result.contact_constraints},
                      {"contact_releases", result.contact_releases},
+                     {"pinched_contacts", result.pinched_contacts},
                      {"initial_min_distance_m", result.initial_min_distance},
                      {"factorizations", result.factorizations},
                      {"cg_iterations", result.cg_iterations},
