@@ -262,11 +262,14 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
       return change;
     };
     while (key.settle_steps < options.settle_max_steps) {
-      for (int s = 0; s < check_every && key.settle_steps < options.settle_max_steps; ++s, ++key.settle_steps) {
+      const Eigen::MatrixXd X_check = sim.positions();
+      int window = 0;
+      for (; window < check_every && key.settle_steps < options.settle_max_steps; ++window, ++key.settle_steps) {
         step(targets);
       }
+      key.max_net_speed = (sim.positions() - X_check).rowwise().norm().maxCoeff() / (window * step_time);
       const double stretch = principal_stretches(V_rest, sim.positions(), F_garment).col(0).maxCoeff();
-      const bool slow = sim.max_speed() < options.settle_speed;
+      const bool slow = key.max_net_speed < options.settle_speed;
       const bool steady = std::abs(stretch - previous_stretch) < options.settle_stretch_change;
       const double previous_stretch_at_check = previous_stretch;
       previous_stretch = stretch;
@@ -275,12 +278,13 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
       const bool fixed = !options.adapt || (key.settle_steps >= options.fixed_point_steps &&
                                             key.rest_area_change < options.fixed_point_area_change);
       if (progress && key.settle_steps % 200 == 0) {
-        char line[200];
+        char line[256];
         std::snprintf(line, sizeof(line),
-                      "settling %s: %d steps, max speed %.4f m/s, max stretch %.4f (change %.4f), rest area "
-                      "change %.3f%% over the last %d steps",
+                      "settling %s: %d steps, max speed %.4f m/s (net %.4f), max stretch %.4f (change %.4f), "
+                      "rest area change %.3f%% over the last %d steps",
                       motion.keys[static_cast<size_t>(frame.key)].pose.c_str(), key.settle_steps, sim.max_speed(),
-                      stretch, std::abs(stretch - previous_stretch_at_check), 100.0 * key.rest_area_change,
+                      key.max_net_speed, stretch, std::abs(stretch - previous_stretch_at_check),
+                      100.0 * key.rest_area_change,
                       std::min(key.settle_steps, options.fixed_point_steps));
         progress(line);
       }
@@ -290,6 +294,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
       }
     }
     if (options.settle_max_steps == 0) key.settled = sim.max_speed() < options.settle_speed;
+    key.max_speed = sim.max_speed();
     if (options.adapt) adapt_now();  // and at the end of each pose
     result.all_settled = result.all_settled && key.settled;
 

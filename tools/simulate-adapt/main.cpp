@@ -48,7 +48,8 @@ int main(int argc, char** argv) {
   app.add_option("--arap-tolerance", options.adaptation.arap.tolerance,
                  "ARAP stitching tolerance: largest edge-length change per iteration / mean edge length [1]")
       ->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--settle-speed", options.settle_speed, "Largest vertex speed of a settled cloth [m/s]")
+  app.add_option("--settle-speed", options.settle_speed,
+                 "Largest net vertex speed of a settled cloth, over each settle check of --adapt-every steps [m/s]")
       ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--settle-stretch-change", options.settle_stretch_change,
                  "Largest change of the max stretch between settle checks [1]")
@@ -131,7 +132,9 @@ int main(int argc, char** argv) {
                       {"rest_area_change_last_window", k.rest_area_change},
                       {"steps", k.steps},
                       {"settle_steps", k.settle_steps},
-                      {"settled", k.settled}});
+                      {"settled", k.settled},
+                      {"max_speed_m_per_s", k.max_speed},
+                      {"max_net_speed_m_per_s", k.max_net_speed}});
     }
     gp::OrderedJson report;
     report["schema"] = gp::schema_tag("simulate-adapt-report", 1);

@@ -133,6 +133,10 @@ TEST_CASE("simulate-adapt grows the rest shape where the body stretches the clot
     CHECK(k["settled"] == true);
     CHECK(k["settle_steps"].get<int>() >= 100);
     CHECK(k["rest_area_change_last_window"].get<double>() < 1e-3);
+    // Settled also means no vertex moved on at more than --settle-speed
+    // (default 0.05 m/s) over the last check.
+    CHECK(k["max_net_speed_m_per_s"].get<double>() < 0.05);
+    CHECK(k["max_speed_m_per_s"].get<double>() >= 0.0);
   }
   CHECK(report["run"]["arap_converged"] == true);
   CHECK(fs::exists(dir / "adapted" / "rest.ply"));

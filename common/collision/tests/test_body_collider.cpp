@@ -217,7 +217,8 @@ TEST_CASE("in a pinch narrower than twice the offset, vertices go to the middle 
   const gp::Mesh cube = make_cube(0.5);
   gp::Mesh body;
   body.V.resize(16, 3);
-  body.V << cube.V.rowwise() - Eigen::RowVector3d(0.51, 0.0, 0.0), cube.V.rowwise() + Eigen::RowVector3d(0.51, 0.0, 0.0);
+  body.V << cube.V.rowwise() - Eigen::RowVector3d(0.51, 0.0, 0.0),
+      cube.V.rowwise() + Eigen::RowVector3d(0.51, 0.0, 0.0);
   body.F.resize(24, 3);
   body.F << cube.F, cube.F.array() + 8;
   BodyCollider collider(body.F);
