@@ -49,6 +49,14 @@ struct ClothSimulator::Impl {
 
   Eigen::SparseMatrix<double> A;  // lower triangle over the free dofs
   Eigen::SparseMatrix<double> A_factored;  // A with the constraint stiffening (see factorize)
+  // Membrane-pattern preconditioner (options.membrane_pattern_preconditioner):
+  // for every entry of A its position in P, or -1 when dropped; for dropped
+  // entries the positions of their row's and column's diagonals in P.
+  Eigen::SparseMatrix<double> P;
+  std::vector<int> p_position, p_diagonal_row, p_diagonal_col;
+  // Whether the factor is of P (cleared for good when a fresh P factor fails
+  // to bring CG to the tolerance: the dropped couplings were not small).
+  bool membrane_active = true;
   std::vector<int> triangle_positions;  // 54 per face: value index or -1
   std::vector<int> mass_positions;      // 3 per free vertex
   struct BendEntry {
@@ -91,6 +99,13 @@ struct ClothSimulator::Impl {
   Eigen::VectorXd b, sol, r, z, p, Ap;
   Eigen::MatrixXd rhs_buffer, sol_buffer;
   std::string last_failure;
+
+  // Position of (row, col) (lower triangle, present) in A_factored's values.
+  int factored_position(int row, int col) const {
+    const int* inner = A_factored.innerIndexPtr();
+    const int begin = A_factored.outerIndexPtr()[col], end = A_factored.outerIndexPtr()[col + 1];
+    return static_cast<int>(std::lower_bound(inner + begin, inner + end, row) - inner);
+  }
 
   int value_position(int row, int col) const {
     const int* inner = A.innerIndexPtr();
@@ -136,6 +151,7 @@ struct ClothSimulator::Impl {
     A.resize(n, n);
     A.setFromTriplets(triplets.begin(), triplets.end());
     A.makeCompressed();
+    build_membrane_pattern(n);
 
     triangle_positions.assign(F.rows() * 54, -1);
     for (int f = 0; f < F.rows(); ++f) {
@@ -182,6 +198,56 @@ struct ClothSimulator::Impl {
     constant_h = -1.0;
     factor_valid = false;
     refresh_needed = true;
+  }
+
+  // P: A's pattern restricted to vertex pairs that share a face (the membrane's
+  // one-ring), and the maps from A's entries into it.
+  void build_membrane_pattern(int n) {
+    std::vector<std::vector<int>> ring(n_free);
+    for (int f = 0; f < F.rows(); ++f) {
+      for (int li = 0; li < 3; ++li) {
+        for (int lj = 0; lj < 3; ++lj) {
+          const int fi = free_id(F(f, li)), fj = free_id(F(f, lj));
+          if (fi >= 0 && fj >= 0) ring[fi].push_back(fj);
+        }
+      }
+    }
+    for (auto& neighbours : ring) {
+      std::sort(neighbours.begin(), neighbours.end());
+      neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
+    }
+    auto shares_face = [&ring](int fi, int fj) { return std::binary_search(ring[fi].begin(), ring[fi].end(), fj); };
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(A.nonZeros());
+    for (int col = 0; col < n; ++col) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(A, col); it; ++it) {
+        const int row = static_cast<int>(it.row());
+        if (row == col || shares_face(row / 3, col / 3)) triplets.emplace_back(row, col, 0.0);
+      }
+    }
+    P.resize(n, n);
+    P.setFromTriplets(triplets.begin(), triplets.end());
+    P.makeCompressed();
+    auto p_index = [this](int row, int col) {
+      const int* inner = P.innerIndexPtr();
+      const int begin = P.outerIndexPtr()[col], end = P.outerIndexPtr()[col + 1];
+      const int* it = std::lower_bound(inner + begin, inner + end, row);
+      return (it != inner + end && *it == row) ? static_cast<int>(it - inner) : -1;
+    };
+    p_position.assign(A.nonZeros(), -1);
+    p_diagonal_row.assign(A.nonZeros(), -1);
+    p_diagonal_col.assign(A.nonZeros(), -1);
+    for (int col = 0; col < n; ++col) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(A, col); it; ++it) {
+        const int q = static_cast<int>(&it.value() - A.valuePtr());
+        const int row = static_cast<int>(it.row());
+        p_position[q] = p_index(row, col);
+        if (p_position[q] < 0) {
+          p_diagonal_row[q] = p_index(row, row);
+          p_diagonal_col[q] = p_index(col, col);
+        }
+      }
+    }
   }
 
   // Mass and bending part of the system matrix for step size h (constant while
@@ -311,19 +377,37 @@ struct ClothSimulator::Impl {
   // so the factor stays an accurate preconditioner for the filtered CG.
   void factorize() {
     const auto t0 = Clock::now();
-    if (constraints.empty()) {
+    const bool membrane = membrane_active;
+    if (constraints.empty() && !membrane) {
       solver.factorize(A);
     } else {
-      A_factored = A;
+      if (membrane) {
+        // Dropped entries go to both diagonals by magnitude: P - A is then
+        // diagonally dominant, so P >= A > 0.
+        P.coeffs().setZero();
+        double* pv = P.valuePtr();
+        const double* av = A.valuePtr();
+        for (Eigen::Index q = 0; q < A.nonZeros(); ++q) {
+          if (p_position[q] >= 0) {
+            pv[p_position[q]] += av[q];
+          } else {
+            pv[p_diagonal_row[q]] += std::abs(av[q]);
+            pv[p_diagonal_col[q]] += std::abs(av[q]);
+          }
+        }
+        A_factored = P;
+      } else {
+        A_factored = A;
+      }
       double* vals = A_factored.valuePtr();
       for (size_t k = 0; k < constraints.size(); ++k) {
         const int fi = constraint_free[k];
         const Eigen::Vector3d& n = constraints[k].normal;
         double diagonal = 0.0;
-        for (int a = 0; a < 3; ++a) diagonal += vals[value_position(3 * fi + a, 3 * fi + a)];
+        for (int a = 0; a < 3; ++a) diagonal += vals[factored_position(3 * fi + a, 3 * fi + a)];
         const double kappa = options.constraint_preconditioner_stiffness * diagonal / 3.0;
         for (int a = 0; a < 3; ++a) {
-          for (int c = 0; c <= a; ++c) vals[value_position(3 * fi + a, 3 * fi + c)] += kappa * n(a) * n(c);
+          for (int c = 0; c <= a; ++c) vals[factored_position(3 * fi + a, 3 * fi + c)] += kappa * n(a) * n(c);
         }
       }
       solver.factorize(A_factored);
@@ -487,10 +571,10 @@ struct ClothSimulator::Impl {
     return res.norm() / b_norm;
   }
 
-  // A direct solve with the current factor; with constraints, CG with that
-  // (fresh) factor as preconditioner, which the filter requires.
+  // A direct solve with the current factor; with constraints or a membrane-pattern
+  // factor, CG with that (fresh) factor as preconditioner.
   void direct_solve(bool& converged) {
-    if (constraints.empty()) {
+    if (constraints.empty() && !membrane_active) {
       apply_factor(b, sol);
       counters.last_residual = relative_residual();
       converged = true;
@@ -499,6 +583,25 @@ struct ClothSimulator::Impl {
     auto by_factor = [this](const Eigen::VectorXd& in, Eigen::VectorXd& out) { apply_factor(in, out); };
     const int it = pcg(by_factor, options.fresh_factor_max_iterations, converged);
     counters.cg_iterations += it;
+  }
+
+  // Factorizes the current matrix and solves with it. A membrane-pattern factor
+  // that leaves CG short of the tolerance (measured: the bending stencils of
+  // near-degenerate rest triangles, whose couplings are far from small) is
+  // given up for the whole matrix, for the rest of the run.
+  void solve_with_fresh_factor(bool& converged) {
+    factorize();
+    warp_active = false;
+    auto t0 = Clock::now();
+    direct_solve(converged);
+    times.solve += seconds_since(t0);
+    if (converged || !membrane_active) return;
+    membrane_active = false;
+    ++counters.membrane_fallbacks;
+    factorize();
+    t0 = Clock::now();
+    direct_solve(converged);
+    times.solve += seconds_since(t0);
   }
 
   void solve_system() {
@@ -510,10 +613,7 @@ struct ClothSimulator::Impl {
     bool converged = false;
     switch (options.strategy) {
       case SolverStrategy::refactor_every_step: {
-        factorize();
-        const auto t0 = Clock::now();
-        direct_solve(converged);
-        times.solve += seconds_since(t0);
+        solve_with_fresh_factor(converged);
         if (!converged) throw NumericalError("constrained solve with a fresh factor did not converge");
         break;
       }
@@ -531,11 +631,7 @@ struct ClothSimulator::Impl {
         times.solve += seconds_since(t0);
         if (!converged) {
           // A stale preconditioner: refresh it and solve directly.
-          factorize();
-          warp_active = false;
-          t0 = Clock::now();
-          direct_solve(converged);
-          times.solve += seconds_since(t0);
+          solve_with_fresh_factor(converged);
           if (!converged) throw NumericalError("constrained solve with a fresh factor did not converge");
           break;
         }
@@ -698,6 +794,7 @@ ClothSimulator::ClothSimulator(const Eigen::MatrixXd& V_rest, const Eigen::Matri
   impl_->X = V_rest;
   impl_->Vel = Eigen::MatrixXd::Zero(V_rest.rows(), 3);
   impl_->pin_targets.resize(0, 3);
+  impl_->membrane_active = options.membrane_pattern_preconditioner;
   impl_->build_pattern();
 }
 
@@ -770,6 +867,7 @@ void ClothSimulator::set_contact_handler(ContactHandler handler) {
 void ClothSimulator::set_options(const SimulatorOptions& options) {
   if (!(options.dt > 0.0)) throw UsageError("time step must be positive");
   impl_->options = options;
+  impl_->membrane_active = options.membrane_pattern_preconditioner;
   impl_->refresh_needed = true;
 }
 
