@@ -265,9 +265,9 @@ struct BodyCollider::Impl {
   }
 
   // The offset vertex i may use at its closest point q: `offset`, at most half
-  // the gap in front of q. Rays are cast only where the offset could reach the
-  // other side (that is, for every contact), and reused while the body, the
-  // face and (within kGapReuseDistance) the closest point stay the same.
+  // the gap in front of q. Rays are cast for vertices within the offset only,
+  // and reused while the body, the face and (within kGapReuseDistance) the
+  // closest point stay the same.
   double usable_offset(int i, const Proximity& q, double offset) {
     if (!(offset > 0.0)) return offset;
     VertexCache& c = cache[i];

@@ -47,6 +47,15 @@ SettleResult settle(double dt, double seconds, SolverStrategy strategy) {
   return {sim.max_speed(), sim.positions().col(1).minCoeff(), sim.counters().rejected};
 }
 
+// The 12 by 12 square of side 0.4 m pinned at its top corners, after `steps` steps.
+ClothSimulator hang_square_12(const ClothParameters& params, const SimulatorOptions& options, int steps) {
+  const gp::Mesh m = hanging_square(12, 0.4);
+  ClothSimulator sim(m.V, m.F, params, options);
+  sim.set_pinned({0, 12});
+  for (int s = 0; s < steps; ++s) sim.step();
+  return sim;
+}
+
 }  // namespace
 
 TEST_CASE("a cloth pinned at two corners settles without NaN at dt and 4 dt", "[simulator]") {
@@ -68,7 +77,6 @@ TEST_CASE("a cloth pinned at two corners settles without NaN at dt and 4 dt", "[
 }
 
 TEST_CASE("solver strategies give the same trajectory", "[simulator]") {
-  const gp::Mesh m = hanging_square(12, 0.4);
   Eigen::MatrixXd result[3];
   const SolverStrategy strategies[3] = {SolverStrategy::pcg_reused_factor,
                                         SolverStrategy::refactor_every_step, SolverStrategy::pcg_jacobi};
@@ -78,9 +86,7 @@ TEST_CASE("solver strategies give the same trajectory", "[simulator]") {
     options.strategy = strategies[k];
     options.cg_tolerance = 1e-10;
     options.cg_max_iterations = 5000;
-    ClothSimulator sim(m.V, m.F, ClothParameters{}, options);
-    sim.set_pinned({0, 12});
-    for (int s = 0; s < 80; ++s) sim.step();
+    const ClothSimulator sim = hang_square_12(ClothParameters{}, options, 80);
     result[k] = sim.positions();
     factorizations[k] = sim.counters().factorizations;
     CHECK(sim.counters().last_residual <= 1e-9);
@@ -95,8 +101,7 @@ TEST_CASE("solver strategies give the same trajectory", "[simulator]") {
 TEST_CASE("the membrane-pattern preconditioner changes the cost, not the trajectory", "[simulator]") {
   // A hanging cloth that folds (bending matters): factoring only the one-ring
   // pattern must give the trajectory of the full factor within the CG
-  // tolerance, with fewer nonzeros in the factor.
-  const gp::Mesh m = hanging_square(12, 0.4);
+  // tolerance.
   Eigen::MatrixXd result[2];
   long iterations[2] = {0, 0};
   for (int k = 0; k < 2; ++k) {
@@ -107,9 +112,7 @@ TEST_CASE("the membrane-pattern preconditioner changes the cost, not the traject
     ClothParameters params;
     params.k_bend = 1e-4;  // 100 times the default: the dropped couplings weigh more
     params.damping_bend = 1e-3;
-    ClothSimulator sim(m.V, m.F, params, options);
-    sim.set_pinned({0, 12});
-    for (int s = 0; s < 60; ++s) sim.step();
+    const ClothSimulator sim = hang_square_12(params, options, 60);
     result[k] = sim.positions();
     iterations[k] = sim.counters().cg_iterations;
     CHECK(sim.counters().last_residual <= 1e-10);
