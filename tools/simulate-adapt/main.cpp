@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 
 int main(int argc, char** argv) {
   gp::Tool tool("simulate-adapt", "Simulate a garment on the moving body and adapt its rest shape");
-  std::string poses_path, motion_path, garment_path, solver = "pcg";
+  std::string poses_path, motion_path, garment_path, solver = "refactor";
   gp::adapt::MotionRunOptions options;
   // A 1 % hysteresis band below the limit: a garment held stretched by the body
   // settles at 1.09 after an adaptation instead of hovering just above 1.1.
@@ -58,7 +58,9 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(0, 10000000));
   app.add_option("--reach", options.reach, "Body faces farther than this from the garment are culled [m]")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
-  app.add_option("--solver", solver, "Linear solver: pcg (reused, rotated CHOLMOD factor) or refactor (every step)")
+  app.add_option("--solver", solver,
+                 "Linear solver: refactor (a CHOLMOD factor every step, CG with it) or pcg (CG with a reused, "
+                 "rotated factor)")
       ->capture_default_str()->check(CLI::IsMember({"pcg", "refactor"}));
   app.add_option("--cg-tolerance", options.solver.cg_tolerance,
                  "Relative residual of the conjugate-gradient solve [1]")
