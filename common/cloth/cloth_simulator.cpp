@@ -24,6 +24,16 @@ double seconds_since(Clock::time_point t0) {
 // the mirrored lower entries).
 constexpr int kBlockPairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
 
+// Index of entry (row, col) in the values of the compressed column-major M, or
+// -1 when M does not store it.
+int entry_index(const Eigen::SparseMatrix<double>& M, int row, int col) {
+  const int* inner = M.innerIndexPtr();
+  const int* begin = inner + M.outerIndexPtr()[col];
+  const int* end = inner + M.outerIndexPtr()[col + 1];
+  const int* it = std::lower_bound(begin, end, row);
+  return (it != end && *it == row) ? static_cast<int>(it - inner) : -1;
+}
+
 }  // namespace
 
 const char* solver_strategy_name(SolverStrategy s) {
@@ -100,19 +110,7 @@ struct ClothSimulator::Impl {
   Eigen::MatrixXd rhs_buffer, sol_buffer;
   std::string last_failure;
 
-  // Position of (row, col) (lower triangle, present) in A_factored's values.
-  int factored_position(int row, int col) const {
-    const int* inner = A_factored.innerIndexPtr();
-    const int begin = A_factored.outerIndexPtr()[col], end = A_factored.outerIndexPtr()[col + 1];
-    return static_cast<int>(std::lower_bound(inner + begin, inner + end, row) - inner);
-  }
-
-  int value_position(int row, int col) const {
-    const int* inner = A.innerIndexPtr();
-    const int begin = A.outerIndexPtr()[col], end = A.outerIndexPtr()[col + 1];
-    const int* it = std::lower_bound(inner + begin, inner + end, row);
-    return static_cast<int>(it - inner);
-  }
+  int value_position(int row, int col) const { return entry_index(A, row, col); }
 
   void build_pattern() {
     const int nv = static_cast<int>(X.rows());
@@ -228,12 +226,6 @@ struct ClothSimulator::Impl {
     P.resize(n, n);
     P.setFromTriplets(triplets.begin(), triplets.end());
     P.makeCompressed();
-    auto p_index = [this](int row, int col) {
-      const int* inner = P.innerIndexPtr();
-      const int begin = P.outerIndexPtr()[col], end = P.outerIndexPtr()[col + 1];
-      const int* it = std::lower_bound(inner + begin, inner + end, row);
-      return (it != inner + end && *it == row) ? static_cast<int>(it - inner) : -1;
-    };
     p_position.assign(A.nonZeros(), -1);
     p_diagonal_row.assign(A.nonZeros(), -1);
     p_diagonal_col.assign(A.nonZeros(), -1);
@@ -241,10 +233,10 @@ struct ClothSimulator::Impl {
       for (Eigen::SparseMatrix<double>::InnerIterator it(A, col); it; ++it) {
         const int q = static_cast<int>(&it.value() - A.valuePtr());
         const int row = static_cast<int>(it.row());
-        p_position[q] = p_index(row, col);
+        p_position[q] = entry_index(P, row, col);
         if (p_position[q] < 0) {
-          p_diagonal_row[q] = p_index(row, row);
-          p_diagonal_col[q] = p_index(col, col);
+          p_diagonal_row[q] = entry_index(P, row, row);
+          p_diagonal_col[q] = entry_index(P, col, col);
         }
       }
     }
@@ -377,11 +369,10 @@ struct ClothSimulator::Impl {
   // so the factor stays an accurate preconditioner for the filtered CG.
   void factorize() {
     const auto t0 = Clock::now();
-    const bool membrane = membrane_active;
-    if (constraints.empty() && !membrane) {
+    if (constraints.empty() && !membrane_active) {
       solver.factorize(A);
     } else {
-      if (membrane) {
+      if (membrane_active) {
         // Dropped entries go to both diagonals by magnitude: P - A is then
         // diagonally dominant, so P >= A > 0.
         P.coeffs().setZero();
@@ -404,10 +395,10 @@ struct ClothSimulator::Impl {
         const int fi = constraint_free[k];
         const Eigen::Vector3d& n = constraints[k].normal;
         double diagonal = 0.0;
-        for (int a = 0; a < 3; ++a) diagonal += vals[factored_position(3 * fi + a, 3 * fi + a)];
+        for (int a = 0; a < 3; ++a) diagonal += vals[entry_index(A_factored, 3 * fi + a, 3 * fi + a)];
         const double kappa = options.constraint_preconditioner_stiffness * diagonal / 3.0;
         for (int a = 0; a < 3; ++a) {
-          for (int c = 0; c <= a; ++c) vals[factored_position(3 * fi + a, 3 * fi + c)] += kappa * n(a) * n(c);
+          for (int c = 0; c <= a; ++c) vals[entry_index(A_factored, 3 * fi + a, 3 * fi + c)] += kappa * n(a) * n(c);
         }
       }
       solver.factorize(A_factored);

@@ -23,13 +23,13 @@
 // Pinches: where two body parts come closer than twice the comfort offset
 // (armpit, between the legs, an arm against the torso) the two offset shells
 // overlap, and a vertex pushed out to the offset of one part lands inside the
-// offset of the other; pushed back, it jitters between them for ever (measured on
-// the shared-body shirt in the A-pose: armpit vertices kept moving at 0.6 m/s
-// after 1,000 settling steps, and the cloth there stretched 4.7 times). The
-// usable offset at a closest point c with outward direction n is therefore
-// limited to half the gap, the distance from c along n to the next body surface
-// (a ray cast through the tree): the vertex is pushed to the middle of the gap,
-// which both parts agree on.
+// offset of the other and is pushed back on the next step. The usable offset at
+// a closest point c with outward direction n is therefore limited to half the
+// gap, the distance from c along n to the next body surface (a ray cast through
+// the tree): the vertex is pushed to the middle of the gap, which both parts
+// agree on. Measured on the shared-body shirt (1,085 vertices) moving T -> A
+// without adaptation: the largest stretch in the armpit after 400 settling
+// steps fell from 4.13 to 3.14.
 #include <memory>
 #include <vector>
 
