@@ -39,7 +39,8 @@ SeamSpec parse_seam_spec(const Json& j, const std::string& file) {
     seam.name = o.required_string("name");
     if (seam.name.empty() || !names.insert(seam.name).second)
       throw SpecError("seam names must be unique and not empty", o.where("name"));
-    seam.on_body = o.choice("on", "rest", {"rest", "body"}) == "body";
+    const std::string on = o.choice("on", "rest", {"rest", "design", "body"});
+    seam.on = on == "body" ? SeamSurface::body : on == "design" ? SeamSurface::design : SeamSurface::rest;
     seam.closed = o.boolean("closed", false);
     const Json* points = o.raw("points");
     if (!points) throw SpecError("missing required field 'points'", o.where("points"));
@@ -70,7 +71,7 @@ OrderedJson to_json(const SeamSpec& spec) {
     for (const auto& p : s.points)
       points.push_back(p.is_vertex ? OrderedJson(p.vertex_id)
                                    : OrderedJson::array({p.point[0], p.point[1], p.point[2]}));
-    j["seams"].push_back({{"name", s.name}, {"on", s.on_body ? "body" : "rest"}, {"points", points},
+    j["seams"].push_back({{"name", s.name}, {"on", s.on == SeamSurface::body ? "body" : s.on == SeamSurface::design ? "design" : "rest"}, {"points", points},
                           {"closed", s.closed}});
   }
   return j;
@@ -188,7 +189,7 @@ std::vector<SeamPath> resolve_seams(const Eigen::MatrixXd& V_rest, const Eigen::
     std::vector<int> clicks;
     for (const auto& p : s.points) {
       int v = -1;
-      if (s.on_body) {
+      if (s.on == SeamSurface::body) {
         v = body_to_rest(p, s.name);
       } else if (p.is_vertex) {
         if (p.vertex_id >= n || !used[static_cast<size_t>(p.vertex_id)])
@@ -196,6 +197,11 @@ std::vector<SeamPath> resolve_seams(const Eigen::MatrixXd& V_rest, const Eigen::
                               " is not a vertex of the rest shape (" + std::to_string(n) + " vertices)",
                           p.where);
         v = static_cast<int>(p.vertex_id);
+      } else if (s.on == SeamSurface::design) {
+        if (!V_design)
+          throw SpecError("seam '" + s.name + "' has points on the garment as designed, but that mesh is not available",
+                          p.where);
+        v = nearest_vertex(*V_design, design_locator, "garment as designed", p.point, s.name, p.where);
       } else {
         v = nearest_rest_vertex(p.point, s.name, p.where);
       }

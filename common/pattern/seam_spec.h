@@ -8,6 +8,8 @@
 //     "seams": [
 //       { "name": "side_left",       // unique, names the seam in reports and on the pattern
 //         "on": "rest",              // "rest": points on the rest shape (default);
+//                                    // "design": on the garment as designed (the mesh
+//                                    //   beside the garment file; same vertices);
 //                                    // "body": points on the body in the design pose
 //         "points": [ 12, [0.1, 1.2, 0.05], 845 ],  // vertex ids or 3D points (metres)
 //         "closed": false }          // true: the last point joins the first
@@ -18,6 +20,10 @@
 // (Dijkstra over its edges). Seams are cut along these mesh edge paths as they
 // are (no smoothing): on a remeshed garment with even triangles the path
 // follows the clicked line within about one edge length.
+//
+// Design points are found on the garment as designed and name the rest-shape
+// vertex with the same id: a seam spec written before the fit stays valid on
+// the adapted rest shape, which may have grown centimetres away from the design.
 //
 // Body points are mapped to the rest shape through the garment's binding: a
 // body point within the snap tolerance of a bound boundary vertex's body
@@ -38,9 +44,12 @@ namespace gp {
 
 using SeamSpecPoint = ClickedPoint;  // a rest-shape or body vertex id, or a 3D point
 
+// The surface a seam's points were clicked on.
+enum class SeamSurface { rest, design, body };
+
 struct SeamSpecSeam {
   std::string name;
-  bool on_body = false;
+  SeamSurface on = SeamSurface::rest;
   bool closed = false;
   std::vector<SeamSpecPoint> points;
   std::string where;
@@ -81,12 +90,12 @@ struct SeamPath {
 
 // Resolves every seam of `spec` on the rest shape (V_rest #V by 3, F #F by 3).
 // `garment` and `body` are needed only for body points (nullptr otherwise).
-// `V_design` (optional, same connectivity as V_rest) is the garment as
-// designed; body points away from the bound boundary are snapped to it rather
-// than to the rest shape, which adaptation may have grown centimetres away
-// from the body.
-// Throws SpecError (bad vertex id, point beyond the snap tolerance, body
-// points without a body, fewer than two points) and GeometryError (points on
+// `V_design` (same connectivity as V_rest) is the garment as designed, needed
+// for design points; body points away from the bound boundary are snapped to
+// it too when it is given, rather than to the rest shape, which adaptation may
+// have grown centimetres away from the body.
+// Throws SpecError (bad vertex id, point beyond the snap tolerance, body or
+// design points without a body or design shape, fewer than two points) and GeometryError (points on
 // different components: the path would leave the mesh; a path crossing
 // itself; a seam running only along the boundary; an open seam whose two ends
 // reach neither the boundary nor another seam). Every message names the seam.

@@ -118,8 +118,11 @@ int main(int argc, char** argv) {
     gp::SeamSpec spec;
     if (!seams_path.empty()) {
       spec = gp::read_seam_spec(seams_path);
-      bool on_body = false;
-      for (const auto& s : spec.seams) on_body = on_body || s.on_body;
+      bool on_body = false, on_design = false;
+      for (const auto& s : spec.seams) {
+        on_body = on_body || s.on == gp::SeamSurface::body;
+        on_design = on_design || s.on == gp::SeamSurface::design;
+      }
       gp::DesignBody body;
       if (on_body) {
         if (!have_garment)
@@ -129,14 +132,16 @@ int main(int argc, char** argv) {
       // The garment as designed (beside its garment file) lies at the comfort
       // offset from the body; the adapted rest shape may not.
       gp::Mesh design;
-      if (on_body) {
+      if (on_body || on_design) {
+        if (!have_garment)
+          throw gp::UsageError("seams on the garment as designed need the garment file (--garment)", seams_path);
         const fs::path design_path = fs::path(garment_path).parent_path() / garment.mesh_file;
         design = gp::read_mesh(design_path).mesh;
         if (design.F.rows() != rest.F.rows() || design.V.rows() != rest.V.rows() || design.F != rest.F)
           throw gp::GeometryError("the rest shape does not have the designed garment's connectivity", design_path.string());
       }
       seams = gp::resolve_seams(rest.V, rest.F, spec, have_garment ? &garment : nullptr, on_body ? &body : nullptr,
-                                on_body ? &design.V : nullptr);
+                                on_body || on_design ? &design.V : nullptr);
     }
     lap("read");
 

@@ -148,3 +148,29 @@ TEST_CASE("seams clicked on the body map to the garment through its binding", "[
   CHECK(through_design[0].vertex_ids.front() == 0);
   CHECK(through_design[0].vertex_ids.back() == 243);
 }
+
+TEST_CASE("seams clicked on the garment as designed hold on the adapted rest shape", "[seam_spec]") {
+  const int nu = 16, nv = 6;
+  const Mesh design = testing::make_open_cylinder(nu, nv, 0.1, 0.3);
+  // The adapted rest shape grew 4 cm in radius and moved 2 cm down: the
+  // clicked points are centimetres beyond the snap tolerance from it.
+  Mesh grown = testing::make_open_cylinder(nu, nv, 0.14, 0.3);
+  grown.V.col(1).array() -= 0.02;
+  const Json j = Json::parse(R"({"schema": "seam-spec/1", "snap_tolerance": 0.01, "seams": [
+      {"name": "side", "on": "design", "points": [[0.0, 0.0, 0.1], [0.0, 0.3, 0.1]]}]})");
+  const SeamSpec spec = parse_seam_spec(j, "seams.json");
+  CHECK(to_json(spec)["seams"][0]["on"] == "design");
+  const auto paths = resolve_seams(grown.V, grown.F, spec, nullptr, nullptr, &design.V);
+  REQUIRE(paths.size() == 1);
+  CHECK(paths[0].vertex_ids.front() == 0);
+  CHECK(paths[0].vertex_ids.back() == nv * nu);
+  CHECK(paths[0].vertex_ids.size() == static_cast<size_t>(nv + 1));
+  // The same points taken as rest-shape points miss the grown shape.
+  Json on_rest = j;
+  on_rest["seams"][0]["on"] = "rest";
+  CHECK_THROWS_WITH(resolve_seams(grown.V, grown.F, parse_seam_spec(on_rest, "seams.json"), nullptr, nullptr),
+                    Catch::Contains("from the rest shape"));
+  // Without the design mesh the seam cannot be placed: a spec error naming it.
+  CHECK_THROWS_AS(resolve_seams(grown.V, grown.F, spec, nullptr, nullptr), SpecError);
+  CHECK_THROWS_WITH(resolve_seams(grown.V, grown.F, spec, nullptr, nullptr), Catch::Contains("seam 'side'"));
+}
