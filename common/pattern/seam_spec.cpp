@@ -21,6 +21,9 @@ SeamSpecPoint read_point(const Json& j, const std::string& where) {
   return read_clicked_point(j, where, "vertex");
 }
 
+// The spec's names of the surfaces, in the order of SeamSurface.
+const std::vector<std::string> kSurfaceNames{"rest", "design", "body"};
+
 }  // namespace
 
 SeamSpec parse_seam_spec(const Json& j, const std::string& file) {
@@ -39,8 +42,8 @@ SeamSpec parse_seam_spec(const Json& j, const std::string& file) {
     seam.name = o.required_string("name");
     if (seam.name.empty() || !names.insert(seam.name).second)
       throw SpecError("seam names must be unique and not empty", o.where("name"));
-    const std::string on = o.choice("on", "rest", {"rest", "design", "body"});
-    seam.on = on == "body" ? SeamSurface::body : on == "design" ? SeamSurface::design : SeamSurface::rest;
+    const std::string on = o.choice("on", kSurfaceNames.front(), kSurfaceNames);
+    seam.on = static_cast<SeamSurface>(std::find(kSurfaceNames.begin(), kSurfaceNames.end(), on) - kSurfaceNames.begin());
     seam.closed = o.boolean("closed", false);
     const Json* points = o.raw("points");
     if (!points) throw SpecError("missing required field 'points'", o.where("points"));
@@ -71,7 +74,7 @@ OrderedJson to_json(const SeamSpec& spec) {
     for (const auto& p : s.points)
       points.push_back(p.is_vertex ? OrderedJson(p.vertex_id)
                                    : OrderedJson::array({p.point[0], p.point[1], p.point[2]}));
-    j["seams"].push_back({{"name", s.name}, {"on", s.on == SeamSurface::body ? "body" : s.on == SeamSurface::design ? "design" : "rest"}, {"points", points},
+    j["seams"].push_back({{"name", s.name}, {"on", kSurfaceNames[static_cast<size_t>(s.on)]}, {"points", points},
                           {"closed", s.closed}});
   }
   return j;

@@ -131,8 +131,9 @@ int main(int argc, char** argv) {
       }
       // The garment as designed (beside its garment file) lies at the comfort
       // offset from the body; the adapted rest shape may not.
+      const bool need_design = on_body || on_design;
       gp::Mesh design;
-      if (on_body || on_design) {
+      if (need_design) {
         if (!have_garment)
           throw gp::UsageError("seams on the garment as designed need the garment file (--garment)", seams_path);
         const fs::path design_path = fs::path(garment_path).parent_path() / garment.mesh_file;
@@ -141,7 +142,7 @@ int main(int argc, char** argv) {
           throw gp::GeometryError("the rest shape does not have the designed garment's connectivity", design_path.string());
       }
       seams = gp::resolve_seams(rest.V, rest.F, spec, have_garment ? &garment : nullptr, on_body ? &body : nullptr,
-                                on_body || on_design ? &design.V : nullptr);
+                                need_design ? &design.V : nullptr);
     }
     lap("read");
 
