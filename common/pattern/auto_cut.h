@@ -86,6 +86,10 @@ struct Pattern {
   int rounds = 0;                  // flatten rounds
   int flattenings = 0;             // pieces flattened (a piece unchanged by a round is reused)
   std::vector<std::string> merged_cuts;  // added cuts removed again to merge scraps, in order
+  // Why cutting stopped short of the limit: the cap max_added_cuts was
+  // reached, or no cut rule placed a new cut in these failing pieces.
+  bool cut_cap_reached = false;
+  std::vector<std::string> stuck_pieces;
 };
 
 // V #V by 3 (metres), F #F by 3: the rest shape, edge-manifold and

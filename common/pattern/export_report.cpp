@@ -121,6 +121,8 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
                   {"worst_p95_error", worst_p95},
                   {"worst_max_error", worst_max},
                   {"meets_distortion_limit", pattern.meets_limit},
+                  {"cut_cap_reached", pattern.cut_cap_reached},
+                  {"stuck_pieces", pattern.stuck_pieces},
                   {"flipped_triangles", flipped},
                   {"overlapping_pieces", overlapping},
                   {"seams_within_tolerance", seams_ok == static_cast<int>(seams.size())},

@@ -153,9 +153,15 @@ int main(int argc, char** argv) {
     lap("cut_and_flatten");
     const gp::Layout layout = gp::layout_pattern(pattern, layout_options);
     lap("layout");
-    if (!pattern.meets_limit)
-      tool.log().warning("the distortion limit is not met after " + std::to_string(pattern_options.max_added_cuts) +
-                         " extra cuts (see report.json)");
+    if (!pattern.meets_limit) {
+      std::string why;
+      if (pattern.cut_cap_reached)
+        why = "the cap of " + std::to_string(pattern_options.max_added_cuts) + " extra cuts (--max-cuts) was reached";
+      for (const std::string& piece : pattern.stuck_pieces)
+        why += (why.empty() ? "no cut rule places a new cut in piece " : ", piece ") + piece;
+      tool.log().warning("the distortion limit is not met: " + (why.empty() ? std::string("see report.json") : why) +
+                         " (report.json lists the pieces)");
+    }
 
     // Figures of the rest shape against the garment as designed (beside its
     // garment file): growth, tucks and cone points explain a pattern that

@@ -77,10 +77,13 @@ TEST_CASE("a hemisphere needs extra cuts and meets the default limit after them"
   const Pattern uncut = make_pattern(cap.V, cap.F, {}, no_cuts);
   REQUIRE(uncut.pieces.size() == 1);
   CHECK(!uncut.meets_limit);
+  CHECK(uncut.cut_cap_reached);
   CHECK(uncut.pieces[0].flat.stats.flipped_triangles == 0);
   const Pattern pattern = make_pattern(cap.V, cap.F, {}, options);
   CHECK(pattern.seams.size() > 1);
   CHECK(pattern.meets_limit);
+  CHECK(!pattern.cut_cap_reached);
+  CHECK(pattern.stuck_pieces.empty());
   for (const auto& s : pattern.seams) {
     CHECK(!s.reason.empty());
     CHECK((s.kind == "distortion" || s.kind == "overlap"));
@@ -214,6 +217,35 @@ TEST_CASE("scraps merge back across added cuts when the merged piece meets the l
     CHECK(p.meets_limit);
     CHECK(p.flat.stats.flipped_triangles == 0);
     CHECK(!p.flat.boundary_overlaps);
+  }
+}
+
+TEST_CASE("merging scraps leaves every failing piece as it was", "[auto_cut][merge]") {
+  // Cut caps that stop short of a tight limit: pieces still fail when the
+  // scraps are merged. A merge may only keep a failing piece unchanged (same
+  // faces, same flattening); it must never make a piece fail.
+  const Mesh cap = testing::make_hemisphere(3, 0.15);
+  PatternOptions options;
+  options.p95_limit = 0.01;
+  options.max_limit = 0.03;
+  for (int max_cuts : {10, 24, 32}) {
+    options.max_added_cuts = max_cuts;
+    options.merge_area = 0.0;
+    const Pattern greedy = make_pattern(cap.V, cap.F, {}, options);
+    options.merge_area = 1.0;
+    const Pattern merged = make_pattern(cap.V, cap.F, {}, options);
+    INFO("cap " << max_cuts << ": " << greedy.pieces.size() << " pieces, " << merged.merged_cuts.size() << " merged");
+    CHECK(!merged.meets_limit);
+    CHECK(merged.cut_cap_reached);
+    for (const auto& p : merged.pieces) {
+      if (p.meets_limit) continue;
+      const auto same = std::find_if(greedy.pieces.begin(), greedy.pieces.end(),
+                                     [&](const PatternPiece& q) { return q.face_ids == p.face_ids; });
+      REQUIRE(same != greedy.pieces.end());
+      CHECK(!same->meets_limit);
+      CHECK(same->flat.stats.p95_error == Approx(p.flat.stats.p95_error).epsilon(1e-12));
+      CHECK(same->flat.stats.max_error == Approx(p.flat.stats.max_error).epsilon(1e-12));
+    }
   }
 }
 
