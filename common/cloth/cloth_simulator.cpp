@@ -82,6 +82,7 @@ struct ClothSimulator::Impl {
   std::vector<BendCoupling> bend_couplings;
   Eigen::VectorXd constant_values;
   double constant_h = -1.0;
+  double damping_scale = 1.0;
 
   CholmodSolver solver;
   bool factor_valid = false;
@@ -251,7 +252,7 @@ struct ClothSimulator::Impl {
       if (fi < 0) continue;
       for (int c = 0; c < 3; ++c) constant_values(mass_positions[3 * fi + c]) += rest.masses(v);
     }
-    const double cb = h * h * params.k_bend + h * params.damping_bend;
+    const double cb = h * h * params.k_bend + h * damping_scale * params.damping_bend;
     const double* q = rest.Q.valuePtr();
     for (const BendEntry& e : bend_entries) {
       for (int c = 0; c < 3; ++c) constant_values(e.pos[c]) += cb * q[e.q_index];
@@ -286,8 +287,8 @@ struct ClothSimulator::Impl {
     G.noalias() = params.k_bend * (rest.Q * X);
     double energy = bending_energy_total(X);
     b.setZero(3 * n_free);
-    const MembraneCoefficients coeffs{params.k_stretch, params.k_shear, params.damping_stretch,
-                                      params.damping_shear};
+    const MembraneCoefficients coeffs{params.k_stretch, params.k_shear, damping_scale * params.damping_stretch,
+                                      damping_scale * params.damping_shear};
     Vector9d g9;
     Matrix9d K9;
     for (int f = 0; f < F.rows(); ++f) {
@@ -317,7 +318,7 @@ struct ClothSimulator::Impl {
         }
       }
     }
-    const double cb = h * h * params.k_bend + h * params.damping_bend;
+    const double cb = h * h * params.k_bend + h * damping_scale * params.damping_bend;
     const double* q = rest.Q.valuePtr();
     for (const BendCoupling& c : bend_couplings) {
       b.segment<3>(3 * free_id(c.free_vertex)) -=
@@ -860,6 +861,13 @@ void ClothSimulator::set_options(const SimulatorOptions& options) {
   impl_->options = options;
   impl_->membrane_active = options.membrane_pattern_preconditioner;
   impl_->refresh_needed = true;
+}
+
+void ClothSimulator::set_damping_scale(double scale) {
+  if (!(scale >= 0.0) || !std::isfinite(scale)) throw UsageError("damping scale must be finite and non-negative");
+  if (scale == impl_->damping_scale) return;
+  impl_->damping_scale = scale;
+  impl_->constant_h = -1.0;
 }
 
 void ClothSimulator::step() {

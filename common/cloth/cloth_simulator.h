@@ -179,6 +179,10 @@ class ClothSimulator {
   void set_collision_handler(CollisionHandler handler);
   void set_contact_handler(ContactHandler handler);
   void set_options(const SimulatorOptions& options);
+  // Scales every damping coefficient of the material (stretch, shear, bending)
+  // from the next step on; 1 restores the material's damping. Used to relax the
+  // cloth to its static equilibrium while the body stands still.
+  void set_damping_scale(double scale);
 
   // Advances by options().dt (possibly in halved substeps). Throws NumericalError
   // when even the smallest substep fails (state restored to before the call).
