@@ -261,6 +261,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
       }
       return change;
     };
+    sim.set_damping_scale(options.settle_damping);
     while (key.settle_steps < options.settle_max_steps) {
       const Eigen::MatrixXd X_check = sim.positions();
       int window = 0;
@@ -293,6 +294,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
         break;
       }
     }
+    sim.set_damping_scale(1.0);
     if (options.settle_max_steps == 0) key.settled = sim.max_speed() < options.settle_speed;
     key.max_speed = sim.max_speed();
     if (options.adapt) adapt_now();  // and at the end of each pose

@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--settle-max-steps", options.settle_max_steps, "Cap on settling steps at each key pose [count]")
       ->capture_default_str()->check(CLI::Range(0, 10000000));
+  app.add_option("--settle-damping", options.settle_damping,
+                 "Damping while settling at a key pose, as a fraction of the material's [1]")
+      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
   app.add_option("--reach", options.reach, "Body faces farther than this from the garment are culled [m]")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_option("--solver", solver,
@@ -154,6 +157,7 @@ int main(int argc, char** argv) {
                          {"settle_speed_m_per_s", options.settle_speed},
                          {"settle_stretch_change", options.settle_stretch_change},
                          {"settle_max_steps", options.settle_max_steps},
+                         {"settle_damping", options.settle_damping},
                          {"fixed_point_steps", options.fixed_point_steps},
                          {"fixed_point_area_change", options.fixed_point_area_change},
                          {"reach_m", options.reach},

@@ -284,3 +284,39 @@ TEST_CASE("four times the default time step gives nearly the same fit", "[adapt]
     CHECK(b.keys[k].deepest_penetration < 0.002);
   }
 }
+
+TEST_CASE("settling with a hundredth of the damping reaches the same fit", "[adapt][body]") {
+  // A-pose to T-pose in 10 frames, then settling (cap 400) with the
+  // material's damping and with settle_damping 0.01. The body stands still
+  // while settling, so the static equilibrium the cloth relaxes to does not
+  // depend on the damping, only the way there does.
+  // Expectation: both settle; at every key pose the drapes agree within 1 cm
+  // on average, the rest-area growth within 1 % and the 99th-percentile
+  // stretch within 0.01; no penetration beyond 2 mm. Measured: mean distance
+  // 1.5 mm (A-pose) and 7.4 mm (T-pose, the free hem), growth 1.0138 against
+  // 1.0148 and 1.0442 against 1.0432; settling took 192 + 168 steps with the
+  // damping and 208 + 216 without (this top is loose: see settle_damping).
+  const hc::Scene& scene = hc::default_scene();
+  const Loaded l = load(scene);
+  const gp::MotionSpec motion = motion_of(l.poses, {"apose", "tpose"}, 10);
+  const MotionRunOptions damped = run_options(400);
+  MotionRunOptions light = damped;
+  light.settle_damping = 0.01;
+  const MotionRunResult a = run(l, motion, l.mesh.V, damped);
+  const MotionRunResult b = run(l, motion, l.mesh.V, light);
+  REQUIRE(a.keys.size() == 2);
+  REQUIRE(b.keys.size() == 2);
+  for (size_t k = 0; k < 2; ++k) {
+    const Eigen::VectorXd d = (a.keys[k].V_draped - b.keys[k].V_draped).rowwise().norm();
+    INFO("key " << a.keys[k].pose << ": max vertex distance " << d.maxCoeff() << " m, mean " << d.mean()
+                << " m; growth " << a.keys[k].rest_area_growth << " vs " << b.keys[k].rest_area_growth
+                << "; p99 stretch " << a.keys[k].p99_stretch << " vs " << b.keys[k].p99_stretch << "; settle steps "
+                << a.keys[k].settle_steps << " vs " << b.keys[k].settle_steps);
+    CHECK(a.keys[k].settled);
+    CHECK(b.keys[k].settled);
+    CHECK(d.mean() < 0.01);
+    CHECK(std::abs(a.keys[k].rest_area_growth - b.keys[k].rest_area_growth) < 0.01);
+    CHECK(std::abs(a.keys[k].p99_stretch - b.keys[k].p99_stretch) < 0.01);
+    CHECK(b.keys[k].deepest_penetration < 0.002);
+  }
+}
