@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -80,6 +81,29 @@ MotionRunResult run(const Loaded& l, const gp::MotionSpec& motion, const Eigen::
   io.anchor = motion.anchor;
   gp::PoseInterpolator interpolator(l.poses, io);
   return run_garment_motion(interpolator, motion, V_start, l.mesh.F, l.garment, options);
+}
+
+// The same fit at every key pose: drapes within `max_distance` at any vertex
+// and 1 cm on average, rest-area growth within 1 %, 99th-percentile stretch
+// within 0.01, and b no deeper than 2 mm inside the body.
+void check_same_fit(const MotionRunResult& a, const MotionRunResult& b, double max_distance) {
+  REQUIRE(a.keys.size() == b.keys.size());
+  for (size_t k = 0; k < a.keys.size(); ++k) {
+    const Eigen::VectorXd d = (a.keys[k].V_draped - b.keys[k].V_draped).rowwise().norm();
+    INFO("key " << a.keys[k].pose << ": max vertex distance " << d.maxCoeff() << " m, mean " << d.mean()
+                << " m; growth " << a.keys[k].rest_area_growth << " vs " << b.keys[k].rest_area_growth
+                << "; p99 stretch " << a.keys[k].p99_stretch << " vs " << b.keys[k].p99_stretch << "; max stretch "
+                << a.keys[k].max_stretch << " vs " << b.keys[k].max_stretch << "; deepest "
+                << a.keys[k].deepest_penetration << " vs " << b.keys[k].deepest_penetration << "; steps "
+                << a.keys[k].steps << " vs " << b.keys[k].steps << ", settling " << a.keys[k].settle_steps << " vs "
+                << b.keys[k].settle_steps << "; rejected " << a.rejected_steps << " vs " << b.rejected_steps);
+    CHECK(b.keys[k].V_draped.allFinite());
+    CHECK(d.maxCoeff() < max_distance);
+    CHECK(d.mean() < 0.01);
+    CHECK(std::abs(a.keys[k].rest_area_growth - b.keys[k].rest_area_growth) < 0.01);
+    CHECK(std::abs(a.keys[k].p99_stretch - b.keys[k].p99_stretch) < 0.01);
+    CHECK(b.keys[k].deepest_penetration < 0.002);
+  }
 }
 
 }  // namespace
@@ -266,23 +290,7 @@ TEST_CASE("four times the default time step gives nearly the same fit", "[adapt]
   const MotionRunResult a = run(l, motion, l.mesh.V, small);
   const MotionRunResult b = run(l, motion, l.mesh.V, large);
   REQUIRE(a.keys.size() == 2);
-  REQUIRE(b.keys.size() == 2);
-  for (size_t k = 0; k < 2; ++k) {
-    const Eigen::VectorXd d = (a.keys[k].V_draped - b.keys[k].V_draped).rowwise().norm();
-    const double distance = d.maxCoeff();
-    INFO("key " << a.keys[k].pose << ": max vertex distance " << distance << " m, mean " << d.mean() << " m; growth "
-                << a.keys[k].rest_area_growth << " vs " << b.keys[k].rest_area_growth << "; p99 stretch "
-                << a.keys[k].p99_stretch << " vs " << b.keys[k].p99_stretch << "; max stretch " << a.keys[k].max_stretch
-                << " vs " << b.keys[k].max_stretch << "; deepest " << a.keys[k].deepest_penetration << " vs "
-                << b.keys[k].deepest_penetration << "; steps " << a.keys[k].steps << " vs " << b.keys[k].steps
-                << "; rejected " << a.rejected_steps << " vs " << b.rejected_steps);
-    CHECK(b.keys[k].V_draped.allFinite());
-    CHECK(distance < 0.05);
-    CHECK(d.mean() < 0.01);
-    CHECK(std::abs(a.keys[k].rest_area_growth - b.keys[k].rest_area_growth) < 0.01);
-    CHECK(std::abs(a.keys[k].p99_stretch - b.keys[k].p99_stretch) < 0.01);
-    CHECK(b.keys[k].deepest_penetration < 0.002);
-  }
+  check_same_fit(a, b, 0.05);
 }
 
 TEST_CASE("settling with a hundredth of the damping reaches the same fit", "[adapt][body]") {
@@ -290,9 +298,8 @@ TEST_CASE("settling with a hundredth of the damping reaches the same fit", "[ada
   // material's damping and with settle_damping 0.01. The body stands still
   // while settling, so the static equilibrium the cloth relaxes to does not
   // depend on the damping, only the way there does.
-  // Expectation: both settle; at every key pose the drapes agree within 1 cm
-  // on average, the rest-area growth within 1 % and the 99th-percentile
-  // stretch within 0.01; no penetration beyond 2 mm. Measured: mean distance
+  // Expectation: both settle, with the same fit (check_same_fit, any single
+  // vertex may differ: the free hem settles elsewhere). Measured: mean distance
   // 1.5 mm (A-pose) and 7.4 mm (T-pose, the free hem), growth 1.0138 against
   // 1.0148 and 1.0442 against 1.0432; settling took 192 + 168 steps with the
   // damping and 208 + 216 without (this top is loose: see settle_damping).
@@ -305,18 +312,7 @@ TEST_CASE("settling with a hundredth of the damping reaches the same fit", "[ada
   const MotionRunResult a = run(l, motion, l.mesh.V, damped);
   const MotionRunResult b = run(l, motion, l.mesh.V, light);
   REQUIRE(a.keys.size() == 2);
-  REQUIRE(b.keys.size() == 2);
-  for (size_t k = 0; k < 2; ++k) {
-    const Eigen::VectorXd d = (a.keys[k].V_draped - b.keys[k].V_draped).rowwise().norm();
-    INFO("key " << a.keys[k].pose << ": max vertex distance " << d.maxCoeff() << " m, mean " << d.mean()
-                << " m; growth " << a.keys[k].rest_area_growth << " vs " << b.keys[k].rest_area_growth
-                << "; p99 stretch " << a.keys[k].p99_stretch << " vs " << b.keys[k].p99_stretch << "; settle steps "
-                << a.keys[k].settle_steps << " vs " << b.keys[k].settle_steps);
-    CHECK(a.keys[k].settled);
-    CHECK(b.keys[k].settled);
-    CHECK(d.mean() < 0.01);
-    CHECK(std::abs(a.keys[k].rest_area_growth - b.keys[k].rest_area_growth) < 0.01);
-    CHECK(std::abs(a.keys[k].p99_stretch - b.keys[k].p99_stretch) < 0.01);
-    CHECK(b.keys[k].deepest_penetration < 0.002);
-  }
+  for (const auto* r : {&a, &b})
+    for (const KeyPoseResult& k : r->keys) CHECK(k.settled);
+  check_same_fit(a, b, std::numeric_limits<double>::infinity());
 }
