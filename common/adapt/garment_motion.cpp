@@ -74,6 +74,9 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   if (options.substeps < 1 || options.adapt_every < 1 || options.settle_max_steps < 0) {
     throw UsageError("substeps and adapt_every must be at least 1, settle_max_steps non-negative");
   }
+  if (!(options.settle_damping >= 0.0) || !std::isfinite(options.settle_damping)) {
+    throw UsageError("settle_damping must be finite and non-negative");
+  }
   const std::vector<MotionFrame> frames = motion_frames(motion);
   if (frames.empty()) throw SpecError("the motion has no frames");
   const Eigen::MatrixXi& F_body = interpolator.faces();

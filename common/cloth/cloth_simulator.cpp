@@ -243,6 +243,11 @@ struct ClothSimulator::Impl {
     }
   }
 
+  // Coefficient of Q in the system matrix: bending stiffness and damping.
+  double bend_coefficient(double h) const {
+    return h * h * params.k_bend + h * damping_scale * params.damping_bend;
+  }
+
   // Mass and bending part of the system matrix for step size h (constant while
   // the rest shape and h are unchanged).
   void build_constant_values(double h) {
@@ -252,7 +257,7 @@ struct ClothSimulator::Impl {
       if (fi < 0) continue;
       for (int c = 0; c < 3; ++c) constant_values(mass_positions[3 * fi + c]) += rest.masses(v);
     }
-    const double cb = h * h * params.k_bend + h * damping_scale * params.damping_bend;
+    const double cb = bend_coefficient(h);
     const double* q = rest.Q.valuePtr();
     for (const BendEntry& e : bend_entries) {
       for (int c = 0; c < 3; ++c) constant_values(e.pos[c]) += cb * q[e.q_index];
@@ -318,7 +323,7 @@ struct ClothSimulator::Impl {
         }
       }
     }
-    const double cb = h * h * params.k_bend + h * damping_scale * params.damping_bend;
+    const double cb = bend_coefficient(h);
     const double* q = rest.Q.valuePtr();
     for (const BendCoupling& c : bend_couplings) {
       b.segment<3>(3 * free_id(c.free_vertex)) -=
