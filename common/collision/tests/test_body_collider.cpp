@@ -211,6 +211,51 @@ TEST_CASE("contacts lists vertices within offset plus band with normals and body
   CHECK_THROWS_AS(collider.contacts(X, -0.01, 0.0), gp::UsageError);
 }
 
+TEST_CASE("a vertex that has not moved on an unchanged body reuses its last answer", "[collision]") {
+  const gp::Mesh cube = make_cube(0.5);
+  BodyCollider collider(cube.F);
+  collider.set_body(cube.V);
+  Eigen::MatrixXd X(3, 3);
+  X << 0.0, 0.505, 0.0,  // in contact
+      0.3, 0.0, 0.508,   // in contact
+      0.0, 2.0, 0.0;     // far: skipped by the motion bound, never reused
+  const std::vector<Contact> first = collider.contacts(X, 0.01, 0.001);
+  REQUIRE(first.size() == 2);
+  CHECK(collider.stats().queries == 3);
+  const std::vector<Contact> second = collider.contacts(X, 0.01, 0.001);
+  CHECK(collider.stats().queries == 3);
+  CHECK(collider.stats().reused == 2);
+  CHECK(collider.stats().skipped == 1);
+  REQUIRE(second.size() == 2);
+  for (size_t k = 0; k < 2; ++k) {
+    CHECK(second[k].vertex == first[k].vertex);
+    CHECK(second[k].signed_distance == first[k].signed_distance);
+    CHECK(second[k].outward == first[k].outward);
+  }
+  // A moved vertex is queried again, and so is every vertex on a new body frame
+  // (even at the same body positions).
+  X(1, 2) = 0.507;
+  collider.contacts(X, 0.01, 0.001);
+  CHECK(collider.stats().queries == 4);
+  CHECK(collider.stats().reused == 3);
+  collider.set_body(cube.V);
+  const std::vector<Contact> third = collider.contacts(X, 0.01, 0.001);
+  CHECK(collider.stats().queries == 6);
+  CHECK(collider.stats().reused == 3);
+  REQUIRE(third.size() == 2);
+  CHECK(third[1].signed_distance == Approx(0.007).margin(1e-12));
+  // resolve() reuses both answers and projects both vertices to the offset;
+  // having moved, they are queried again by the next contacts().
+  Eigen::MatrixXd Vel = Eigen::MatrixXd::Zero(3, 3);
+  collider.resolve(X, Vel, 0.01);
+  CHECK(collider.stats().queries == 6);
+  CHECK(collider.stats().reused == 5);
+  CHECK(X(0, 1) == Approx(0.51).margin(1e-12));
+  CHECK(X(1, 2) == Approx(0.51).margin(1e-12));
+  collider.contacts(X, 0.01, 0.001);
+  CHECK(collider.stats().queries == 8);
+}
+
 TEST_CASE("in a pinch narrower than twice the offset, vertices go to the middle of the gap", "[collision]") {
   // Two unit cubes 2 cm apart (an arm against the torso): faces at x = -0.01
   // and x = +0.01. With a 1.5 cm offset the two offset shells overlap.
