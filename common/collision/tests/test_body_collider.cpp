@@ -4,7 +4,10 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 #include <random>
+
+#include <CGAL/Simple_cartesian.h>
 
 #include "cloth/cloth_simulator.h"
 #include "collision/body_collider.h"
@@ -84,6 +87,42 @@ TEST_CASE("signed distance to a sphere mesh follows the analytic one", "[collisi
     CHECK(collider.query(1.0001 * p).signed_distance > 0.0);
     CHECK(collider.query(0.9999 * p).signed_distance < 0.0);
   }
+}
+
+TEST_CASE("tree queries find the closest of all triangles, with and without hints", "[collision]") {
+  // A lumpy closed surface (a sphere with radial bumps): many near-ties between
+  // distant faces, where a traversal that prunes wrongly would show.
+  gp::Mesh body = gp::testing::make_icosphere(3, 0.3);
+  for (int v = 0; v < body.V.rows(); ++v) {
+    const Eigen::Vector3d p = body.V.row(v);
+    body.V.row(v) *= 1.0 + 0.15 * std::sin(9.0 * p.x()) * std::cos(7.0 * p.y() + 3.0 * p.z());
+  }
+  BodyCollider collider(body.F);
+  collider.set_body(body.V);
+  using K = CGAL::Simple_cartesian<double>;
+  auto brute_force = [&body](const Eigen::Vector3d& p) {
+    double best = std::numeric_limits<double>::infinity();
+    for (int f = 0; f < body.F.rows(); ++f) {
+      auto corner = [&](int k) {
+        return K::Point_3(body.V(body.F(f, k), 0), body.V(body.F(f, k), 1), body.V(body.F(f, k), 2));
+      };
+      best = std::min(best, CGAL::squared_distance(K::Point_3(p.x(), p.y(), p.z()),
+                                                   K::Triangle_3(corner(0), corner(1), corner(2))));
+    }
+    return std::sqrt(best);
+  };
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.6, 0.6);
+  std::uniform_int_distribution<int> face(0, static_cast<int>(body.F.rows()) - 1);
+  double worst = 0.0;
+  for (int k = 0; k < 1500; ++k) {
+    const Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    const double exact = brute_force(p);
+    // No hint, and a hint at a random (usually far) face.
+    worst = std::max(worst, std::abs(std::abs(collider.query(p).signed_distance) - exact));
+    worst = std::max(worst, std::abs(std::abs(collider.query(p, face(rng)).signed_distance) - exact));
+  }
+  CHECK(worst <= 1e-14);
 }
 
 TEST_CASE("culling keeps the faces the garment can reach", "[collision]") {
