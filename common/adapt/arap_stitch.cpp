@@ -20,25 +20,33 @@ Eigen::Vector2d target_corner(const Eigen::Matrix2d& T, int k) {
   return k == 0 ? Eigen::Vector2d::Zero() : Eigen::Vector2d(T.col(k - 1));
 }
 
-// Closest 3x2 matrix with orthonormal columns to S (polar factor
-// S (S^T S)^-1/2, closed form through the 2x2 eigen decomposition; SVD where S is
-// (nearly) rank deficient).
-Matrix32d polar_factor(const Matrix32d& S) {
-  const Eigen::Matrix2d C = S.transpose() * S;
-  const double tr = C.trace();
-  const double det = C.determinant();
-  const double disc = std::sqrt(std::max(0.25 * tr * tr - det, 0.0));
-  const double l1 = 0.5 * tr + disc, l2 = 0.5 * tr - disc;
-  if (l2 > 1e-10 * l1 && l1 > 0.0) {
-    Eigen::Vector2d e1(C(0, 1), l1 - C(0, 0));
-    const Eigen::Vector2d e1b(l1 - C(1, 1), C(0, 1));
-    if (e1b.squaredNorm() > e1.squaredNorm()) e1 = e1b;
-    if (e1.squaredNorm() < 1e-300) e1 = Eigen::Vector2d(1.0, 0.0);
-    e1.normalize();
-    const Eigen::Vector2d e2(-e1.y(), e1.x());
-    const Eigen::Matrix2d inv_sqrt =
-        e1 * e1.transpose() / std::sqrt(l1) + e2 * e2.transpose() / std::sqrt(l2);
-    return S * inv_sqrt;
+}  // namespace
+
+// With S = Q R2 (Gram-Schmidt: Q 3x2 orthonormal, R2 = [r00 r01; 0 r11] with a
+// positive diagonal), S^T S = R2^T R2 and so polar(S) = Q polar(R2). The polar
+// factor of R2 (det > 0) is the rotation by the angle maximizing
+// tr(R^T R2) = cos t (r00 + r11) - sin t r01 (the orthogonal Procrustes
+// problem in 2D, which Schoenemann 1966 solves in general by an SVD). Its
+// rounding grows like that of an SVD, 1 / (smaller singular value), where
+// working from S^T S would square it; it is an order of magnitude cheaper.
+// SVD where the second column is (nearly) parallel to the first or S vanishes.
+Matrix32d closest_orthonormal(const Matrix32d& S) {
+  const double r00 = S.col(0).norm();
+  if (r00 > 0.0) {
+    const Eigen::Vector3d q0 = S.col(0) / r00;
+    const double r01 = q0.dot(S.col(1));
+    const Eigen::Vector3d rest = S.col(1) - r01 * q0;
+    const double r11 = rest.norm();
+    if (r11 > 1e-8 * S.col(1).norm()) {
+      const Eigen::Vector3d q1 = rest / r11;
+      const double x = r00 + r11, y = -r01;
+      const double len = std::hypot(x, y);
+      const double c = x / len, sn = y / len;
+      Matrix32d R;
+      R.col(0) = c * q0 + sn * q1;
+      R.col(1) = c * q1 - sn * q0;
+      return R;
+    }
   }
   const Eigen::JacobiSVD<Matrix32d> svd(S, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Matrix32d U = svd.matrixU().leftCols<2>();
@@ -53,9 +61,7 @@ Matrix32d polar_factor(const Matrix32d& S) {
   return U * svd.matrixV().transpose();
 }
 
-}  // namespace
-
-ArapStitcher::ArapStitcher(const Eigen::MatrixXd& V_reference, const Eigen::MatrixXi& F) : F_(F) {
+ArapStitcher::ArapStitcher(const Eigen::MatrixXd& V_reference, const Eigen::MatrixXi& F) : F_(F), corners_(F) {
   n_ = static_cast<int>(V_reference.rows());
   if (V_reference.cols() != 3 || F.cols() != 3 || n_ == 0) throw UsageError("ARAP needs #V by 3 and #F by 3");
   weights_.resize(F.rows(), 3);
@@ -107,7 +113,7 @@ double ArapStitcher::energy(const std::vector<Eigen::Matrix2d>& targets, const E
       const Eigen::Vector2d dt = target_corner(targets[f], (k + 1) % 3) - target_corner(targets[f], k);
       S += weights_(f, k) * dx * dt.transpose();
     }
-    const Matrix32d R = polar_factor(S);
+    const Matrix32d R = closest_orthonormal(S);
     for (int k = 0; k < 3; ++k) {
       const int i = F_(f, k), j = F_(f, (k + 1) % 3);
       const Eigen::Vector3d dx = (V.row(j) - V.row(i)).transpose();
@@ -134,17 +140,28 @@ ArapReport ArapStitcher::stitch(const std::vector<Eigen::Matrix2d>& targets, Eig
   }
   const double mean_edge = edge_sum / std::max<Eigen::Index>(1, 3 * F_.rows());
   if (!(mean_edge > 0.0)) throw GeometryError("ARAP targets have no extent");
+  // Target edge k of face f (corner k -> corner k+1), fixed through the iterations.
+  std::vector<Eigen::Vector2d> target_edges(3 * F_.rows());
+  for (int f = 0; f < F_.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      target_edges[3 * f + k] = target_corner(targets[f], (k + 1) % 3) - target_corner(targets[f], k);
+    }
+  }
 
   // Largest change of an edge length between two shapes. The rest shape matters
   // to the cloth only through its triangles' shapes (intrinsic), while its 3D
   // embedding may keep drifting along nearly isometric bending modes that the
   // per-triangle energy barely sees; convergence is judged on the edges.
-  auto edge_change = [this](const Eigen::MatrixXd& A, const Eigen::MatrixXd& Bm) {
+  RowMatrixX3d A_rows(n_, 3), C_rows(n_, 3);
+  auto edge_change = [&](const Eigen::MatrixXd& A, const Eigen::MatrixXd& C) {
+    A_rows = A;
+    C_rows = C;
     double change = 0.0;
     for (int f = 0; f < F_.rows(); ++f) {
       for (int k = 0; k < 3; ++k) {
-        const int i = F_(f, k), j = F_(f, (k + 1) % 3);
-        change = std::max(change, std::abs((A.row(j) - A.row(i)).norm() - (Bm.row(j) - Bm.row(i)).norm()));
+        const int i = corners_(f, k), j = corners_(f, (k + 1) % 3);
+        change = std::max(change,
+                          std::abs((A_rows.row(j) - A_rows.row(i)).norm() - (C_rows.row(j) - C_rows.row(i)).norm()));
       }
     }
     return change;
@@ -166,34 +183,32 @@ ArapReport ArapStitcher::stitch(const std::vector<Eigen::Matrix2d>& targets, Eig
   double energy_previous = std::numeric_limits<double>::infinity();
   bool accelerated = false;
 
+  RowMatrixX3d X_rows(n_, 3), B_rows(n_, 3);
   auto local_step = [&](const Eigen::MatrixXd& X) {
+    X_rows = X;
     double e = 0.0;
     for (int f = 0; f < F_.rows(); ++f) {
+      const Eigen::Vector3d x[3] = {X_rows.row(corners_(f, 0)).transpose(), X_rows.row(corners_(f, 1)).transpose(),
+                                    X_rows.row(corners_(f, 2)).transpose()};
+      const Eigen::Vector3d dx[3] = {x[1] - x[0], x[2] - x[1], x[0] - x[2]};
+      const Eigen::Vector2d* dt = &target_edges[3 * f];
       Matrix32d S = Matrix32d::Zero();
-      Eigen::Vector3d dx[3];
-      Eigen::Vector2d dt[3];
-      for (int k = 0; k < 3; ++k) {
-        const int i = F_(f, k), j = F_(f, (k + 1) % 3);
-        dx[k] = (X.row(j) - X.row(i)).transpose();
-        dt[k] = target_corner(targets[f], (k + 1) % 3) - target_corner(targets[f], k);
-        S += weights_(f, k) * dx[k] * dt[k].transpose();
-      }
-      R[f] = polar_factor(S);
+      for (int k = 0; k < 3; ++k) S.noalias() += weights_(f, k) * dx[k] * dt[k].transpose();
+      R[f] = closest_orthonormal(S);
       for (int k = 0; k < 3; ++k) e += weights_(f, k) * (dx[k] - R[f] * dt[k]).squaredNorm();
     }
     return e;
   };
   auto global_step = [&](const Eigen::MatrixXd& X, Eigen::MatrixXd& out) {
-    B = epsilon_ * diagonal_.asDiagonal() * X;
+    B_rows = epsilon_ * diagonal_.asDiagonal() * X;
     for (int f = 0; f < F_.rows(); ++f) {
       for (int k = 0; k < 3; ++k) {
-        const int i = F_(f, k), j = F_(f, (k + 1) % 3);
-        const Eigen::Vector2d dt = target_corner(targets[f], (k + 1) % 3) - target_corner(targets[f], k);
-        const Eigen::RowVector3d r = (weights_(f, k) * (R[f] * dt)).transpose();
-        B.row(j) += r;
-        B.row(i) -= r;
+        const Eigen::RowVector3d r = (weights_(f, k) * (R[f] * target_edges[3 * f + k])).transpose();
+        B_rows.row(corners_(f, (k + 1) % 3)) += r;
+        B_rows.row(corners_(f, k)) -= r;
       }
     }
+    B = B_rows;
     solver_.solve(B, out);
   };
 

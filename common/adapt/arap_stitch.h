@@ -27,6 +27,11 @@
 
 namespace gp::adapt {
 
+// The 3x2 matrix with orthonormal columns closest to S in the Frobenius norm
+// (the local step's rotation): the polar factor S (S^T S)^-1/2, unique where S
+// has rank two; otherwise one of the equally close ones.
+Eigen::Matrix<double, 3, 2> closest_orthonormal(const Eigen::Matrix<double, 3, 2>& S);
+
 struct ArapOptions {
   // Relative: max edge-length change per iteration / mean target edge length.
   // 1e-5 (0.15 micrometres on a 1.5 cm edge) took 58 iterations per adaptation
@@ -64,8 +69,13 @@ class ArapStitcher {
   int factorizations() const { return factorizations_; }
 
  private:
+  using RowMatrixX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+  using RowMatrixX3i = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
   Eigen::MatrixXi F_;
-  Eigen::MatrixXd weights_;  // #F by 3: weight of edge k = (corner k -> corner k+1)
+  // Row-major copies for the per-face loops of every iteration, which read a
+  // face's three corners (and write them in the global step's right-hand side).
+  RowMatrixX3i corners_;
+  RowMatrixX3d weights_;  // #F by 3: weight of edge k = (corner k -> corner k+1)
   Eigen::VectorXd diagonal_;  // D (#V)
   double epsilon_ = 1e-5;
   CholmodSolver solver_;

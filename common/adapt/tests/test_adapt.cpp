@@ -144,6 +144,48 @@ TEST_CASE("a zero singular value takes the pseudo-inverse path without NaN", "[a
   CHECK_THROWS_AS(deformation_gradient(flat, flat), gp::GeometryError);
 }
 
+TEST_CASE("the local step's rotation is the SVD's closest orthonormal pair at any scale and rank", "[adapt][arap]") {
+  using Matrix32d = Eigen::Matrix<double, 3, 2>;
+  auto by_svd = [](const Matrix32d& S) {
+    const Eigen::JacobiSVD<Matrix32d> svd(S, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    return Matrix32d(svd.matrixU().leftCols<2>() * svd.matrixV().transpose());
+  };
+  auto orthonormality = [](const Matrix32d& R) {
+    return (R.transpose() * R - Eigen::Matrix2d::Identity()).cwiseAbs().maxCoeff();
+  };
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (double scale : {1e-9, 1.0, 1e9}) {
+    for (double ratio : {1.0, 1e-2, 1e-4, 1e-7}) {
+      for (int k = 0; k < 200; ++k) {
+        // S = U diag(1, ratio) V^T scaled, with random U (3x2) and V (2x2).
+        Matrix32d G;
+        for (int i = 0; i < 6; ++i) G(i) = n(rng);
+        const Eigen::HouseholderQR<Matrix32d> qr(G);
+        const Matrix32d U = qr.householderQ() * Matrix32d::Identity();
+        const Eigen::Matrix2d V = Eigen::Rotation2Dd(n(rng)).toRotationMatrix();
+        const Matrix32d S = scale * U * Eigen::Vector2d(1.0, ratio).asDiagonal() * V.transpose();
+        const Matrix32d R = closest_orthonormal(S);
+        INFO("scale " << scale << " ratio " << ratio);
+        // Rounding grows like 1/ratio: the weak direction is recovered from S's
+        // small singular value.
+        CHECK(orthonormality(R) < 1e-13 / ratio);
+        CHECK((R - by_svd(S)).cwiseAbs().maxCoeff() < 1e-13 / ratio);
+      }
+    }
+  }
+  // Rank one and zero: still an orthonormal pair, the first column along S's
+  // range where there is one; no NaN.
+  Matrix32d rank_one;
+  rank_one << 2.0, 4.0, 0.0, 0.0, 0.0, 0.0;
+  const Matrix32d R1 = closest_orthonormal(rank_one);
+  CHECK(orthonormality(R1) < 1e-14);
+  CHECK((R1.transpose() * rank_one).trace() == Approx(std::sqrt(20.0)));
+  const Matrix32d R0 = closest_orthonormal(Matrix32d::Zero());
+  CHECK(R0.allFinite());
+  CHECK(orthonormality(R0) < 1e-14);
+}
+
 TEST_CASE("ARAP stitching reproduces compatible targets exactly", "[adapt][arap]") {
   // Curved truth: a cylinder whose radius grew by 20% (girth stretched), its
   // triangles rotated at random in 2D; the stitching starts from the original
