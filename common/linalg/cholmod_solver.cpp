@@ -32,6 +32,7 @@ struct CholmodSolver::Impl {
     // always reported as CHOLMOD_NOT_POSDEF rather than hidden in an LDL^T.
     common.final_ll = 1;
     common.quick_return_if_not_posdef = 1;
+    for (int k = 0; k < 3; ++k) common.nrelax[k] = static_cast<size_t>(std::max(options.relax_columns[k], 1));
   }
   ~Impl() {
     free_workspace();
