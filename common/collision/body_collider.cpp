@@ -8,10 +8,12 @@
 #include <limits>
 #include <list>
 #include <string>
+#include <tuple>
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Intersections_3/Bbox_3_Triangle_3.h>
 #include <CGAL/Simple_cartesian.h>
 #include <Eigen/Dense>
 
@@ -171,33 +173,64 @@ struct VertexCache {
 std::vector<int> reachable_body_faces(const Eigen::MatrixXd& V_body, const Eigen::MatrixXi& F_body,
                                       const Eigen::MatrixXd& V_garment, double reach) {
   if (!(reach >= 0.0)) throw UsageError("reach must be non-negative");
-  std::vector<Triangle> triangles;
-  triangles.reserve(F_body.rows());
+  if (!V_garment.allFinite()) throw UsageError("garment positions must be finite");
+  // Garment vertices bucketed in a grid of cells of size `reach`: the cubes that
+  // can meet a face belong to vertices in the cells its bounding box, grown by
+  // reach, overlaps. A query of the body tree per garment vertex listed the
+  // same faces thousands of times over (1.8 s for the 3,829-vertex shirt).
+  // Cells no smaller than a mean body face, so that a face spans few of them
+  // even with a reach of zero.
+  double mean_extent = 0.0;
   for (int f = 0; f < F_body.rows(); ++f) {
-    triangles.emplace_back(to_point(V_body.row(F_body(f, 0))), to_point(V_body.row(F_body(f, 1))),
-                           to_point(V_body.row(F_body(f, 2))));
-  }
-  Tree tree(triangles.cbegin(), triangles.cend());
-  std::vector<char> reached(F_body.rows(), 0);
-  std::vector<Tree::Primitive_id> hits;
-  // Stops once every face is reached: with a reach as large as the body each
-  // vertex's box lists every face, which took 3.5 s for a 1,084-vertex shirt.
-  Eigen::Index reached_count = 0;
-  for (int v = 0; v < V_garment.rows() && reached_count < F_body.rows(); ++v) {
-    const Eigen::Vector3d p = V_garment.row(v);
-    const CGAL::Bbox_3 box(p.x() - reach, p.y() - reach, p.z() - reach, p.x() + reach, p.y() + reach,
-                           p.z() + reach);
-    hits.clear();
-    tree.all_intersected_primitives(box, std::back_inserter(hits));
-    for (const auto& id : hits) {
-      char& r = reached[id - triangles.cbegin()];
-      reached_count += r == 0;
-      r = 1;
+    Eigen::Vector3d lo = V_body.row(F_body(f, 0)), hi = lo;
+    for (int k = 1; k < 3; ++k) {
+      lo = lo.cwiseMin(V_body.row(F_body(f, k)).transpose());
+      hi = hi.cwiseMax(V_body.row(F_body(f, k)).transpose());
     }
+    mean_extent += (hi - lo).maxCoeff() / std::max<Eigen::Index>(1, F_body.rows());
   }
+  if (!std::isfinite(mean_extent)) throw UsageError("body positions must be finite");
+  const double cell = std::max({reach, mean_extent, 1e-12});
+  auto cell_of = [cell](double x) { return static_cast<long>(std::floor(x / cell)); };
+  struct Entry {
+    long x, y, z;
+    int vertex;
+  };
+  std::vector<Entry> entries(V_garment.rows());
+  for (int v = 0; v < V_garment.rows(); ++v) {
+    entries[v] = {cell_of(V_garment(v, 0)), cell_of(V_garment(v, 1)), cell_of(V_garment(v, 2)), v};
+  }
+  auto key_less = [](const Entry& a, const Entry& b) {
+    return std::tie(a.x, a.y, a.z, a.vertex) < std::tie(b.x, b.y, b.z, b.vertex);
+  };
+  std::sort(entries.begin(), entries.end(), key_less);
   std::vector<int> ids;
   for (int f = 0; f < F_body.rows(); ++f) {
-    if (reached[f]) ids.push_back(f);
+    Eigen::Vector3d lo = V_body.row(F_body(f, 0)), hi = lo;
+    for (int k = 1; k < 3; ++k) {
+      lo = lo.cwiseMin(V_body.row(F_body(f, k)).transpose());
+      hi = hi.cwiseMax(V_body.row(F_body(f, k)).transpose());
+    }
+    const Triangle triangle(to_point(V_body.row(F_body(f, 0))), to_point(V_body.row(F_body(f, 1))),
+                            to_point(V_body.row(F_body(f, 2))));
+    bool reached = false;
+    for (long x = cell_of(lo.x() - reach); x <= cell_of(hi.x() + reach) && !reached; ++x) {
+      for (long y = cell_of(lo.y() - reach); y <= cell_of(hi.y() + reach) && !reached; ++y) {
+        for (long z = cell_of(lo.z() - reach); z <= cell_of(hi.z() + reach) && !reached; ++z) {
+          auto it = std::lower_bound(entries.begin(), entries.end(), Entry{x, y, z, -1}, key_less);
+          for (; it != entries.end() && it->x == x && it->y == y && it->z == z && !reached; ++it) {
+            const Eigen::Vector3d p = V_garment.row(it->vertex);
+            // The face meets the vertex's cube (exactly, as the tree did); the
+            // box test first rejects most candidates cheaply.
+            if ((p - hi).maxCoeff() > reach || (lo - p).maxCoeff() > reach) continue;
+            const CGAL::Bbox_3 box(p.x() - reach, p.y() - reach, p.z() - reach, p.x() + reach, p.y() + reach,
+                                   p.z() + reach);
+            reached = CGAL::do_intersect(triangle, box);
+          }
+        }
+      }
+    }
+    if (reached) ids.push_back(f);
   }
   return ids;
 }

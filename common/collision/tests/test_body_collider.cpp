@@ -151,6 +151,34 @@ TEST_CASE("culling keeps the faces the garment can reach", "[collision]") {
   CHECK_THROWS_AS(reachable_body_faces(sphere.V, sphere.F, garment, -1.0), gp::UsageError);
 }
 
+TEST_CASE("culling keeps exactly the faces meeting some garment vertex's cube", "[collision]") {
+  using K = CGAL::Simple_cartesian<double>;
+  const gp::Mesh sphere = gp::testing::make_icosphere(3, 0.3);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.45, 0.45);
+  Eigen::MatrixXd garment(60, 3);
+  for (int i = 0; i < garment.rows(); ++i) garment.row(i) << u(rng), u(rng), u(rng);
+  for (double reach : {0.0, 0.01, 0.05, 0.2, 2.0}) {
+    std::vector<int> expected;
+    for (int f = 0; f < sphere.F.rows(); ++f) {
+      auto corner = [&](int k) {
+        return K::Point_3(sphere.V(sphere.F(f, k), 0), sphere.V(sphere.F(f, k), 1), sphere.V(sphere.F(f, k), 2));
+      };
+      const K::Triangle_3 t(corner(0), corner(1), corner(2));
+      for (int i = 0; i < garment.rows(); ++i) {
+        const Eigen::RowVector3d p = garment.row(i);
+        if (CGAL::do_intersect(t, CGAL::Bbox_3(p.x() - reach, p.y() - reach, p.z() - reach, p.x() + reach,
+                                               p.y() + reach, p.z() + reach))) {
+          expected.push_back(f);
+          break;
+        }
+      }
+    }
+    INFO("reach " << reach);
+    CHECK(reachable_body_faces(sphere.V, sphere.F, garment, reach) == expected);
+  }
+}
+
 TEST_CASE("resolve projects to the offset, removes inward velocity, and skips far vertices", "[collision]") {
   const gp::Mesh cube = make_cube(0.5);
   BodyCollider collider(cube.F);
