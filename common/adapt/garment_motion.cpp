@@ -341,6 +341,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   result.contact_constraints = sim.counters().constraints;
   result.contact_releases = sim.counters().released;
   result.pinched_contacts = collider.stats().pinched;
+  result.crease_contacts = collider.stats().creases;
   result.body_queries = collider.stats().queries;
   result.body_queries_skipped = collider.stats().skipped;
   result.body_queries_reused = collider.stats().reused;

@@ -136,6 +136,7 @@ struct MotionRunResult {
   long contact_constraints = 0;       // velocity constraints applied, summed over (sub)steps
   long contact_releases = 0;          // of which released because the body pulled
   long pinched_contacts = 0;          // contacts and projections whose offset was cut to half the gap (pinches)
+  long crease_contacts = 0;           // second contact directions of vertices in a crease of the offset surface
   long body_queries = 0;              // exact closest-point queries against the body
   long body_queries_skipped = 0;      // skipped: the vertex provably farther than its offset
   long body_queries_reused = 0;       // answered from the vertex's last query (same point, same body frame)

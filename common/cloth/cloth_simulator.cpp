@@ -15,6 +15,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// A vertex's second contact direction is dropped when it is within about 17
+// degrees of the first (the two constraints would be nearly the same).
+constexpr double kSmallestCreaseSine = 0.3;
+
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
@@ -479,16 +483,30 @@ struct ClothSimulator::Impl {
                      [](const VelocityConstraint& a, const VelocityConstraint& c) { return a.vertex < c.vertex; });
     if (released.size() != static_cast<size_t>(X.rows())) released.assign(X.rows(), 0);
     if (in_contact.size() != static_cast<size_t>(X.rows())) in_contact.assign(X.rows(), 0);
-    int last = -1;
     for (const VelocityConstraint& c : all) {
-      if (c.vertex < 0 || c.vertex >= X.rows() || c.vertex == last) continue;
-      last = c.vertex;
+      if (c.vertex < 0 || c.vertex >= X.rows()) continue;
       const int fi = free_id(c.vertex);
       const double len = c.normal.norm();
       if (fi < 0 || !(len > 0.0) || !std::isfinite(c.normal_velocity)) continue;
       if (released[c.vertex] || !(c.touching || in_contact[c.vertex])) continue;
       VelocityConstraint k = c;
       k.normal /= len;
+      const bool second = !constraints.empty() && constraints.back().vertex == c.vertex;
+      if (second) {
+        // Two directions of one vertex (a crease, Baraff & Witkin 1998, sec.
+        // 5.3): the second normal is made orthogonal to the first, and its
+        // prescribed speed follows from both, so that n1.v' = a1 and n2.v' = a2
+        // hold together: n2' = (n2 - d n1) / s, a2' = (a2 - d a1) / s with
+        // d = n1.n2, s = |n2 - d n1|. Nearly parallel ones add nothing.
+        if (constraints.size() >= 2 && constraints[constraints.size() - 2].vertex == c.vertex) continue;
+        const VelocityConstraint& first = constraints.back();
+        const double d = first.normal.dot(k.normal);
+        const Eigen::Vector3d perpendicular = k.normal - d * first.normal;
+        const double sine = perpendicular.norm();
+        if (!(sine > kSmallestCreaseSine)) continue;
+        k.normal = perpendicular / sine;
+        k.normal_velocity = (c.normal_velocity - d * first.normal_velocity) / sine;
+      }
       constraints.push_back(k);
       constraint_free.push_back(fi);
     }

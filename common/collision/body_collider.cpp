@@ -146,6 +146,9 @@ double ray_triangle_distance(const Eigen::Vector3d& o, const Eigen::Vector3d& d,
 // Start of a gap ray above the surface [m], so that the faces around the closest
 // point are not hit at distance zero.
 constexpr double kGapRayLift = 1e-6;
+// Two contact directions whose cosine is below this belong to different sides of
+// a crease (about 25 degrees apart): a vertex near both gets both as contacts.
+constexpr double kCreaseCosine = 0.9;
 // A cached gap stays valid while the closest point moves less than this [m] on
 // an unchanged body and face.
 constexpr double kGapReuseDistance = 1e-3;
@@ -166,6 +169,12 @@ struct VertexCache {
   long gap_version = -1;
   Eigen::Vector3d gap_point = Eigen::Vector3d::Zero();
   double gap = 0.0;
+  // Crease contacts (see contacts()): the closest face of the previous
+  // contacts() call and its outward direction, and the face held as the
+  // second side of a crease (-1: none).
+  int contact_face = -1;
+  Eigen::Vector3d contact_outward = Eigen::Vector3d::Zero();
+  int crease_face = -1;
 };
 
 }  // namespace
@@ -408,6 +417,21 @@ struct BodyCollider::Impl {
   }
 
 
+  // Proximity of p to body face f alone (signed by the pseudo-normal of the
+  // feature its closest point lies on).
+  Proximity face_proximity(const Eigen::Vector3d& p, int f) const {
+    const TriangleClosest c = closest_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2));
+    const Eigen::Vector3d d = p - c.point;
+    const double dist = d.norm();
+    Proximity out;
+    out.face = f;
+    out.closest = c.point;
+    const bool inside = d.dot(pseudo_normal(f, c.feature)) < 0.0;
+    out.signed_distance = inside ? -dist : dist;
+    out.outward = dist > 0.0 ? Eigen::Vector3d((inside ? -d : d) / dist) : Eigen::Vector3d::Zero();
+    return out;
+  }
+
   std::vector<Contact> contacts(const Eigen::MatrixXd& X, const double* offsets, double offset, double band) {
     const auto t0 = Clock::now();
     if (!built) throw UsageError("BodyCollider::contacts before set_body");
@@ -417,12 +441,27 @@ struct BodyCollider::Impl {
     int previous_face = -1;
     for (int i = 0; i < X.rows(); ++i) {
       const double reach = (offsets ? offsets[i] : offset) + band;
-      const std::optional<Proximity> found = cached_query(i, X.row(i).transpose(), reach, previous_face);
-      if (!found) continue;
+      const Eigen::Vector3d x = X.row(i).transpose();
+      const std::optional<Proximity> found = cached_query(i, x, reach, previous_face);
+      VertexCache& c = cache[i];
+      if (!found) {
+        c.contact_face = c.crease_face = -1;
+        continue;
+      }
       const Proximity& q = *found;
-      if (!(q.signed_distance < reach)) continue;
+      const int face_before = c.contact_face;
+      const Eigen::Vector3d outward_before = c.contact_outward;
+      c.contact_face = q.face;
+      c.contact_outward = q.outward;
+      if (!(q.signed_distance < reach)) {
+        c.crease_face = -1;
+        continue;
+      }
       const double usable = usable_offset(i, q, offsets ? offsets[i] : offset);
-      if (!(q.signed_distance < usable + band)) continue;
+      if (!(q.signed_distance < usable + band)) {
+        c.crease_face = -1;
+        continue;
+      }
       Contact k;
       k.vertex = i;
       k.offset = usable;
@@ -430,6 +469,34 @@ struct BodyCollider::Impl {
       k.outward = q.outward;
       k.body_normal_speed = body_velocity_at(q).dot(q.outward);
       out.push_back(k);
+      // A crease of the offset surface (a concave corner: the back of an
+      // armpit, where arm and torso meet): the closest point jumps between the
+      // two sides from step to step, and one contact direction at a time let
+      // the vertex slide along one side into the other's offset, to be pushed
+      // back along the other normal the next step, without end. The side seen
+      // in the previous step (or held from earlier) becomes a second contact
+      // while the vertex is within its offset plus the band (Baraff & Witkin
+      // 1998, sec. 5.3: a vertex constrained in two directions).
+      const int candidate = c.crease_face >= 0                                  ? c.crease_face
+                            : (face_before >= 0 && face_before != q.face &&
+                               q.outward.dot(outward_before) < kCreaseCosine) ? face_before
+                                                                              : -1;
+      c.crease_face = -1;
+      if (candidate < 0 || candidate == q.face) continue;
+      const Proximity side = face_proximity(x, candidate);
+      if (!(side.signed_distance < usable + band) || !(side.outward.dot(q.outward) < kCreaseCosine) ||
+          side.outward.isZero()) {
+        continue;
+      }
+      c.crease_face = candidate;
+      Contact second;
+      second.vertex = i;
+      second.offset = usable;
+      second.signed_distance = side.signed_distance;
+      second.outward = side.outward;
+      second.body_normal_speed = body_velocity_at(side).dot(side.outward);
+      out.push_back(second);
+      ++stats.creases;
     }
     stats.query_seconds += seconds_since(t0);
     return out;

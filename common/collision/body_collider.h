@@ -72,6 +72,7 @@ struct CollisionStats {
   long projected = 0;         // vertices moved out to the offset
   long gap_rays = 0;          // rays cast to measure the gap in front of a closest point
   long pinched = 0;           // contacts or projections whose offset was limited to half the gap
+  long creases = 0;           // second contacts of vertices in a crease (see contacts())
   double deepest_penetration = 0.0;  // largest depth inside the body seen by resolve() [m], before projection
   double rebuild_seconds = 0.0;      // tree rebuilds and pseudo-normals (set_body)
   double query_seconds = 0.0;        // resolve()
@@ -110,7 +111,11 @@ class BodyCollider {
   // Cloth vertices of X (#V by 3) closer to the body than offset + band [m], in
   // ascending vertex order, with the body's normal velocity at their closest
   // points (for velocity constraints in the implicit solve). Shares the warm
-  // starts and the motion bound of resolve().
+  // starts and the motion bound of resolve(). A vertex in a crease of the
+  // offset surface (its closest point moved to a face whose direction differs
+  // by more than about 25 degrees since the previous call, while it stays
+  // within reach of both) is listed twice in a row: the closest side first,
+  // then the other, as long as it stays near both.
   std::vector<Contact> contacts(const Eigen::MatrixXd& X, double offset, double band);
   // Same with a per-vertex offset (#V) [m], which may be negative as in resolve().
   std::vector<Contact> contacts(const Eigen::MatrixXd& X, const Eigen::VectorXd& offsets, double band);

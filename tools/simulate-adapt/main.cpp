@@ -187,6 +187,7 @@ int main(int argc, char** argv) {
                      {"contact_constraints", result.contact_constraints},
                      {"contact_releases", result.contact_releases},
                      {"pinched_contacts", result.pinched_contacts},
+                     {"crease_contacts", result.crease_contacts},
                      {"body_queries", result.body_queries},
                      {"body_queries_skipped", result.body_queries_skipped},
                      {"body_queries_reused", result.body_queries_reused},

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Geometry>
+
 #include "cloth/cloth_simulator.h"
 #include "core/error.h"
 #include "testing/test_meshes.h"
@@ -373,4 +375,43 @@ TEST_CASE("a contact that would pull the cloth onto the body is released", "[sim
   }
   CHECK(lifted > 0.1);
   CHECK(sim.positions().col(1).minCoeff() > -1e-6);
+}
+
+TEST_CASE("a vertex held in two directions meets both prescribed speeds", "[simulator][contact]") {
+  // The hanging square; one free vertex gets two constraints 60 degrees apart
+  // (a crease), with different normal speeds, and a third, nearly parallel to
+  // the second, that must be ignored. The solved velocity must satisfy both
+  // n1.v = a1 and n2.v = a2, whatever gravity and the cloth do tangentially.
+  const gp::Mesh m = hanging_square(8, 0.3);
+  SimulatorOptions options;
+  options.contact_release_fraction = 1e9;  // the body may pull here: only the constraint algebra is tested
+  ClothSimulator sim(m.V, m.F, ClothParameters{}, options);
+  sim.set_pinned({0, 8});
+  const int v = 4 * 9 + 4;
+  const Eigen::Vector3d n1 = Eigen::Vector3d(0.0, 0.0, 1.0);
+  const Eigen::Vector3d n2 = Eigen::Vector3d(0.0, std::sin(M_PI / 3.0), std::cos(M_PI / 3.0));
+  const double a1 = 0.02, a2 = -0.01;
+  sim.set_contact_handler([&](const Eigen::MatrixXd&, double, std::vector<VelocityConstraint>& out) {
+    VelocityConstraint c;
+    c.vertex = v;
+    c.normal = n1;
+    c.normal_velocity = a1;
+    out.push_back(c);
+    c.normal = 2.0 * n2;  // normals are normalized by the simulator
+    c.normal_velocity = a2;
+    out.push_back(c);
+    c.normal = (n2 + Eigen::Vector3d(0.0, 0.05, 0.0)).normalized();
+    c.normal_velocity = 5.0;
+    out.push_back(c);
+  });
+  for (int s = 0; s < 5; ++s) {
+    sim.step();
+    const Eigen::Vector3d vel = sim.velocities().row(v).transpose();
+    CHECK(vel.dot(n1) == Approx(a1).margin(1e-9));
+    CHECK(vel.dot(n2) == Approx(a2).margin(1e-9));
+  }
+  CHECK(sim.counters().constraints == 10);
+  // The tangential direction of the crease (n1 x n2) is free: gravity moves it.
+  const Eigen::Vector3d along = n1.cross(n2).normalized();
+  CHECK(std::abs(sim.velocities().row(v).dot(along.transpose())) < 1.0);
 }
