@@ -170,10 +170,10 @@ struct VertexCache {
   Eigen::Vector3d gap_point = Eigen::Vector3d::Zero();
   double gap = 0.0;
   // Crease contacts (see contacts()): the closest face of the previous
-  // contacts() call and its outward direction, and the face held as the
-  // second side of a crease (-1: none).
-  int contact_face = -1;
-  Eigen::Vector3d contact_outward = Eigen::Vector3d::Zero();
+  // contacts() or resolve() answer and its outward direction, and the face
+  // held as the second side of a crease (-1: none).
+  int seen_face = -1;
+  Eigen::Vector3d seen_outward = Eigen::Vector3d::Zero();
   int crease_face = -1;
 };
 
@@ -445,14 +445,14 @@ struct BodyCollider::Impl {
       const std::optional<Proximity> found = cached_query(i, x, reach, previous_face);
       VertexCache& c = cache[i];
       if (!found) {
-        c.contact_face = c.crease_face = -1;
+        c.seen_face = c.crease_face = -1;
         continue;
       }
       const Proximity& q = *found;
-      const int face_before = c.contact_face;
-      const Eigen::Vector3d outward_before = c.contact_outward;
-      c.contact_face = q.face;
-      c.contact_outward = q.outward;
+      const int face_before = c.seen_face;
+      const Eigen::Vector3d outward_before = c.seen_outward;
+      c.seen_face = q.face;
+      c.seen_outward = q.outward;
       if (!(q.signed_distance < reach)) {
         c.crease_face = -1;
         continue;
@@ -474,7 +474,8 @@ struct BodyCollider::Impl {
       // two sides from step to step, and one contact direction at a time let
       // the vertex slide along one side into the other's offset, to be pushed
       // back along the other normal the next step, without end. The side seen
-      // in the previous step (or held from earlier) becomes a second contact
+      // by the previous contacts() or resolve() (or held from earlier) becomes
+      // a second contact
       // while the vertex is within its offset plus the band (Baraff & Witkin
       // 1998, sec. 5.3: a vertex constrained in two directions).
       const int candidate = c.crease_face >= 0                                  ? c.crease_face
@@ -515,6 +516,8 @@ struct BodyCollider::Impl {
       const std::optional<Proximity> found = cached_query(i, X.row(i).transpose(), off, previous_face);
       if (!found) continue;
       const Proximity& q = *found;
+      cache[i].seen_face = q.face;
+      cache[i].seen_outward = q.outward;
       if (!(q.signed_distance < off)) continue;
       if (q.signed_distance < 0.0) stats.deepest_penetration = std::max(stats.deepest_penetration, -q.signed_distance);
       const double usable = usable_offset(i, q, off);

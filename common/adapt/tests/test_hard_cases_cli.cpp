@@ -98,13 +98,15 @@ TEST_CASE("a body in centimetres through register-check fits as the body in metr
   // run on the metre files is the reference. The normalized poses differ
   // from the metre ones by round-off only (measured 2.2e-16 m), and the runs
   // are deterministic, but the settling decisions (steps until settled,
-  // contact releases) are thresholds, so round-off changes the path: the
-  // T-pose settles after a different number of steps in each run.
-  // Expectation (100 settling steps per key pose): drapes within 1 cm per
-  // vertex (measured 0.03 mm at the A-pose, 4.3 mm at the T-pose), stretch,
-  // growth and penetration figures within 1e-3 (measured up to 2e-4),
-  // rest-shape edge lengths within 0.5 % on average (measured 0.03 %;
-  // single edges up to 2.6 %; with 150 settling steps 0.14 % and 7 %).
+  // contact releases, which side of a crease is the closest) are thresholds,
+  // so round-off changes the path: the T-pose settles after a different number
+  // of steps in each run, and a crease region of the rest shape grows by
+  // different amounts. Expectation (100 settling steps per key pose): drapes
+  // within 3 cm per vertex (measured 6 mm at the A-pose, 26 mm at the T-pose;
+  // 0.03 and 4.3 mm before crease contacts), stretch, growth and penetration
+  // figures within 2e-3 (measured up to 1.4e-3), rest-shape edge lengths within
+  // 1 % on average (measured 0.51 %, single edges up to 18 %). A unit error
+  // would be a factor of 100.
   const hc::Scene& scene = hc::default_scene();
   const fs::path dir = gp::testing::fresh_temp_dir("hard_cli_cm");
   fs::create_directories(dir / "cm");
@@ -142,9 +144,9 @@ TEST_CASE("a body in centimetres through register-check fits as the body in metr
     const double d = max_distance(dir / "fit_m" / mesh, dir / "fit_cm" / mesh);
     INFO(mesh << ": max vertex distance " << d << " m; max stretch " << a["key_poses"][k]["max_stretch"] << " vs "
               << b["key_poses"][k]["max_stretch"]);
-    CHECK(d < 0.01);
+    CHECK(d < 0.03);
     for (const char* field : {"max_stretch", "p99_stretch", "rest_area_growth", "deepest_penetration_m"}) {
-      CHECK(std::abs(a["key_poses"][k][field].get<double>() - b["key_poses"][k][field].get<double>()) < 1e-3);
+      CHECK(std::abs(a["key_poses"][k][field].get<double>() - b["key_poses"][k][field].get<double>()) < 2e-3);
     }
   }
   const gp::Mesh rest_m = gp::read_mesh(dir / "fit_m" / "rest.ply").mesh;
@@ -162,7 +164,7 @@ TEST_CASE("a body in centimetres through register-check fits as the body in metr
     }
   }
   INFO("rest edge lengths: mean relative difference " << sum / count << ", largest " << worst);
-  CHECK(sum / count < 0.005);
+  CHECK(sum / count < 0.01);
 }
 
 TEST_CASE("a hand-written pose manifest over centimetre files is not silently simulated", "[cli][hard][body]") {
