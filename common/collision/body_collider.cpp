@@ -432,6 +432,17 @@ struct BodyCollider::Impl {
     return out;
   }
 
+  // Vertex i's contact with the body at q, with the offset it may use there.
+  Contact contact_of(int i, const Proximity& q, double usable) const {
+    Contact k;
+    k.vertex = i;
+    k.offset = usable;
+    k.signed_distance = q.signed_distance;
+    k.outward = q.outward;
+    k.body_normal_speed = body_velocity_at(q).dot(q.outward);
+    return k;
+  }
+
   std::vector<Contact> contacts(const Eigen::MatrixXd& X, const double* offsets, double offset, double band) {
     const auto t0 = Clock::now();
     if (!built) throw UsageError("BodyCollider::contacts before set_body");
@@ -462,22 +473,15 @@ struct BodyCollider::Impl {
         c.crease_face = -1;
         continue;
       }
-      Contact k;
-      k.vertex = i;
-      k.offset = usable;
-      k.signed_distance = q.signed_distance;
-      k.outward = q.outward;
-      k.body_normal_speed = body_velocity_at(q).dot(q.outward);
-      out.push_back(k);
+      out.push_back(contact_of(i, q, usable));
       // A crease of the offset surface (a concave corner: the back of an
       // armpit, where arm and torso meet): the closest point jumps between the
       // two sides from step to step, and one contact direction at a time let
       // the vertex slide along one side into the other's offset, to be pushed
       // back along the other normal the next step, without end. The side seen
       // by the previous contacts() or resolve() (or held from earlier) becomes
-      // a second contact
-      // while the vertex is within its offset plus the band (Baraff & Witkin
-      // 1998, sec. 5.3: a vertex constrained in two directions).
+      // a second contact while the vertex is within its offset plus the band
+      // (Baraff & Witkin 1998, sec. 5.3: a vertex constrained in two directions).
       const int candidate = c.crease_face >= 0                                  ? c.crease_face
                             : (face_before >= 0 && face_before != q.face &&
                                q.outward.dot(outward_before) < kCreaseCosine) ? face_before
@@ -490,13 +494,7 @@ struct BodyCollider::Impl {
         continue;
       }
       c.crease_face = candidate;
-      Contact second;
-      second.vertex = i;
-      second.offset = usable;
-      second.signed_distance = side.signed_distance;
-      second.outward = side.outward;
-      second.body_normal_speed = body_velocity_at(side).dot(side.outward);
-      out.push_back(second);
+      out.push_back(contact_of(i, side, usable));
       ++stats.creases;
     }
     stats.query_seconds += seconds_since(t0);
