@@ -4,9 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <iterator>
 #include <limits>
-#include <list>
 #include <string>
 #include <tuple>
 
@@ -77,8 +75,6 @@ TriangleClosest closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vecto
 // closest points up to rounding: the run is identical through the A-pose and
 // differs in the last bits from there (ties between far-apart faces).
 struct BodyTraits : CGAL::AABB_traits<Kernel, Primitive> {
-  using Base = CGAL::AABB_traits<Kernel, Primitive>;
-
   class Closest_point {
    public:
     explicit Closest_point(const BodyTraits&) {}
@@ -189,14 +185,15 @@ std::vector<int> reachable_body_faces(const Eigen::MatrixXd& V_body, const Eigen
   // same faces thousands of times over (1.8 s for the 3,829-vertex shirt).
   // Cells no smaller than a mean body face, so that a face spans few of them
   // even with a reach of zero.
+  std::vector<Eigen::Vector3d> lows(F_body.rows()), highs(F_body.rows());
   double mean_extent = 0.0;
   for (int f = 0; f < F_body.rows(); ++f) {
-    Eigen::Vector3d lo = V_body.row(F_body(f, 0)), hi = lo;
+    lows[f] = highs[f] = V_body.row(F_body(f, 0)).transpose();
     for (int k = 1; k < 3; ++k) {
-      lo = lo.cwiseMin(V_body.row(F_body(f, k)).transpose());
-      hi = hi.cwiseMax(V_body.row(F_body(f, k)).transpose());
+      lows[f] = lows[f].cwiseMin(V_body.row(F_body(f, k)).transpose());
+      highs[f] = highs[f].cwiseMax(V_body.row(F_body(f, k)).transpose());
     }
-    mean_extent += (hi - lo).maxCoeff() / std::max<Eigen::Index>(1, F_body.rows());
+    mean_extent += (highs[f] - lows[f]).maxCoeff() / std::max<Eigen::Index>(1, F_body.rows());
   }
   if (!std::isfinite(mean_extent)) throw UsageError("body positions must be finite");
   const double cell = std::max({reach, mean_extent, 1e-12});
@@ -215,11 +212,8 @@ std::vector<int> reachable_body_faces(const Eigen::MatrixXd& V_body, const Eigen
   std::sort(entries.begin(), entries.end(), key_less);
   std::vector<int> ids;
   for (int f = 0; f < F_body.rows(); ++f) {
-    Eigen::Vector3d lo = V_body.row(F_body(f, 0)), hi = lo;
-    for (int k = 1; k < 3; ++k) {
-      lo = lo.cwiseMin(V_body.row(F_body(f, k)).transpose());
-      hi = hi.cwiseMax(V_body.row(F_body(f, k)).transpose());
-    }
+    const Eigen::Vector3d& lo = lows[f];
+    const Eigen::Vector3d& hi = highs[f];
     const Triangle triangle(to_point(V_body.row(F_body(f, 0))), to_point(V_body.row(F_body(f, 1))),
                             to_point(V_body.row(F_body(f, 2))));
     bool reached = false;
