@@ -28,7 +28,7 @@ Eigen::Vector2d target_corner(const Eigen::Matrix2d& T, int k) {
 // tr(R^T R2) = cos t (r00 + r11) - sin t r01 (the orthogonal Procrustes
 // problem in 2D, which Schoenemann 1966 solves in general by an SVD). Its
 // rounding grows like that of an SVD, 1 / (smaller singular value), where
-// working from S^T S would square it; it is an order of magnitude cheaper.
+// working from S^T S would square it, and it needs no eigenvectors.
 // SVD where the second column is (nearly) parallel to the first or S vanishes.
 Matrix32d closest_orthonormal(const Matrix32d& S) {
   const double r00 = S.col(0).norm();
