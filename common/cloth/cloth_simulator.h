@@ -156,8 +156,9 @@ struct VelocityConstraint {
 // Called at the start of each (sub)step with the positions X (#V by 3) and the
 // (sub)step size h [s]; fills the candidate constraints (at most two per vertex,
 // listed together: a vertex in a crease is held along both sides' normals, the
-// second made orthogonal to the first; pinned vertices are ignored). A candidate becomes a constraint when it touches,
-// or when its vertex was constrained in the previous (sub)step and not released;
+// second made orthogonal to the first; pinned vertices are ignored). A
+// candidate becomes a constraint when it touches, or when its vertex was
+// constrained in the previous (sub)step and not released;
 // a constraint whose force pulled the cloth towards the body is released
 // (Baraff & Witkin's release rule), so the cloth can leave the body.
 using ContactHandler =

@@ -394,6 +394,8 @@ struct BodyCollider::Impl {
       // contacts): the answer is the same.
       ++stats.reused;
       previous_face = c.answer.face;
+      c.seen_face = c.answer.face;
+      c.seen_outward = c.answer.outward;
       return c.answer;
     }
     const Proximity q = query(x, c.valid ? c.face : previous_face);
@@ -407,6 +409,8 @@ struct BodyCollider::Impl {
     c.outside = q.signed_distance > 0.0;
     c.answer = q;
     c.answer_version = version;
+    c.seen_face = q.face;
+    c.seen_outward = q.outward;
     return q;
   }
 
@@ -447,17 +451,15 @@ struct BodyCollider::Impl {
     for (int i = 0; i < X.rows(); ++i) {
       const double reach = (offsets ? offsets[i] : offset) + band;
       const Eigen::Vector3d x = X.row(i).transpose();
-      const std::optional<Proximity> found = cached_query(i, x, reach, previous_face);
       VertexCache& c = cache[i];
+      const int face_before = c.seen_face;
+      const Eigen::Vector3d outward_before = c.seen_outward;
+      const std::optional<Proximity> found = cached_query(i, x, reach, previous_face);
       if (!found) {
         c.seen_face = c.crease_face = -1;
         continue;
       }
       const Proximity& q = *found;
-      const int face_before = c.seen_face;
-      const Eigen::Vector3d outward_before = c.seen_outward;
-      c.seen_face = q.face;
-      c.seen_outward = q.outward;
       if (!(q.signed_distance < reach)) {
         c.crease_face = -1;
         continue;
@@ -508,8 +510,6 @@ struct BodyCollider::Impl {
       const std::optional<Proximity> found = cached_query(i, X.row(i).transpose(), off, previous_face);
       if (!found) continue;
       const Proximity& q = *found;
-      cache[i].seen_face = q.face;
-      cache[i].seen_outward = q.outward;
       if (!(q.signed_distance < off)) continue;
       if (q.signed_distance < 0.0) stats.deepest_penetration = std::max(stats.deepest_penetration, -q.signed_distance);
       const double usable = usable_offset(i, q, off);
