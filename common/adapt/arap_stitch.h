@@ -78,7 +78,11 @@ class ArapStitcher {
   RowMatrixX3d weights_;  // #F by 3: weight of edge k = (corner k -> corner k+1)
   Eigen::VectorXd diagonal_;  // D (#V)
   double epsilon_ = 1e-5;
-  CholmodSolver solver_;
+  // Simplicial: the factorization happens once, the three-column solve every
+  // iteration, and for this small Laplacian the supernodal factor's BLAS calls
+  // cost more than they save. Measured on nine adaptations of the 3,829-vertex
+  // shirt moving T -> A (one thread): 0.73 against 0.93 ms per iteration.
+  CholmodSolver solver_{CholmodOptions{CholmodOptions::Method::simplicial}};
   int factorizations_ = 0;
   int n_ = 0;
 };
