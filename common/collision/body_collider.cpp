@@ -250,7 +250,12 @@ struct BodyCollider::Impl {
   Eigen::MatrixXd V, V_dot;
   bool has_velocity = false;
   Eigen::MatrixXd face_normal;    // #Fb by 3 (rows of normal_faces filled)
-  Eigen::MatrixXd vertex_normal;  // #Vb by 3 (rows of culled vertices filled)
+  // Angle-weighted vertex pseudo-normals, computed when a query first needs
+  // one in a body frame: few culled vertices are ever the closest feature, and
+  // computing all of them (three atan2 per face) was a third of set_body.
+  // Row v is valid while vertex_normal_version[v] == version.
+  mutable Eigen::MatrixXd vertex_normal;  // #Vb by 3
+  mutable std::vector<long> vertex_normal_version;
   std::vector<Triangle> triangles;
   Tree tree;
   bool built = false;
@@ -271,7 +276,25 @@ struct BodyCollider::Impl {
       if (g >= 0) n += face_normal.row(g).transpose();
       return n;
     }
-    return vertex_normal.row(F(f, feature)).transpose();
+    return vertex_pseudo_normal(F(f, feature));
+  }
+
+  // Baerentzen & Aanaes 2005, eq. 3: the incident faces' normals weighted by
+  // their angles at v.
+  Eigen::Vector3d vertex_pseudo_normal(int v) const {
+    if (vertex_normal_version[v] == version) return vertex_normal.row(v).transpose();
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for (int f : incident[v]) {
+      int k = 0;
+      while (F(f, k) != v) ++k;
+      const Eigen::Vector3d e1 = corner(f, (k + 1) % 3) - corner(f, k);
+      const Eigen::Vector3d e2 = corner(f, (k + 2) % 3) - corner(f, k);
+      const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
+      n += angle * face_normal.row(f).transpose();
+    }
+    vertex_normal.row(v) = n.transpose();
+    vertex_normal_version[v] = version;
+    return n;
   }
 
   // A closest point on an edge or a corner is shared by every face around that
@@ -566,6 +589,8 @@ BodyCollider::BodyCollider(const Eigen::MatrixXi& F_body, std::vector<int> face_
     if (face_used[f]) s.normal_faces.push_back(f);
   }
   s.triangles.resize(s.faces.size());
+  s.vertex_normal.resize(nv, 3);
+  s.vertex_normal_version.assign(nv, -1);
   s.tree.do_not_accelerate_distance_queries();
 }
 
@@ -597,20 +622,6 @@ void BodyCollider::set_body(const Eigen::MatrixXd& V_body, const Eigen::MatrixXd
     const Eigen::Vector3d n = (s.corner(f, 1) - s.corner(f, 0)).cross(s.corner(f, 2) - s.corner(f, 0));
     const double len = n.norm();
     s.face_normal.row(f) = len > 0.0 ? Eigen::RowVector3d((n / len).transpose()) : Eigen::RowVector3d::Zero();
-  }
-  // Angle-weighted vertex pseudo-normals (Baerentzen & Aanaes 2005, eq. 3).
-  s.vertex_normal.resize(nv, 3);
-  for (int v : s.culled_vertices) {
-    Eigen::Vector3d n = Eigen::Vector3d::Zero();
-    for (int f : s.incident[v]) {
-      int k = 0;
-      while (s.F(f, k) != v) ++k;
-      const Eigen::Vector3d e1 = s.corner(f, (k + 1) % 3) - s.corner(f, k);
-      const Eigen::Vector3d e2 = s.corner(f, (k + 2) % 3) - s.corner(f, k);
-      const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
-      n += angle * s.face_normal.row(f).transpose();
-    }
-    s.vertex_normal.row(v) = n.transpose();
   }
   for (size_t k = 0; k < s.faces.size(); ++k) {
     const int f = s.faces[k];

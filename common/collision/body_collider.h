@@ -74,7 +74,7 @@ struct CollisionStats {
   long pinched = 0;           // contacts or projections whose offset was limited to half the gap
   long creases = 0;           // second contacts of vertices in a crease (see contacts())
   double deepest_penetration = 0.0;  // largest depth inside the body seen by resolve() [m], before projection
-  double rebuild_seconds = 0.0;      // tree rebuilds and pseudo-normals (set_body)
+  double rebuild_seconds = 0.0;      // tree rebuilds and face normals (set_body)
   double query_seconds = 0.0;        // resolve()
 };
 
