@@ -28,7 +28,13 @@
 //    Measured on the shared-body shirt through T -> A -> arms up -> arms bent ->
 //    T: 3,829 vertices 10.9 steps/s against 8.3 for pcg_reused_factor (112 s
 //    against 166 s of CPU for the run, 16 CG iterations per step against 47);
-//    1,085 vertices 46.6 against 40.2 steps/s; the same fit figures.
+//    1,085 vertices 46.6 against 40.2 steps/s; the same fit figures. Again
+//    at the CG tolerance 1e-4: 39 s against 65 s (5.7 CG iterations per step
+//    against 34). Why a stale factor fails here: in the plane the matrix is
+//    damping-dominated (h D about 1 against a vertex mass near 4e-5 kg), out
+//    of it only bending and mass hold a vertex, 1e-4 to 1e-3 of the in-plane
+//    terms; a turn of the surface by 0.01 rad mixes theta^2 = 1e-4 of the
+//    in-plane stiffness into those directions, as much as their own.
 //  - pcg_jacobi: conjugate gradients with a diagonal preconditioner (baseline).
 //
 // Numerical safety: after every step positions and velocities must be finite, no
