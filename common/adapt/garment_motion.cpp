@@ -345,6 +345,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   result.body_queries = collider.stats().queries;
   result.body_queries_skipped = collider.stats().skipped;
   result.body_queries_reused = collider.stats().reused;
+  result.body_queries_local = collider.stats().local;
   result.times.total = seconds_since(run_start);
   return result;
 }

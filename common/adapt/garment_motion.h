@@ -143,6 +143,7 @@ struct MotionRunResult {
   long body_queries = 0;              // exact closest-point queries against the body
   long body_queries_skipped = 0;      // skipped: the vertex provably farther than its offset
   long body_queries_reused = 0;       // answered from the vertex's last query (same point, same body frame)
+  long body_queries_local = 0;        // answered from the vertex's candidate faces (body standing still)
   MotionRunTimes times;
 };
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <tuple>
@@ -148,6 +149,12 @@ constexpr double kCreaseCosine = 0.9;
 // A cached gap stays valid while the closest point moves less than this [m] on
 // an unchanged body and face.
 constexpr double kGapReuseDistance = 1e-3;
+// Candidate faces of a vertex on a body standing still (see cached_query):
+// they answer its queries while it stays within this distance [m] of where
+// they were collected, and are collected from its third query on one body
+// frame on (a body frame of a moving body sees two: contacts, then resolve).
+constexpr double kCandidateSlack = 2e-3;
+constexpr int kCandidateQueries = 3;
 
 struct VertexCache {
   Eigen::Vector3d x = Eigen::Vector3d::Zero();
@@ -165,6 +172,14 @@ struct VertexCache {
   long gap_version = -1;
   Eigen::Vector3d gap_point = Eigen::Vector3d::Zero();
   double gap = 0.0;
+  // Queries on the current body frame (frame_version), and the candidate
+  // faces (culled ids, ascending) collected around candidate_center on body
+  // frame candidate_version (see cached_query).
+  long frame_version = -1;
+  int frame_queries = 0;
+  std::vector<int> candidates;
+  Eigen::Vector3d candidate_center = Eigen::Vector3d::Zero();
+  long candidate_version = -1;
   // Crease contacts (see contacts()): the closest face of the previous
   // contacts() or resolve() answer and its outward direction, and the face
   // held as the second side of a crease (-1: none).
@@ -339,7 +354,11 @@ struct BodyCollider::Impl {
       result = tree.closest_point_and_primitive(q);
     }
     const int local = static_cast<int>(result.second - triangles.cbegin());
-    int f = faces[local];
+    return proximity_on(p, faces[local]);
+  }
+
+  // The answer for p whose closest body face is f (before the tie rule).
+  Proximity proximity_on(const Eigen::Vector3d& p, int f) const {
     TriangleClosest c = closest_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2));
     resolve_tie(p, f, c);
     const Eigen::Vector3d n = pseudo_normal(f, c.feature);
@@ -401,6 +420,39 @@ struct BodyCollider::Impl {
     for (int k = 0; k < 3; ++k) v_body += w(k) * V_dot.row(F(f, k)).transpose();
     return v_body;
   }
+  // Culled faces (local ids, ascending) within `radius` of p.
+  std::vector<int> faces_within(const Eigen::Vector3d& p, double radius) const {
+    std::vector<TriangleIterator> hits;
+    const CGAL::Bbox_3 box(p.x() - radius, p.y() - radius, p.z() - radius, p.x() + radius, p.y() + radius,
+                           p.z() + radius);
+    tree.all_intersected_primitives(box, std::back_inserter(hits));
+    std::vector<int> ids;
+    for (const TriangleIterator& it : hits) {
+      const int local = static_cast<int>(it - triangles.cbegin());
+      const int f = faces[local];
+      const TriangleClosest c = closest_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2));
+      if ((p - c.point).squaredNorm() <= radius * radius) ids.push_back(local);
+    }
+    std::sort(ids.begin(), ids.end());
+    return ids;
+  }
+
+  // The closest of the candidate faces to p (the lowest id among equally
+  // close ones), answered as query() answers its face.
+  Proximity closest_candidate(const Eigen::Vector3d& p, const std::vector<int>& candidates) const {
+    int best = -1;
+    double best_d2 = std::numeric_limits<double>::infinity();
+    for (int local : candidates) {
+      const int f = faces[local];
+      const double d2 = (p - closest_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2)).point).squaredNorm();
+      if (d2 < best_d2) {
+        best_d2 = d2;
+        best = f;
+      }
+    }
+    return proximity_on(p, best);
+  }
+
   // The closest body point to vertex i at x, or nothing when the cached
   // query proves the vertex farther than `reach`: the cached distance can have
   // shrunk at most by the vertex's own motion plus the body's largest motion
@@ -421,8 +473,30 @@ struct BodyCollider::Impl {
       c.seen_outward = c.answer.outward;
       return c.answer;
     }
-    const Proximity q = query(x, c.valid ? c.face : previous_face);
-    ++stats.queries;
+    // On a body standing still a vertex's queries are answered from the faces
+    // near it: if the closest body point of c was at distance d, every face
+    // within d + s of a point x with |x - c| <= s lies within d + 2 s of c,
+    // so the faces within d + 2 s of c, collected once, hold x's closest face
+    // (the same body frame). A tree query verifies its answer against every
+    // box within reach from the root; the candidates are a dozen triangles.
+    if (c.frame_version != version) {
+      c.frame_version = version;
+      c.frame_queries = 0;
+    }
+    ++c.frame_queries;
+    Proximity q;
+    if (c.candidate_version == version && !c.candidates.empty() && (x - c.candidate_center).norm() <= kCandidateSlack) {
+      q = closest_candidate(x, c.candidates);
+      ++stats.local;
+    } else {
+      q = query(x, c.valid ? c.face : previous_face);
+      ++stats.queries;
+      if (c.frame_queries >= kCandidateQueries) {
+        c.candidates = faces_within(x, std::abs(q.signed_distance) + 2.0 * kCandidateSlack);
+        c.candidate_center = x;
+        c.candidate_version = version;
+      }
+    }
     previous_face = q.face;
     c.valid = true;
     c.face = q.face;

@@ -191,6 +191,7 @@ int main(int argc, char** argv) {
                      {"body_queries", result.body_queries},
                      {"body_queries_skipped", result.body_queries_skipped},
                      {"body_queries_reused", result.body_queries_reused},
+                     {"body_queries_local", result.body_queries_local},
                      {"initial_min_distance_m", result.initial_min_distance},
                      {"factorizations", result.factorizations},
                      {"cg_iterations", result.cg_iterations},

@@ -278,6 +278,60 @@ TEST_CASE("contacts lists vertices within offset plus band with normals and body
   CHECK_THROWS_AS(collider.contacts(X, -0.01, 0.0), gp::UsageError);
 }
 
+TEST_CASE("on a body standing still, a vertex's candidate faces give the tree's answers", "[collision]") {
+  // The lumpy sphere again, and cloth points 2 mm to 5 cm outside or 1 cm
+  // inside it that move by less than the candidates' slack (2 mm) most rounds
+  // and jump by 5 mm every fourth, so that both paths and the re-collection
+  // are taken; every answer is compared with a fresh tree query.
+  gp::Mesh body = gp::testing::make_icosphere(3, 0.3);
+  for (int v = 0; v < body.V.rows(); ++v) {
+    const Eigen::Vector3d p = body.V.row(v);
+    body.V.row(v) *= 1.0 + 0.15 * std::sin(9.0 * p.x()) * std::cos(7.0 * p.y() + 3.0 * p.z());
+  }
+  BodyCollider collider(body.F);
+  collider.set_body(body.V);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> vertex(0, static_cast<int>(body.V.rows()) - 1);
+  const int n = 300;
+  Eigen::MatrixXd X(n, 3);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d p = body.V.row(vertex(rng));
+    const double lift = i % 10 == 0 ? -0.01 : 0.002 + 0.024 * (1.0 + u(rng));
+    X.row(i) = (p + lift * p.normalized()).transpose();
+  }
+  auto random_step = [&](double length) {
+    Eigen::Vector3d d(u(rng), u(rng), u(rng));
+    while (!(d.norm() > 1e-3)) d = Eigen::Vector3d(u(rng), u(rng), u(rng));
+    return Eigen::Vector3d(length * std::abs(u(rng)) * d.normalized());
+  };
+  double worst_distance = 0.0, worst_direction = 0.0;
+  long compared = 0;
+  for (int round = 0; round < 24; ++round) {
+    for (int i = 0; i < n; ++i) X.row(i) += random_step(round % 4 == 3 ? 5e-3 : 1.9e-3).transpose();
+    // Offset 0.05 m and a band of 1 m: every point is a contact.
+    for (const Contact& c : collider.contacts(X, 0.05, 1.0)) {
+      const Proximity tree = collider.query(X.row(c.vertex).transpose());
+      worst_distance = std::max(worst_distance, std::abs(c.signed_distance - tree.signed_distance));
+      worst_direction = std::max(worst_direction, 1.0 - c.outward.dot(tree.outward));
+      ++compared;
+    }
+  }
+  CHECK(compared >= 24 * n);
+  CHECK(worst_distance <= 1e-15);
+  CHECK(worst_direction <= 1e-12);
+  // Most answers came from the candidates, and a new body frame (here at the
+  // same positions) is answered by the tree until a vertex's third query on it.
+  CHECK(collider.stats().local > 12 * n);
+  const long local_before = collider.stats().local;
+  collider.set_body(body.V);
+  for (int i = 0; i < n; ++i) X.row(i) += random_step(1e-3).transpose();
+  collider.contacts(X, 0.05, 1.0);
+  for (int i = 0; i < n; ++i) X.row(i) += random_step(1e-3).transpose();
+  collider.contacts(X, 0.05, 1.0);
+  CHECK(collider.stats().local == local_before);
+}
+
 TEST_CASE("a vertex that has not moved on an unchanged body reuses its last answer", "[collision]") {
   const gp::Mesh cube = make_cube(0.5);
   BodyCollider collider(cube.F);
