@@ -153,6 +153,9 @@ constexpr double kGapReuseDistance = 1e-3;
 // they answer its queries while it stays within this distance [m] of where
 // they were collected, and are collected from its third query on one body
 // frame on (a body frame of a moving body sees two: contacts, then resolve).
+// Shirt (3,829 vertices) T -> A with settling: 5.4 ms of collisions per step
+// at 2 mm against 5.5 at 1 mm (collected more often) and 6.3 at 4 mm (twice
+// the faces to search).
 constexpr double kCandidateSlack = 2e-3;
 constexpr int kCandidateQueries = 3;
 
