@@ -27,9 +27,9 @@
 // While the body stands still (settling at a key pose), a vertex queried a
 // third time on the same body frame collects the faces that can hold its
 // closest point while it stays within a few millimetres, and later queries
-// search only those (exactly, see cached_query). Same run: 1.48 million tree
-// queries against 3.15 million, 8.2 against 10.8 ms of collisions per step,
-// 35.4 against 39.2 s for the run, every output byte-identical.
+// search only those (exactly, see cached_query). Same run: 1.53 million tree
+// queries against 3.15 million, 8.4 against 10.8 ms of collisions per step,
+// 35.4 to 37.1 s against 39.2 s for the run, every output byte-identical.
 //
 // Pinches: where two body parts come closer than twice the comfort offset
 // (armpit, between the legs, an arm against the torso) the two offset shells
