@@ -33,6 +33,17 @@ gp::Mesh make_cube(double h) {
   return m;
 }
 
+// A sphere of radius 0.3 m with radial bumps of 15 %: a closed surface with
+// many near-ties between distant faces.
+gp::Mesh lumpy_sphere() {
+  gp::Mesh body = gp::testing::make_icosphere(3, 0.3);
+  for (int v = 0; v < body.V.rows(); ++v) {
+    const Eigen::Vector3d p = body.V.row(v);
+    body.V.row(v) *= 1.0 + 0.15 * std::sin(9.0 * p.x()) * std::cos(7.0 * p.y() + 3.0 * p.z());
+  }
+  return body;
+}
+
 double box_signed_distance(const Eigen::Vector3d& p, double h) {
   const Eigen::Vector3d q = p.cwiseAbs() - Eigen::Vector3d::Constant(h);
   return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
@@ -92,11 +103,7 @@ TEST_CASE("signed distance to a sphere mesh follows the analytic one", "[collisi
 TEST_CASE("tree queries find the closest of all triangles, with and without hints", "[collision]") {
   // A lumpy closed surface (a sphere with radial bumps): many near-ties between
   // distant faces, where a traversal that prunes wrongly would show.
-  gp::Mesh body = gp::testing::make_icosphere(3, 0.3);
-  for (int v = 0; v < body.V.rows(); ++v) {
-    const Eigen::Vector3d p = body.V.row(v);
-    body.V.row(v) *= 1.0 + 0.15 * std::sin(9.0 * p.x()) * std::cos(7.0 * p.y() + 3.0 * p.z());
-  }
+  const gp::Mesh body = lumpy_sphere();
   BodyCollider collider(body.F);
   collider.set_body(body.V);
   using K = CGAL::Simple_cartesian<double>;
@@ -284,11 +291,7 @@ TEST_CASE("on a body standing still, a vertex's candidate faces give the tree's 
   // and jump by 5 mm every fourth, so that both paths and the re-collection
   // are taken; every answer is compared with a fresh tree query. The body
   // stands still: its frame is set again at the same positions (a key pose).
-  gp::Mesh body = gp::testing::make_icosphere(3, 0.3);
-  for (int v = 0; v < body.V.rows(); ++v) {
-    const Eigen::Vector3d p = body.V.row(v);
-    body.V.row(v) *= 1.0 + 0.15 * std::sin(9.0 * p.x()) * std::cos(7.0 * p.y() + 3.0 * p.z());
-  }
+  const gp::Mesh body = lumpy_sphere();
   BodyCollider collider(body.F);
   collider.set_body(body.V);
   collider.set_body(body.V);
