@@ -179,7 +179,7 @@ struct VertexCache {
   Eigen::Vector3d gap_point = Eigen::Vector3d::Zero();
   double gap = 0.0;
   // Queries on the current body frame (frame_version), and the candidate
-  // faces (culled ids, ascending) collected around candidate_center on body
+  // faces (body ids, ascending) collected around candidate_center on body
   // frame candidate_version (see cached_query).
   long frame_version = -1;
   int frame_queries = 0;
@@ -427,7 +427,7 @@ struct BodyCollider::Impl {
     for (int k = 0; k < 3; ++k) v_body += w(k) * V_dot.row(F(f, k)).transpose();
     return v_body;
   }
-  // Culled faces (local ids, ascending) within `radius` of p.
+  // Culled faces (body ids, ascending) within `radius` of p.
   std::vector<int> faces_within(const Eigen::Vector3d& p, double radius) const {
     std::vector<TriangleIterator> hits;
     const CGAL::Bbox_3 box(p.x() - radius, p.y() - radius, p.z() - radius, p.x() + radius, p.y() + radius,
@@ -435,10 +435,9 @@ struct BodyCollider::Impl {
     tree.all_intersected_primitives(box, std::back_inserter(hits));
     std::vector<int> ids;
     for (const TriangleIterator& it : hits) {
-      const int local = static_cast<int>(it - triangles.cbegin());
-      const int f = faces[local];
+      const int f = faces[it - triangles.cbegin()];
       const TriangleClosest c = closest_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2));
-      if ((p - c.point).squaredNorm() <= radius * radius) ids.push_back(local);
+      if ((p - c.point).squaredNorm() <= radius * radius) ids.push_back(f);
     }
     std::sort(ids.begin(), ids.end());
     return ids;
@@ -449,8 +448,7 @@ struct BodyCollider::Impl {
   Proximity closest_candidate(const Eigen::Vector3d& p, const std::vector<int>& candidates) const {
     int best = -1;
     double best_d2 = std::numeric_limits<double>::infinity();
-    for (int local : candidates) {
-      const int f = faces[local];
+    for (int f : candidates) {
       const double d2 = (p - closest_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2)).point).squaredNorm();
       if (d2 < best_d2) {
         best_d2 = d2;
