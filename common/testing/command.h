@@ -18,7 +18,9 @@ CommandResult run_command(const std::string& command_line);
 // "<build>/bin/<tool>", quoted for the shell.
 std::string tool_path(const std::string& tool);
 
-// A fresh, empty folder under the system's temporary folder.
+// A fresh, empty folder under the system's temporary folder. It is removed
+// with everything in it when the test process exits, unless the environment
+// sets GP_KEEP_TEST_DIRS (to look at a failing test's files).
 std::filesystem::path fresh_temp_dir(const std::string& name);
 
 // The shared registered avatars (../shared/avatars beside the checkout), or an

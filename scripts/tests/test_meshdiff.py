@@ -2,6 +2,7 @@
 """Tests of scripts/meshdiff.py on meshes built here: equal, perturbed within
 and beyond tolerance, different topology, unreadable input."""
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -39,6 +40,7 @@ def run(*args):
 class MeshDiffTest(unittest.TestCase):
     def setUp(self):
         self.dir = tempfile.mkdtemp(prefix="meshdiff_")
+        self.addCleanup(shutil.rmtree, self.dir, ignore_errors=True)
         self.pts, self.tris = grid(10)
         self.a = os.path.join(self.dir, "a.ply")
         write(self.a, self.pts, self.tris)
