@@ -193,7 +193,7 @@ ArapReport ArapStitcher::stitch(const std::vector<Eigen::Matrix2d>& targets, Eig
   const int depth = 5;
   const Eigen::Index size = 3 * static_cast<Eigen::Index>(n_);
   Eigen::MatrixXd dF(size, depth), dG(size, depth);
-  Eigen::VectorXd f_current(size), f_previous, g_previous_flat;
+  Eigen::VectorXd f_current(size), f_previous(size);
   int history = 0, column = 0;
   double energy_previous = std::numeric_limits<double>::infinity();
   bool accelerated = false;
@@ -256,12 +256,11 @@ ArapReport ArapStitcher::stitch(const std::vector<Eigen::Matrix2d>& targets, Eig
     f_current = g - Eigen::Map<const Eigen::VectorXd>(V.data(), size);
     if (it > 0) {
       dF.col(column) = f_current - f_previous;
-      dG.col(column) = g - g_previous_flat;
+      dG.col(column) = g - Eigen::Map<const Eigen::VectorXd>(G_previous.data(), size);
       column = (column + 1) % depth;
       history = std::min(history + 1, depth);
     }
     f_previous = f_current;
-    g_previous_flat = g;
     G_previous = G;
     if (history == 0) {
       V = G;
