@@ -413,7 +413,11 @@ struct ClothSimulator::Impl {
       }
       solver.factorize(A_factored);
     }
-    if (options.warp_preconditioner) vertex_frames(X, frames_at_factor);
+    // The frames rotate a factor reused over later steps (update_warp); a
+    // factor made for one step only needs none.
+    if (options.warp_preconditioner && options.strategy == SolverStrategy::pcg_reused_factor) {
+      vertex_frames(X, frames_at_factor);
+    }
     times.factorization += seconds_since(t0);
     ++counters.factorizations;
     factor_valid = true;
