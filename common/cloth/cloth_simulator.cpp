@@ -62,7 +62,7 @@ struct ClothSimulator::Impl {
   int n_free = 0;
 
   Eigen::SparseMatrix<double> A;  // lower triangle over the free dofs
-  Eigen::SparseMatrix<double> A_factored;  // A with the constraint stiffening (see factorize)
+  Eigen::SparseMatrix<double> A_factored;  // A with the constraint stiffening, without the membrane pattern (see factorize)
   // Membrane-pattern preconditioner (options.membrane_pattern_preconditioner):
   // for every entry of A its position in P, or -1 when dropped; for dropped
   // entries the positions of their row's and column's diagonals in P.
@@ -382,6 +382,9 @@ struct ClothSimulator::Impl {
     if (constraints.empty() && !membrane_active) {
       solver.factorize(A);
     } else {
+      // The matrix to factor: P, refilled from A at every factorization and so
+      // stiffened in place, or a copy of A.
+      Eigen::SparseMatrix<double>* factored = &P;
       if (membrane_active) {
         // Dropped entries go to both diagonals by magnitude: P - A is then
         // diagonally dominant, so P >= A > 0.
@@ -396,22 +399,22 @@ struct ClothSimulator::Impl {
             pv[p_diagonal_col[q]] += std::abs(av[q]);
           }
         }
-        A_factored = P;
       } else {
         A_factored = A;
+        factored = &A_factored;
       }
-      double* vals = A_factored.valuePtr();
+      double* vals = factored->valuePtr();
       for (size_t k = 0; k < constraints.size(); ++k) {
         const int fi = constraint_free[k];
         const Eigen::Vector3d& n = constraints[k].normal;
         double diagonal = 0.0;
-        for (int a = 0; a < 3; ++a) diagonal += vals[entry_index(A_factored, 3 * fi + a, 3 * fi + a)];
+        for (int a = 0; a < 3; ++a) diagonal += vals[entry_index(*factored, 3 * fi + a, 3 * fi + a)];
         const double kappa = options.constraint_preconditioner_stiffness * diagonal / 3.0;
         for (int a = 0; a < 3; ++a) {
-          for (int c = 0; c <= a; ++c) vals[entry_index(A_factored, 3 * fi + a, 3 * fi + c)] += kappa * n(a) * n(c);
+          for (int c = 0; c <= a; ++c) vals[entry_index(*factored, 3 * fi + a, 3 * fi + c)] += kappa * n(a) * n(c);
         }
       }
-      solver.factorize(A_factored);
+      solver.factorize(*factored);
     }
     // The frames rotate a factor reused over later steps (update_warp); a
     // factor made for one step only needs none.
