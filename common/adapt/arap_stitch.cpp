@@ -34,8 +34,9 @@ namespace {
 
 // The Gram-Schmidt path of closest_orthonormal: false where S's second column
 // is (nearly) parallel to its first, or S vanishes. Kept apart from the SVD
-// so that the stitching's per-face loop inlines it (a call per face was 30 %
-// of a stitching iteration).
+// so that the stitching's per-face loop inlines it: in one function with the
+// SVD it stayed a call per face, and the 113 stitchings dumped from the
+// shared-body shirt's full motion took 4.50 against 4.34 s.
 inline bool closest_orthonormal_gram_schmidt(const Matrix32d& S, Matrix32d& R) {
   const double r00 = S.col(0).norm();
   if (!(r00 > 0.0)) return false;
@@ -268,8 +269,9 @@ ArapReport ArapStitcher::stitch(const std::vector<Eigen::Matrix2d>& targets, Eig
       continue;
     }
     // gamma = argmin |f - dF gamma|, by the normal equations (m <= 5 columns).
-    // The history is used in place: copies of its columns were a tenth of an
-    // iteration's time.
+    // The history is used in place, and the next iterate written into V: the
+    // copies took 5 % of the stitching time (same 113 stitchings: 4.34
+    // against 4.11 s).
     const auto Fh = dF.leftCols(history);
     Eigen::MatrixXd normal = Fh.transpose() * Fh;
     normal.diagonal().array() += 1e-12 * normal.diagonal().maxCoeff() + 1e-300;
