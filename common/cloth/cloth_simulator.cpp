@@ -62,7 +62,7 @@ struct ClothSimulator::Impl {
   int n_free = 0;
 
   Eigen::SparseMatrix<double> A;  // lower triangle over the free dofs
-  Eigen::SparseMatrix<double> A_factored;  // A with the constraint stiffening, without the membrane pattern (see factorize)
+  Eigen::SparseMatrix<double> A_factored;  // A with the constraint stiffening, when P is not used (see factorize)
   // Membrane-pattern preconditioner (options.membrane_pattern_preconditioner):
   // for every entry of A its position in P, or -1 when dropped; for dropped
   // entries the positions of their row's and column's diagonals in P.
