@@ -51,6 +51,9 @@ struct CholmodSolver::Impl {
     if (L) cholmod_free_factor(&L, &common);
     cholmod_finish(&common);
   }
+  // After the analysis of `lower` (n by n): a supernodal factor in a
+  // fill-reducing order becomes the natural-order factor of S = P A P^T.
+  void use_permuted_form(const Eigen::SparseMatrix<double>& lower, int n);
   void free_workspace() {
     if (X) cholmod_free_dense(&X, &common);
     if (Y) cholmod_free_dense(&Y, &common);
@@ -97,6 +100,54 @@ void check_square(const Eigen::SparseMatrix<double>& A) {
 
 }  // namespace
 
+void CholmodSolver::Impl::use_permuted_form(const Eigen::SparseMatrix<double>& lower, int n) {
+  if (!L->is_super || L->ordering == CHOLMOD_NATURAL) return;
+  // The lower triangle of P A P^T, and where each entry of A goes in it.
+  const int* p = static_cast<const int*>(L->Perm);
+  std::vector<int> inverse(n);
+  for (int k = 0; k < n; ++k) inverse[p[k]] = k;
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(lower.nonZeros());
+  for (int col = 0; col < n; ++col) {
+    for (int q = lower.outerIndexPtr()[col]; q < lower.outerIndexPtr()[col + 1]; ++q) {
+      const int r = inverse[lower.innerIndexPtr()[q]], c = inverse[col];
+      entries.emplace_back(std::max(r, c), std::min(r, c), static_cast<double>(q));
+    }
+  }
+  Eigen::SparseMatrix<double> permuted_lower(n, n);
+  permuted_lower.setFromTriplets(entries.begin(), entries.end());
+  permuted_lower.makeCompressed();
+  std::vector<int> entry_position(lower.nonZeros());
+  for (Eigen::Index k = 0; k < permuted_lower.nonZeros(); ++k) {
+    entry_position[static_cast<size_t>(permuted_lower.valuePtr()[k])] = static_cast<int>(k);
+  }
+  // The same analysis of it in its own order: the ordering (with its
+  // postorder) is already applied, so the elimination tree and the
+  // supernodes come out the same.
+  const int saved_methods = common.nmethods, saved_ordering = common.method[0].ordering,
+            saved_postorder = common.postorder;
+  common.nmethods = 1;
+  common.method[0].ordering = CHOLMOD_NATURAL;
+  common.postorder = 0;
+  cholmod_sparse view = view_of(permuted_lower);
+  cholmod_factor* natural = cholmod_analyze(&view, &common);
+  common.nmethods = saved_methods;
+  common.method[0].ordering = saved_ordering;
+  common.postorder = saved_postorder;
+  bool identity = natural && natural->is_super && common.status >= CHOLMOD_OK;
+  for (int k = 0; identity && k < n; ++k) identity = static_cast<const int*>(natural->Perm)[k] == k;
+  if (!identity) {
+    if (natural) cholmod_free_factor(&natural, &common);
+    return;
+  }
+  perm.assign(p, p + n);
+  cholmod_free_factor(&L, &common);
+  L = natural;
+  S = std::move(permuted_lower);
+  position = std::move(entry_position);
+  permuted = true;
+}
+
 CholmodSolver::CholmodSolver(CholmodOptions options)
     : impl_(std::make_unique<Impl>(options)), options_(options) {}
 CholmodSolver::~CholmodSolver() = default;
@@ -123,7 +174,10 @@ bool CholmodSolver::analyzed() const { return impl_ && impl_->L != nullptr; }
 
 void CholmodSolver::analyze(const Eigen::SparseMatrix<double>& A) {
   check_square(A);
-  Eigen::SparseMatrix<double> lower = lower_triangle(A);
+  analyze_lower(lower_triangle(A));
+}
+
+void CholmodSolver::analyze_lower(const Eigen::SparseMatrix<double>& lower) {
   cholmod_sparse s = view_of(lower);
   Impl& m = *impl_;
   m.free_workspace();
@@ -134,52 +188,8 @@ void CholmodSolver::analyze(const Eigen::SparseMatrix<double>& A) {
   if (!m.L || m.common.status < CHOLMOD_OK)
     throw NumericalError("CHOLMOD symbolic analysis failed (status " +
                          std::to_string(m.common.status) + ", out of memory?)");
-  n_ = static_cast<int>(A.rows());
-  if (m.L->is_super && m.L->ordering != CHOLMOD_NATURAL) {
-    // S = P A P^T (its lower triangle) and where each entry of A goes in it.
-    const int n = n_;
-    const int* p = static_cast<const int*>(m.L->Perm);
-    std::vector<int> inverse(n);
-    for (int k = 0; k < n; ++k) inverse[p[k]] = k;
-    std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(lower.nonZeros());
-    for (int col = 0; col < n; ++col) {
-      for (int q = lower.outerIndexPtr()[col]; q < lower.outerIndexPtr()[col + 1]; ++q) {
-        const int r = inverse[lower.innerIndexPtr()[q]], c = inverse[col];
-        entries.emplace_back(std::max(r, c), std::min(r, c), static_cast<double>(q));
-      }
-    }
-    Eigen::SparseMatrix<double> S(n, n);
-    S.setFromTriplets(entries.begin(), entries.end());
-    S.makeCompressed();
-    std::vector<int> position(lower.nonZeros());
-    for (Eigen::Index k = 0; k < S.nonZeros(); ++k) position[static_cast<size_t>(S.valuePtr()[k])] = static_cast<int>(k);
-    // The same analysis of S in its own order: the ordering (with its
-    // postorder) is already applied, so the elimination tree and the
-    // supernodes come out the same.
-    cholmod_common& c = m.common;
-    const int saved_methods = c.nmethods, saved_ordering = c.method[0].ordering, saved_postorder = c.postorder;
-    c.nmethods = 1;
-    c.method[0].ordering = CHOLMOD_NATURAL;
-    c.postorder = 0;
-    cholmod_sparse sv = view_of(S);
-    cholmod_factor* natural = cholmod_analyze(&sv, &c);
-    c.nmethods = saved_methods;
-    c.method[0].ordering = saved_ordering;
-    c.postorder = saved_postorder;
-    bool identity = natural && natural->is_super && c.status >= CHOLMOD_OK;
-    for (int k = 0; identity && k < n; ++k) identity = static_cast<const int*>(natural->Perm)[k] == k;
-    if (identity) {
-      m.perm.assign(p, p + n);
-      cholmod_free_factor(&m.L, &c);
-      m.L = natural;
-      m.S = std::move(S);
-      m.position = std::move(position);
-      m.permuted = true;
-    } else if (natural) {
-      cholmod_free_factor(&natural, &c);
-    }
-  }
+  n_ = static_cast<int>(lower.rows());
+  m.use_permuted_form(lower, n_);
   pattern_outer_.assign(lower.outerIndexPtr(), lower.outerIndexPtr() + lower.outerSize() + 1);
   pattern_inner_.assign(lower.innerIndexPtr(), lower.innerIndexPtr() + lower.nonZeros());
   ++analyze_count_;
@@ -207,7 +217,7 @@ void CholmodSolver::factorize(const Eigen::SparseMatrix<double>& A) {
       throw NumericalError("matrix entry (" + std::to_string(lower.innerIndexPtr()[k]) + ", " +
                            std::to_string(col) + ") is not finite");
     }
-  if (!same_pattern && !analyzed_pattern(lower_copy)) analyze(A);
+  if (!same_pattern && !analyzed_pattern(lower_copy)) analyze_lower(lower_copy);
   Impl& m = *impl_;
   if (m.permuted) {
     double* values = m.S.valuePtr();

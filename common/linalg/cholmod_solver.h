@@ -82,6 +82,8 @@ class CholmodSolver {
 
  private:
   struct Impl;
+  // analyze() of A's lower triangle (compressed), which factorize() has made already.
+  void analyze_lower(const Eigen::SparseMatrix<double>& lower);
   std::unique_ptr<Impl> impl_;
   CholmodOptions options_;
   int n_ = 0;
