@@ -6,9 +6,9 @@ PHASES = [("forces_assembly", "forces + assembly"), ("factorization", "factoriza
           ("collisions", "collisions"), ("adaptation", "adaptation"), ("body", "body interpolation")]
 # The shirt's full customer motion on the shared body (T -> A -> arms up -> arms
 # bent -> T), measured outside the benchmark with the default options on one
-# core (the median of three runs, 35-37 s), after the CG tolerance went to 1e-4
-# and settling answered most body queries from candidate faces (1,048 steps
-# and 62 s before).
+# core (33.3-33.7 s in two runs; 1,048 steps and 62 s before the CG tolerance
+# went to 1e-4 and settling answered most body queries from candidate faces),
+# and its step count at time steps 1 % longer and shorter.
 FULL_RUN = {"vertices": 3829, "steps": 984, "seconds": 33, "dt_plus_minus_1pct_steps": (1032, 1072)}
 ROUNDING_M = 1e-5  # [m]: mesh differences below this count as rounding
 PARAM_TITLES = {"dt": ("time step --dt", "s"), "adapt_every": ("adaptation interval --adapt-every", "steps"),
