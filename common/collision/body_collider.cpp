@@ -677,9 +677,24 @@ BodyCollider::~BodyCollider() = default;
 BodyCollider::BodyCollider(BodyCollider&&) noexcept = default;
 BodyCollider& BodyCollider::operator=(BodyCollider&&) noexcept = default;
 
-void BodyCollider::set_body(const Eigen::MatrixXd& V_body, const Eigen::MatrixXd* body_velocity) {
+struct BodyFrame::Data {
+  const void* owner = nullptr;  // the collider (its Impl) whose culling built it
+  Eigen::MatrixXd V, V_dot;
+  bool has_velocity = false;
+  Eigen::MatrixXd face_normal;  // #Fb by 3 (rows of the collider's normal_faces filled)
+  std::vector<Triangle> triangles;
+  Tree tree;                    // over `triangles`, whose buffer moves with it into the collider
+  double seconds = 0.0;         // wall time of prepare()
+};
+
+BodyFrame::BodyFrame() = default;
+BodyFrame::~BodyFrame() = default;
+BodyFrame::BodyFrame(BodyFrame&&) noexcept = default;
+BodyFrame& BodyFrame::operator=(BodyFrame&&) noexcept = default;
+
+BodyFrame BodyCollider::prepare(const Eigen::MatrixXd& V_body, const Eigen::MatrixXd* body_velocity) const {
   const auto t0 = Clock::now();
-  Impl& s = *impl_;
+  const Impl& s = *impl_;
   const int nv = static_cast<int>(s.incident.size());
   if (V_body.rows() < nv || V_body.cols() != 3) throw UsageError("body positions do not match the body faces");
   if (body_velocity && (body_velocity->rows() != V_body.rows() || body_velocity->cols() != 3)) {
@@ -688,31 +703,57 @@ void BodyCollider::set_body(const Eigen::MatrixXd& V_body, const Eigen::MatrixXd
   for (int v : s.culled_vertices) {
     if (!V_body.row(v).allFinite()) throw GeometryError("non-finite body vertex", "body vertex " + std::to_string(v));
   }
+  BodyFrame frame;
+  frame.data_ = std::make_unique<BodyFrame::Data>();
+  BodyFrame::Data& d = *frame.data_;
+  d.owner = &s;
+  d.V = V_body;
+  d.has_velocity = body_velocity != nullptr;
+  if (d.has_velocity) d.V_dot = *body_velocity;
+  auto corner = [&](int f, int k) -> Eigen::Vector3d { return V_body.row(s.F(f, k)).transpose(); };
+  d.face_normal.resize(s.F.rows(), 3);
+  for (int f : s.normal_faces) {
+    const Eigen::Vector3d n = (corner(f, 1) - corner(f, 0)).cross(corner(f, 2) - corner(f, 0));
+    const double len = n.norm();
+    d.face_normal.row(f) = len > 0.0 ? Eigen::RowVector3d((n / len).transpose()) : Eigen::RowVector3d::Zero();
+  }
+  d.triangles.resize(s.faces.size());
+  for (size_t k = 0; k < s.faces.size(); ++k) {
+    const int f = s.faces[k];
+    d.triangles[k] = Triangle(to_point(corner(f, 0)), to_point(corner(f, 1)), to_point(corner(f, 2)));
+  }
+  d.tree.rebuild(d.triangles.cbegin(), d.triangles.cend());
+  d.tree.do_not_accelerate_distance_queries();
+  d.seconds = seconds_since(t0);
+  return frame;
+}
+
+void BodyCollider::set_body(BodyFrame frame) {
+  Impl& s = *impl_;
+  if (!frame.data_ || frame.data_->owner != &s) throw UsageError("set_body needs a frame prepared by this collider");
+  BodyFrame::Data& d = *frame.data_;
   s.still = false;
-  if (s.built && s.V.rows() == V_body.rows()) {
+  if (s.built && s.V.rows() == d.V.rows()) {
     double largest = 0.0;
-    for (int v : s.culled_vertices) largest = std::max(largest, (V_body.row(v) - s.V.row(v)).norm());
+    for (int v : s.culled_vertices) largest = std::max(largest, (d.V.row(v) - s.V.row(v)).norm());
     s.travel += largest;
     s.still = largest == 0.0;
   }
-  s.V = V_body;
-  s.has_velocity = body_velocity != nullptr;
-  if (s.has_velocity) s.V_dot = *body_velocity;
-  s.face_normal.resize(s.F.rows(), 3);
-  for (int f : s.normal_faces) {
-    const Eigen::Vector3d n = (s.corner(f, 1) - s.corner(f, 0)).cross(s.corner(f, 2) - s.corner(f, 0));
-    const double len = n.norm();
-    s.face_normal.row(f) = len > 0.0 ? Eigen::RowVector3d((n / len).transpose()) : Eigen::RowVector3d::Zero();
-  }
-  for (size_t k = 0; k < s.faces.size(); ++k) {
-    const int f = s.faces[k];
-    s.triangles[k] = Triangle(to_point(s.corner(f, 0)), to_point(s.corner(f, 1)), to_point(s.corner(f, 2)));
-  }
-  s.tree.rebuild(s.triangles.cbegin(), s.triangles.cend());
-  s.tree.do_not_accelerate_distance_queries();
+  // Moving the tree and its triangles keeps the triangles' buffer, which the
+  // tree's primitives point into.
+  s.tree = std::move(d.tree);
+  s.triangles = std::move(d.triangles);
+  s.V = std::move(d.V);
+  s.V_dot = std::move(d.V_dot);
+  s.has_velocity = d.has_velocity;
+  s.face_normal = std::move(d.face_normal);
   s.built = true;
   ++s.version;
-  s.stats.rebuild_seconds += seconds_since(t0);
+  s.stats.rebuild_seconds += d.seconds;
+}
+
+void BodyCollider::set_body(const Eigen::MatrixXd& V_body, const Eigen::MatrixXd* body_velocity) {
+  set_body(prepare(V_body, body_velocity));
 }
 
 Proximity BodyCollider::query(const Eigen::Vector3d& p, int hint_face) const {

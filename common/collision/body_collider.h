@@ -71,6 +71,21 @@ struct Contact {
   double offset = 0.0;                 // offset used [m]: the vertex's offset, at most half the gap there
 };
 
+// One body frame's geometry made ready for BodyCollider::set_body: positions,
+// velocities, face normals and the AABB tree (see BodyCollider::prepare).
+class BodyFrame {
+ public:
+  BodyFrame();  // empty: set_body rejects it
+  ~BodyFrame();
+  BodyFrame(BodyFrame&&) noexcept;
+  BodyFrame& operator=(BodyFrame&&) noexcept;
+
+ private:
+  friend class BodyCollider;
+  struct Data;
+  std::unique_ptr<Data> data_;
+};
+
 struct CollisionStats {
   long queries = 0;           // exact closest-point queries of the tree
   long local = 0;             // exact closest-point answers from a vertex's candidate faces (body standing still)
@@ -81,7 +96,7 @@ struct CollisionStats {
   long pinched = 0;           // contacts or projections whose offset was limited to half the gap
   long creases = 0;           // second contacts of vertices in a crease (see contacts())
   double deepest_penetration = 0.0;  // largest depth inside the body seen by resolve() [m], before projection
-  double rebuild_seconds = 0.0;      // tree rebuilds and face normals (set_body)
+  double rebuild_seconds = 0.0;      // tree rebuilds and face normals (prepare, counted when set)
   double query_seconds = 0.0;        // resolve()
 };
 
@@ -97,6 +112,14 @@ class BodyCollider {
   // velocities [m/s] (#Vb by 3; zero when omitted). Rebuilds the tree.
   // Throws UsageError on a size mismatch, GeometryError on non-finite positions.
   void set_body(const Eigen::MatrixXd& V_body, const Eigen::MatrixXd* body_velocity = nullptr);
+  // The same in two halves. prepare() builds a frame's normals and tree and
+  // reads nothing but the culling fixed at construction, so it may run on
+  // another thread while this collider answers queries on its current frame
+  // (simulate-adapt builds the next frame's tree during a step); it throws as
+  // set_body. set_body(frame) makes a frame prepared by this collider current
+  // (UsageError for an empty frame or one of another collider).
+  BodyFrame prepare(const Eigen::MatrixXd& V_body, const Eigen::MatrixXd* body_velocity = nullptr) const;
+  void set_body(BodyFrame frame);
 
   // Closest point and signed distance of p; `hint_face` (a culled face id or -1)
   // warm-starts the search.

@@ -4,10 +4,12 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <future>
 #include <limits>
 #include <random>
 
 #include <CGAL/Simple_cartesian.h>
+#include <Eigen/Geometry>
 
 #include "cloth/cloth_simulator.h"
 #include "collision/body_collider.h"
@@ -130,6 +132,67 @@ TEST_CASE("tree queries find the closest of all triangles, with and without hint
     worst = std::max(worst, std::abs(std::abs(collider.query(p, face(rng)).signed_distance) - exact));
   }
   CHECK(worst <= 1e-14);
+}
+
+TEST_CASE("a frame prepared on another thread during queries answers as set_body does", "[collision]") {
+  // The lumpy sphere, then the same sphere moved by 4 cm and turned by 0.3 rad
+  // about z (with a body velocity). One collider prepares the moved frame on a
+  // second thread while it answers 2,000 queries on the first frame; another
+  // is set to the moved frame directly. Expectation: the first frame's answers
+  // are undisturbed (equal to a third collider's), and after set_body(frame)
+  // every answer (distance, closest point, face, contacts with the body's
+  // normal speed) equals the direct collider's to the bit.
+  const gp::Mesh body = lumpy_sphere();
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::MatrixXd V_moved = (body.V * turn.transpose()).rowwise() + Eigen::RowVector3d(0.04, 0.0, 0.0);
+  const Eigen::MatrixXd velocity = (V_moved - body.V) / 0.01;
+  BodyCollider pipelined(body.F), direct(body.F), reference(body.F);
+  pipelined.set_body(body.V);
+  reference.set_body(body.V);
+  direct.set_body(V_moved, &velocity);
+
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  std::vector<Eigen::Vector3d> points(2000);
+  for (auto& p : points) p = Eigen::Vector3d(u(rng), u(rng), u(rng));
+  std::future<BodyFrame> next =
+      std::async(std::launch::async, [&] { return pipelined.prepare(V_moved, &velocity); });
+  int same_during = 0;
+  for (const Eigen::Vector3d& p : points) {
+    const Proximity a = pipelined.query(p), b = reference.query(p);
+    same_during += a.face == b.face && a.signed_distance == b.signed_distance && a.closest == b.closest;
+  }
+  CHECK(same_during == static_cast<int>(points.size()));
+  pipelined.set_body(next.get());
+  int same_after = 0;
+  Eigen::MatrixXd X(static_cast<Eigen::Index>(points.size()), 3);
+  for (size_t k = 0; k < points.size(); ++k) {
+    const Proximity a = pipelined.query(points[k]), b = direct.query(points[k]);
+    same_after += a.face == b.face && a.signed_distance == b.signed_distance && a.closest == b.closest;
+    X.row(static_cast<Eigen::Index>(k)) = points[k].transpose();
+  }
+  CHECK(same_after == static_cast<int>(points.size()));
+  const std::vector<Contact> ca = pipelined.contacts(X, 0.05, 0.01), cb = direct.contacts(X, 0.05, 0.01);
+  REQUIRE(ca.size() == cb.size());
+  CHECK(!ca.empty());
+  bool same_contacts = true;
+  for (size_t k = 0; k < ca.size(); ++k) {
+    same_contacts = same_contacts && ca[k].vertex == cb[k].vertex && ca[k].outward == cb[k].outward &&
+                    ca[k].body_normal_speed == cb[k].body_normal_speed;
+  }
+  CHECK(same_contacts);
+}
+
+TEST_CASE("set_body rejects an empty frame and one prepared by another collider", "[collision]") {
+  const gp::Mesh body = lumpy_sphere();
+  BodyCollider a(body.F), b(body.F);
+  CHECK_THROWS_AS(a.set_body(BodyFrame{}), gp::UsageError);
+  CHECK_THROWS_AS(a.set_body(b.prepare(body.V)), gp::UsageError);
+  Eigen::MatrixXd bad = body.V;
+  bad(3, 1) = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_AS(a.prepare(bad), gp::GeometryError);
+  a.set_body(a.prepare(body.V));
+  CHECK(a.query(Eigen::Vector3d(0.0, 0.0, 0.0)).signed_distance < 0.0);
 }
 
 TEST_CASE("culling keeps the faces the garment can reach", "[collision]") {
