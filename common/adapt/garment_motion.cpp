@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <numeric>
 #include <set>
 #include <string>
@@ -71,8 +72,11 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
                                    const GarmentFile& garment, const MotionRunOptions& options,
                                    const ProgressCallback& progress) {
   const auto run_start = Clock::now();
-  if (options.substeps < 1 || options.adapt_every < 1 || options.settle_max_steps < 0) {
-    throw UsageError("substeps and adapt_every must be at least 1, settle_max_steps non-negative");
+  if (options.substeps < 1 || options.adapt_every < 1 || options.settle_max_steps < 0 || options.threads < 1) {
+    throw UsageError("substeps, adapt_every and threads must be at least 1, settle_max_steps non-negative");
+  }
+  if (options.adaptation_lag < 0) {
+    throw UsageError("the adaptation lag must be non-negative, got " + std::to_string(options.adaptation_lag));
   }
   if (!(options.settle_damping >= 0.0) || !std::isfinite(options.settle_damping)) {
     throw UsageError("settle_damping must be finite and non-negative");
@@ -184,7 +188,30 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
     result.arap_max_residual = std::max(result.arap_max_residual, r.arap.residual);
     result.arap_converged = result.arap_converged && r.arap.converged;
   };
+  // Lagging adaptations (MotionRunOptions::adaptation_lag): the one computed
+  // from the positions after step k runs beside the next steps, on the worker
+  // with threads > 1 or when it is applied otherwise, and is applied after
+  // step k + lag, or before any adaptation at the end of a key pose.
+  struct Adaptation {
+    Eigen::MatrixXd V_rest;
+    AdaptReport report;
+    double seconds = 0.0;
+  };
+  const std::launch policy = options.threads > 1 ? std::launch::async : std::launch::deferred;
+  const int lag = std::min(options.adaptation_lag, options.adapt_every - 1);
+  std::future<Adaptation> pending_adaptation;
+  long apply_after_step = 0;
+  auto apply_adaptation = [&]() {
+    if (!pending_adaptation.valid()) return;
+    const auto t_wait = Clock::now();
+    Adaptation a = pending_adaptation.get();
+    if (policy == std::launch::async) result.times.waiting += seconds_since(t_wait);
+    result.times.adaptation += a.seconds;
+    V_rest = std::move(a.V_rest);
+    record_adaptation(a.report);
+  };
   auto adapt_now = [&]() {
+    apply_adaptation();
     const auto ta = Clock::now();
     record_adaptation(adapter.adapt(sim.positions(), V_rest));
     result.times.adaptation += seconds_since(ta);
@@ -204,35 +231,98 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
     result.times.adaptation += seconds_since(ta);
   }
 
+  auto launch_adaptation = [&]() {
+    pending_adaptation = std::async(
+        policy,
+        [&adapter](Eigen::MatrixXd X, Eigen::MatrixXd V) {
+          const auto ta = Clock::now();
+          Adaptation a;
+          a.report = adapter.adapt(X, V);
+          a.V_rest = std::move(V);
+          a.seconds = seconds_since(ta);
+          return a;
+        },
+        sim.positions(), V_rest);
+    apply_after_step = result.steps + lag;
+  };
   auto step = [&](const Eigen::MatrixXd& T) {
     sim.set_pin_targets(T);
     advance_offsets();
     sim.step();
     ++result.steps;
-    if (options.adapt && result.steps % options.adapt_every == 0) adapt_now();
+    if (pending_adaptation.valid() && result.steps >= apply_after_step) apply_adaptation();
+    if (options.adapt && result.steps % options.adapt_every == 0) {
+      if (lag == 0) {
+        adapt_now();
+      } else {
+        launch_adaptation();
+      }
+    }
+  };
+
+  // The body stages after frame 0 in order: each frame's `substeps`
+  // interpolated bodies, so that a step never sees more than its share of the
+  // body's motion within the frame.
+  struct BodyRequest {
+    int from, to;
+    double t;
+  };
+  std::vector<BodyRequest> requests;
+  for (size_t i = 1; i < frames.size(); ++i) {
+    const MotionFrame& frame = frames[i];
+    const MotionFrame& previous = frames[i - 1];
+    const double t_start = previous.transition == frame.transition ? previous.t : 0.0;
+    for (int s = 1; s <= options.substeps; ++s) {
+      const double w = static_cast<double>(s) / options.substeps;
+      requests.push_back({frame.from, frame.to, (1.0 - w) * t_start + w * frame.t});
+    }
+  }
+  // A body stage made ready for the step: positions, pin targets and the
+  // collision tree with the body's velocity since the previous stage. It
+  // depends on the body alone, so with threads > 1 the next stage is prepared
+  // on the worker while the cloth steps through the current one.
+  struct BodyStage {
+    Eigen::MatrixXd V, targets;
+    collision::BodyFrame frame;
+    double seconds = 0.0;  // interpolation and pin targets (the tree's time is the collider's)
+  };
+  const double step_time = options.dt;
+  auto prepare_stage = [&interpolator, &pin_targets, &collider, step_time](BodyRequest r, Eigen::MatrixXd V_previous) {
+    const auto t_stage = Clock::now();
+    BodyStage stage;
+    stage.V = interpolator.frame(r.from, r.to, r.t);
+    stage.targets = pin_targets(stage.V);
+    const Eigen::MatrixXd body_velocity = (stage.V - V_previous) / step_time;
+    stage.seconds = seconds_since(t_stage);
+    stage.frame = collider.prepare(stage.V, &body_velocity);
+    return stage;
+  };
+  size_t next_request = 0;
+  std::future<BodyStage> next_stage;
+  auto request_next_stage = [&]() {
+    if (next_request < requests.size()) next_stage = std::async(policy, prepare_stage, requests[next_request++], V_body);
+  };
+  auto take_stage = [&]() {
+    const auto t_wait = Clock::now();
+    BodyStage stage = next_stage.get();
+    if (policy == std::launch::async) result.times.waiting += seconds_since(t_wait);
+    return stage;
   };
 
   result.times.setup = seconds_since(run_start);
   const double limit = 1.0 + options.adaptation.delta;
-  const double step_time = options.dt;
+  request_next_stage();
   for (size_t i = 0; i < frames.size(); ++i) {
     const MotionFrame& frame = frames[i];
     if (i > 0) {
-      // The body moves in `substeps` interpolated stages within the frame, so a
-      // step never sees more than its share of the body's motion.
-      const MotionFrame& previous = frames[i - 1];
-      const double t_start = previous.transition == frame.transition ? previous.t : 0.0;
       for (int s = 1; s <= options.substeps; ++s) {
-        const double w = static_cast<double>(s) / options.substeps;
-        t0 = Clock::now();
-        Eigen::MatrixXd V_next = interpolator.frame(frame.from, frame.to, (1.0 - w) * t_start + w * frame.t);
-        const Eigen::MatrixXd targets_next = pin_targets(V_next);
-        const Eigen::MatrixXd body_velocity = (V_next - V_body) / step_time;
-        result.times.body += seconds_since(t0);
-        collider.set_body(V_next, &body_velocity);
-        step(targets_next);
-        V_body = std::move(V_next);
-        targets = targets_next;
+        BodyStage stage = take_stage();
+        result.times.body += stage.seconds;
+        collider.set_body(std::move(stage.frame));
+        V_body = std::move(stage.V);
+        targets = std::move(stage.targets);
+        request_next_stage();
+        step(targets);
       }
     }
     if (progress && i > 0 && i % 20 == 0 && frame.key < 0) {

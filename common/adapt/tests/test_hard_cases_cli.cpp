@@ -103,10 +103,11 @@ TEST_CASE("a body in centimetres through register-check fits as the body in metr
   // of steps in each run, and a crease region of the rest shape grows by
   // different amounts. Expectation (100 settling steps per key pose): drapes
   // within 3 cm per vertex (measured 6 mm at the A-pose, 26 mm at the T-pose;
-  // 0.03 and 4.3 mm before crease contacts), stretch, growth and penetration
-  // figures within 2e-3 (measured up to 1.4e-3), rest-shape edge lengths within
-  // 1 % on average (measured 0.51 %, single edges up to 18 %). A unit error
-  // would be a factor of 100.
+  // 0.03 and 4.3 mm before crease contacts), stretch and penetration figures
+  // within 2e-3 (measured up to 1.6e-3), rest-area growth within 5e-3 (the
+  // largest spread of the four adaptation lags 0-3: 1.3e-3, 1.8e-3, 3.7e-3
+  // and 0.9e-3), rest-shape edge lengths within 1 % on average (measured
+  // 0.51 %, single edges up to 18 %). A unit error would be a factor of 100.
   const hc::Scene& scene = hc::default_scene();
   const fs::path dir = gp::testing::fresh_temp_dir("hard_cli_cm");
   fs::create_directories(dir / "cm");
@@ -145,9 +146,11 @@ TEST_CASE("a body in centimetres through register-check fits as the body in metr
     INFO(mesh << ": max vertex distance " << d << " m; max stretch " << a["key_poses"][k]["max_stretch"] << " vs "
               << b["key_poses"][k]["max_stretch"]);
     CHECK(d < 0.03);
-    for (const char* field : {"max_stretch", "p99_stretch", "rest_area_growth", "deepest_penetration_m"}) {
+    for (const char* field : {"max_stretch", "p99_stretch", "deepest_penetration_m"}) {
       CHECK(std::abs(a["key_poses"][k][field].get<double>() - b["key_poses"][k][field].get<double>()) < 2e-3);
     }
+    CHECK(std::abs(a["key_poses"][k]["rest_area_growth"].get<double>() -
+                   b["key_poses"][k]["rest_area_growth"].get<double>()) < 5e-3);
   }
   const gp::Mesh rest_m = gp::read_mesh(dir / "fit_m" / "rest.ply").mesh;
   const gp::Mesh rest_cm = gp::read_mesh(dir / "fit_cm" / "rest.ply").mesh;

@@ -164,6 +164,10 @@ TEST_CASE("simulate-adapt reports bad inputs with their exit codes", "[cli]") {
   write_scene(dir);
   const auto unknown = gp::testing::run_command(command(dir, "o1", "--no-such-flag"));
   CHECK(unknown.exit_code == 2);
+  const auto negative_lag = gp::testing::run_command(command(dir, "o4", "--adaptation-lag -1"));
+  CHECK(negative_lag.exit_code == 2);
+  CHECK(negative_lag.err.find("--adaptation-lag") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "o4"));
   const auto missing = gp::testing::run_command(gp::testing::tool_path("simulate-adapt") + " --poses " +
                                                 (dir / "poses.json").string() + " --motion " +
                                                 (dir / "motion.json").string() + " --garment " +
