@@ -173,9 +173,9 @@ class SimBench:
         self.failed = {}
         self.skipped = []
 
-    def args(self, scene, garment, cap, extra):
+    def args(self, scene, garment, cap, extra, threads=1):
         return [self.run.tool("simulate-adapt"), "--poses", scene.poses_json, "--motion", scene.motion_file(self.run),
-                "--garment", garment, "--settle-max-steps", str(cap), "--threads", "1", *extra]
+                "--garment", garment, "--settle-max-steps", str(cap), "--threads", str(threads), *extra]
 
     def predict(self, vertices, factor, cap):
         steps = MOTION_FRAMES + self.settle_cost * 2 * cap
@@ -253,7 +253,7 @@ class SimBench:
         self.run.say(f"simulate-adapt plan: {len(jobs)} runs in {budget_s:.0f} s -> settle cap {self.cap} steps "
                      f"(estimate {self.step_cost:.3f} s per step per 1,000 vertices)")
 
-    def sim(self, key, scene, target, extra, cap, factor=1.0, reserve_s=0.0, repeats=1):
+    def sim(self, key, scene, target, extra, cap, factor=1.0, reserve_s=0.0, repeats=1, threads=1):
         """One measured configuration, skipped when its predicted time does not
         fit before the deadline (keeping reserve_s)."""
         garment, count = scene.garment(self.run, target)
@@ -270,8 +270,8 @@ class SimBench:
         m = None
         for attempt in range(2):
             try:
-                m = self.run.measure(key, self.args(scene, garment, cap, extra), repeats=repeats, timeout_s=timeout,
-                                     keep_first=True, collect=read_timing)
+                m = self.run.measure(key, self.args(scene, garment, cap, extra, threads), repeats=repeats,
+                                     timeout_s=timeout, keep_first=True, collect=read_timing)
                 break
             except bench_run.StageFailed as e:
                 self.run.say(f"{key}: failed: {e}")
@@ -280,9 +280,9 @@ class SimBench:
                 if not e.signal or attempt == 1:
                     self.failed[key] = e.short
                     return None
-        s = self.learn(m, factor)
+        s = sim_summary(m) if threads > 1 else self.learn(m, factor)
         s.update(scene=scene.label(), motion=scene.motion_text(), cap=cap, measurement=m, args=extra,
-                 factor=factor)
+                 factor=factor, threads=threads)
         if m.runs > 1:
             s["repeat_diff"] = compare_outputs(m.out_dir + "-run1", m.out_dir)
         self.measured[key] = s
@@ -298,7 +298,7 @@ class SimBench:
         garment = next(g for g, n in scene.garments.values() if n == s["vertices"])
         again = f"{m.out_dir}-run{m.runs + 1}"
         try:
-            wall, peak = self.run.run_once(self.args(scene, garment, s["cap"], s["args"]), again)
+            wall, peak = self.run.run_once(self.args(scene, garment, s["cap"], s["args"], s["threads"]), again)
         except bench_run.StageFailed as e:
             self.run.say(f"{key}: repeat failed: {e}")
             return False
@@ -322,6 +322,14 @@ class SimBench:
             for target in self.targets():
                 self.sim(self.breakdown_key(scene, target), scene, target, [], 0, reserve_s=reserve_s,
                          repeats=self.run.repeats if target == TARGETS[0] else 1)
+        # The same rows with simulate-adapt's default of two threads (the body
+        # frames and the adaptations beside the stepping): not used for
+        # planning, whose estimates are one core's.
+        for scene in self.scenes:
+            for target in self.targets():
+                if self.breakdown_key(scene, target) in self.measured:
+                    self.sim(self.breakdown_key(scene, target) + "-threads-2", scene, target, [], 0,
+                             reserve_s=reserve_s, repeats=self.run.repeats if target == TARGETS[0] else 1, threads=2)
         first = self.measured.get(self.breakdown_key(self.scenes[0], TARGETS[0]))
         if first is None:
             return self.collect()
@@ -351,7 +359,8 @@ class SimBench:
         if not self.quick:
             self.sim("sim-reach-0.3", base, TARGETS[0], ["--reach", "0.3"], self.cap, 1.1, reserve_s)
         # More runs for the medians while time is left.
-        primary = [self.breakdown_key(sc, t) for sc in self.scenes for t in self.targets()]
+        primary = [self.breakdown_key(sc, t) + suffix for suffix in ("", "-threads-2") for sc in self.scenes
+                   for t in self.targets()]
         primary = [k for k in primary + ["sim-default", "sim-noculling"] if k in self.measured]
         primary = [k for i, k in enumerate(primary) if all(self.measured[k] is not self.measured[p] for p in primary[:i])]
         for _round in range(2):
@@ -363,6 +372,14 @@ class SimBench:
         self.results["sim_breakdown"] = [self.measured[self.breakdown_key(sc, t)] for sc in self.scenes
                                          for t in self.targets() if self.breakdown_key(sc, t) in self.measured]
         self.results["sim_breakdown_failed"] = {k: v for k, v in self.failed.items() if k.startswith("step-")}
+        threads = []
+        for sc in self.scenes:
+            for t in self.targets():
+                one, two = (self.measured.get(self.breakdown_key(sc, t) + suffix) for suffix in ("", "-threads-2"))
+                if one and two:
+                    threads.append({"one": one, "two": two, "diff": compare_outputs(one["measurement"].out_dir,
+                                                                                   two["measurement"].out_dir)})
+        self.results["sim_threads"] = threads
         self.results["sim_cap"] = self.cap
         self.results["sim_frames"] = MOTION_FRAMES
         self.results["sim_skipped"] = self.skipped
