@@ -118,6 +118,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   collision::BodyCollider collider(F_body,
                                    collision::reachable_body_faces(V_body, F_body, V_garment, options.reach));
   result.culled_body_faces = collider.face_ids().size();
+  collider.set_threads(options.threads);
   collider.set_body(V_body);
 
   cloth::SimulatorOptions sim_options = options.solver;

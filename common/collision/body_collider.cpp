@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <iterator>
 #include <limits>
 #include <string>
@@ -271,12 +272,33 @@ struct BodyCollider::Impl {
   Eigen::MatrixXd V, V_dot;
   bool has_velocity = false;
   Eigen::MatrixXd face_normal;    // #Fb by 3 (rows of normal_faces filled)
-  // Angle-weighted vertex pseudo-normals, computed when a query first needs
-  // one in a body frame: few culled vertices are ever the closest feature, and
-  // computing all of them (three atan2 per face) was a third of set_body.
-  // Row v is valid while vertex_normal_version[v] == version.
+  // Angle-weighted vertex pseudo-normals. With one thread they are computed
+  // when a query first needs one in a body frame (row v valid while
+  // vertex_normal_version[v] == version): few culled vertices are ever the
+  // closest feature, and computing all of them (three atan2 per face) costs
+  // 3.5 ms per frame on the shared body, a third of a frame's preparation.
+  // With more, prepare() computes them all (on simulate-adapt's worker,
+  // beside the stepping), and queries on two threads only read them.
   mutable Eigen::MatrixXd vertex_normal;  // #Vb by 3
   mutable std::vector<long> vertex_normal_version;
+  bool all_vertex_normals = false;        // the current frame's are all computed
+  int threads = 1;      // contacts() and resolve() split their vertices over up to two threads
+
+  // Baerentzen & Aanaes 2005, eq. 3: the incident faces' normals weighted by
+  // their angles at v, for positions Vb and face normals N.
+  Eigen::Vector3d angle_weighted_normal(int v, const Eigen::MatrixXd& Vb, const Eigen::MatrixXd& N) const {
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for (int f : incident[v]) {
+      int k = 0;
+      while (F(f, k) != v) ++k;
+      const Eigen::Vector3d x = Vb.row(F(f, k)).transpose();
+      const Eigen::Vector3d e1 = Vb.row(F(f, (k + 1) % 3)).transpose() - x;
+      const Eigen::Vector3d e2 = Vb.row(F(f, (k + 2) % 3)).transpose() - x;
+      const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
+      n += angle * N.row(f).transpose();
+    }
+    return n;
+  }
   std::vector<Triangle> triangles;
   Tree tree;
   bool built = false;
@@ -301,19 +323,9 @@ struct BodyCollider::Impl {
     return vertex_pseudo_normal(F(f, feature));
   }
 
-  // Baerentzen & Aanaes 2005, eq. 3: the incident faces' normals weighted by
-  // their angles at v.
   Eigen::Vector3d vertex_pseudo_normal(int v) const {
-    if (vertex_normal_version[v] == version) return vertex_normal.row(v).transpose();
-    Eigen::Vector3d n = Eigen::Vector3d::Zero();
-    for (int f : incident[v]) {
-      int k = 0;
-      while (F(f, k) != v) ++k;
-      const Eigen::Vector3d e1 = corner(f, (k + 1) % 3) - corner(f, k);
-      const Eigen::Vector3d e2 = corner(f, (k + 2) % 3) - corner(f, k);
-      const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
-      n += angle * face_normal.row(f).transpose();
-    }
+    if (all_vertex_normals || vertex_normal_version[v] == version) return vertex_normal.row(v).transpose();
+    const Eigen::Vector3d n = angle_weighted_normal(v, V, face_normal);
     vertex_normal.row(v) = n.transpose();
     vertex_normal_version[v] = version;
     return n;
@@ -402,7 +414,7 @@ struct BodyCollider::Impl {
   // the gap in front of q. Rays are cast for vertices within the offset only,
   // and reused while the body, the face and (within kGapReuseDistance) the
   // closest point stay the same.
-  double usable_offset(int i, const Proximity& q, double offset) {
+  double usable_offset(int i, const Proximity& q, double offset, CollisionStats& st) {
     if (!(offset > 0.0)) return offset;
     VertexCache& c = cache[i];
     if (!(c.gap_version == version && c.gap_face == q.face && (c.gap_point - q.closest).norm() < kGapReuseDistance)) {
@@ -410,10 +422,10 @@ struct BodyCollider::Impl {
       c.gap_version = version;
       c.gap_face = q.face;
       c.gap_point = q.closest;
-      ++stats.gap_rays;
+      ++st.gap_rays;
     }
     if (0.5 * c.gap < offset) {
-      ++stats.pinched;
+      ++st.pinched;
       return 0.5 * c.gap;
     }
     return offset;
@@ -462,17 +474,18 @@ struct BodyCollider::Impl {
   // query proves the vertex farther than `reach`: the cached distance can have
   // shrunk at most by the vertex's own motion plus the body's largest motion
   // since that query. Updates the cache and warm-starts from its face.
-  std::optional<Proximity> cached_query(int i, const Eigen::Vector3d& x, double reach, int& previous_face) {
+  std::optional<Proximity> cached_query(int i, const Eigen::Vector3d& x, double reach, int& previous_face,
+                                       CollisionStats& st) {
     VertexCache& c = cache[i];
     if (c.valid && c.outside && c.distance - (x - c.x).norm() - (travel - c.travel) > reach) {
-      ++stats.skipped;
+      ++st.skipped;
       return std::nullopt;
     }
     if (c.answer_version == version && c.x == x) {
       // The vertex has not moved since its last query on this body frame (a
       // vertex the step left in place, queried again by the next step's
       // contacts): the answer is the same.
-      ++stats.reused;
+      ++st.reused;
       previous_face = c.answer.face;
       c.seen_face = c.answer.face;
       c.seen_outward = c.answer.outward;
@@ -492,10 +505,10 @@ struct BodyCollider::Impl {
     Proximity q;
     if (c.candidate_version == version && !c.candidates.empty() && (x - c.candidate_center).norm() <= kCandidateSlack) {
       q = closest_candidate(x, c.candidates);
-      ++stats.local;
+      ++st.local;
     } else {
       q = query(x, c.valid ? c.face : previous_face);
-      ++stats.queries;
+      ++st.queries;
       if (still && c.frame_queries >= kCandidateQueries) {
         c.candidates = faces_within(x, std::abs(q.signed_distance) + 2.0 * kCandidateSlack);
         c.candidate_center = x;
@@ -548,15 +561,26 @@ struct BodyCollider::Impl {
     if (!built) throw UsageError("BodyCollider::contacts before set_body");
     if (X.cols() != 3) throw UsageError("positions must be #V by 3");
     if (cache.size() != static_cast<size_t>(X.rows())) cache.assign(X.rows(), VertexCache{});
-    std::vector<Contact> out;
+    std::vector<Contact> out[2];
+    for_halves(static_cast<int>(X.rows()), [&](int half, int begin, int end, CollisionStats& st) {
+      contacts_range(X, offsets, offset, band, begin, end, out[half], st);
+    });
+    out[0].insert(out[0].end(), out[1].begin(), out[1].end());
+    stats.query_seconds += seconds_since(t0);
+    return std::move(out[0]);
+  }
+
+  // contacts() of the vertices [begin, end), appended to out in order.
+  void contacts_range(const Eigen::MatrixXd& X, const double* offsets, double offset, double band, int begin, int end,
+                      std::vector<Contact>& out, CollisionStats& st) {
     int previous_face = -1;
-    for (int i = 0; i < X.rows(); ++i) {
+    for (int i = begin; i < end; ++i) {
       const double reach = (offsets ? offsets[i] : offset) + band;
       const Eigen::Vector3d x = X.row(i).transpose();
       VertexCache& c = cache[i];
       const int face_before = c.seen_face;
       const Eigen::Vector3d outward_before = c.seen_outward;
-      const std::optional<Proximity> found = cached_query(i, x, reach, previous_face);
+      const std::optional<Proximity> found = cached_query(i, x, reach, previous_face, st);
       if (!found) {
         c.seen_face = c.crease_face = -1;
         continue;
@@ -566,7 +590,7 @@ struct BodyCollider::Impl {
         c.crease_face = -1;
         continue;
       }
-      const double usable = usable_offset(i, q, offsets ? offsets[i] : offset);
+      const double usable = usable_offset(i, q, offsets ? offsets[i] : offset, st);
       if (!(q.signed_distance < usable + band)) {
         c.crease_face = -1;
         continue;
@@ -593,10 +617,8 @@ struct BodyCollider::Impl {
       }
       c.crease_face = candidate;
       out.push_back(contact_of(i, side, usable));
-      ++stats.creases;
+      ++st.creases;
     }
-    stats.query_seconds += seconds_since(t0);
-    return out;
   }
 
   void resolve(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, const double* offsets, double offset) {
@@ -606,15 +628,24 @@ struct BodyCollider::Impl {
       throw UsageError("positions and velocities must both be #V by 3");
     }
     if (cache.size() != static_cast<size_t>(X.rows())) cache.assign(X.rows(), VertexCache{});
+    for_halves(static_cast<int>(X.rows()), [&](int, int begin, int end, CollisionStats& st) {
+      resolve_range(X, Vel, offsets, offset, begin, end, st);
+    });
+    stats.query_seconds += seconds_since(t0);
+  }
+
+  // resolve() of the vertices [begin, end).
+  void resolve_range(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, const double* offsets, double offset, int begin,
+                     int end, CollisionStats& st) {
     int previous_face = -1;
-    for (int i = 0; i < X.rows(); ++i) {
+    for (int i = begin; i < end; ++i) {
       const double off = offsets ? offsets[i] : offset;
-      const std::optional<Proximity> found = cached_query(i, X.row(i).transpose(), off, previous_face);
+      const std::optional<Proximity> found = cached_query(i, X.row(i).transpose(), off, previous_face, st);
       if (!found) continue;
       const Proximity& q = *found;
       if (!(q.signed_distance < off)) continue;
-      if (q.signed_distance < 0.0) stats.deepest_penetration = std::max(stats.deepest_penetration, -q.signed_distance);
-      const double usable = usable_offset(i, q, off);
+      if (q.signed_distance < 0.0) st.deepest_penetration = std::max(st.deepest_penetration, -q.signed_distance);
+      const double usable = usable_offset(i, q, off, st);
       if (!(q.signed_distance < usable)) continue;
       const Eigen::Vector3d x_new = q.closest + usable * q.outward;
       X.row(i) = x_new.transpose();
@@ -627,9 +658,38 @@ struct BodyCollider::Impl {
       c.distance = std::abs(usable);
       c.outside = usable > 0.0;
       c.answer_version = -1;
-      ++stats.projected;
+      ++st.projected;
     }
-    stats.query_seconds += seconds_since(t0);
+  }
+
+  // Runs range(half, begin, end, stats) on the vertices [0, n/2) and
+  // [n/2, n), the second half on another thread when threads > 1, and adds
+  // the halves' counts to stats. The halves are the same for any thread count
+  // (a vertex's first query is warm-started from the previous vertex of its
+  // half), so the answers are too.
+  template <class Range>
+  void for_halves(int n, Range range) {
+    CollisionStats half_stats[2];
+    const int middle = n / 2;
+    if (threads > 1 && middle > 0) {
+      auto second = std::async(std::launch::async, [&] { range(1, middle, n, half_stats[1]); });
+      range(0, 0, middle, half_stats[0]);
+      second.get();
+    } else {
+      range(0, 0, middle, half_stats[0]);
+      range(1, middle, n, half_stats[1]);
+    }
+    for (const CollisionStats& h : half_stats) {
+      stats.queries += h.queries;
+      stats.local += h.local;
+      stats.skipped += h.skipped;
+      stats.reused += h.reused;
+      stats.projected += h.projected;
+      stats.gap_rays += h.gap_rays;
+      stats.pinched += h.pinched;
+      stats.creases += h.creases;
+      stats.deepest_penetration = std::max(stats.deepest_penetration, h.deepest_penetration);
+    }
   }
 };
 
@@ -682,6 +742,7 @@ struct BodyFrame::Data {
   Eigen::MatrixXd V, V_dot;
   bool has_velocity = false;
   Eigen::MatrixXd face_normal;  // #Fb by 3 (rows of the collider's normal_faces filled)
+  Eigen::MatrixXd vertex_normal;  // #Vb by 3 (rows of the collider's culled_vertices filled)
   std::vector<Triangle> triangles;
   Tree tree;                    // over `triangles`, whose buffer moves with it into the collider
   double seconds = 0.0;         // wall time of prepare()
@@ -717,6 +778,10 @@ BodyFrame BodyCollider::prepare(const Eigen::MatrixXd& V_body, const Eigen::Matr
     const double len = n.norm();
     d.face_normal.row(f) = len > 0.0 ? Eigen::RowVector3d((n / len).transpose()) : Eigen::RowVector3d::Zero();
   }
+  if (s.threads > 1) {
+    d.vertex_normal.resize(V_body.rows(), 3);
+    for (int v : s.culled_vertices) d.vertex_normal.row(v) = s.angle_weighted_normal(v, V_body, d.face_normal).transpose();
+  }
   d.triangles.resize(s.faces.size());
   for (size_t k = 0; k < s.faces.size(); ++k) {
     const int f = s.faces[k];
@@ -747,6 +812,8 @@ void BodyCollider::set_body(BodyFrame frame) {
   s.V_dot = std::move(d.V_dot);
   s.has_velocity = d.has_velocity;
   s.face_normal = std::move(d.face_normal);
+  s.all_vertex_normals = d.vertex_normal.rows() > 0;
+  if (s.all_vertex_normals) s.vertex_normal = std::move(d.vertex_normal);
   s.built = true;
   ++s.version;
   s.stats.rebuild_seconds += d.seconds;
@@ -782,6 +849,11 @@ std::vector<Contact> BodyCollider::contacts(const Eigen::MatrixXd& X, const Eige
   if (offsets.size() != X.rows()) throw UsageError("one offset per cloth vertex is needed");
   if (!offsets.allFinite() || !(band >= 0.0)) throw UsageError("offsets must be finite and the band non-negative");
   return impl_->contacts(X, offsets.data(), 0.0, band);
+}
+
+void BodyCollider::set_threads(int threads) {
+  if (threads < 1) throw UsageError("threads must be at least 1");
+  impl_->threads = threads;
 }
 
 const std::vector<int>& BodyCollider::face_ids() const { return impl_->faces; }

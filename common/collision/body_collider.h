@@ -150,6 +150,13 @@ class BodyCollider {
   // Same with a per-vertex offset (#V) [m], which may be negative as in resolve().
   std::vector<Contact> contacts(const Eigen::MatrixXd& X, const Eigen::VectorXd& offsets, double band);
 
+  // Threads for contacts() and resolve(): 2 or more query the second half of
+  // the cloth vertices on another thread, and prepare() then computes every
+  // vertex pseudo-normal of a frame up front (with one thread they are
+  // computed as queries first need them). The answers do not depend on it.
+  // Call it before preparing frames.
+  void set_threads(int threads);
+
   const std::vector<int>& face_ids() const;
   const CollisionStats& stats() const;
   void reset_stats();

@@ -195,6 +195,63 @@ TEST_CASE("set_body rejects an empty frame and one prepared by another collider"
   CHECK(a.query(Eigen::Vector3d(0.0, 0.0, 0.0)).signed_distance < 0.0);
 }
 
+TEST_CASE("contacts and resolve on two threads answer as on one", "[collision]") {
+  // 3,000 points in a shell around the lumpy sphere (inside it, within the
+  // offset and beyond), moved a little between five rounds of contacts()
+  // then resolve() on a moving body (warm starts, skips, gap rays, crease
+  // sides). Expectation: one thread and two give the same contacts, the same
+  // projected positions and velocities and the same counts, to the bit.
+  const gp::Mesh body = lumpy_sphere();
+  BodyCollider one(body.F), two(body.F);
+  two.set_threads(2);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::uniform_real_distribution<double> radius(0.2, 0.42);
+  Eigen::MatrixXd X(3000, 3), Vel = Eigen::MatrixXd::Zero(3000, 3);
+  for (int i = 0; i < X.rows(); ++i) {
+    const Eigen::Vector3d d(g(rng), g(rng), g(rng));
+    X.row(i) = (radius(rng) * d.normalized()).transpose();
+  }
+  Eigen::MatrixXd X1 = X, X2 = X, V1 = Vel, V2 = Vel;
+  bool same = true;
+  size_t contacts_seen = 0;
+  for (int round = 0; round < 5; ++round) {
+    const Eigen::MatrixXd V_body = body.V * (1.0 + 0.01 * round);
+    const Eigen::MatrixXd body_velocity = body.V * (0.01 / 0.01);
+    one.set_body(V_body, &body_velocity);
+    two.set_body(V_body, &body_velocity);
+    const std::vector<Contact> c1 = one.contacts(X1, 0.02, 0.005), c2 = two.contacts(X2, 0.02, 0.005);
+    same = same && c1.size() == c2.size();
+    for (size_t k = 0; same && k < c1.size(); ++k) {
+      same = c1[k].vertex == c2[k].vertex && c1[k].signed_distance == c2[k].signed_distance &&
+             c1[k].outward == c2[k].outward && c1[k].offset == c2[k].offset &&
+             c1[k].body_normal_speed == c2[k].body_normal_speed;
+    }
+    contacts_seen += c1.size();
+    one.resolve(X1, V1, 0.02);
+    two.resolve(X2, V2, 0.02);
+    same = same && X1 == X2 && V1 == V2;
+    for (int i = 0; i < X1.rows(); ++i) {
+      const Eigen::RowVector3d step(0.002 * g(rng), 0.002 * g(rng), 0.002 * g(rng));
+      X1.row(i) += step;
+      X2.row(i) += step;
+    }
+  }
+  CHECK(same);
+  CHECK(contacts_seen > 1000);
+  const CollisionStats& s1 = one.stats();
+  const CollisionStats& s2 = two.stats();
+  CHECK(s1.queries == s2.queries);
+  CHECK(s1.skipped == s2.skipped);
+  CHECK(s1.reused == s2.reused);
+  CHECK(s1.projected == s2.projected);
+  CHECK(s1.gap_rays == s2.gap_rays);
+  CHECK(s1.creases == s2.creases);
+  CHECK(s1.deepest_penetration == s2.deepest_penetration);
+  CHECK(s1.projected > 100);
+  CHECK_THROWS_AS(one.set_threads(0), gp::UsageError);
+}
+
 TEST_CASE("culling keeps the faces the garment can reach", "[collision]") {
   const gp::Mesh sphere = gp::testing::make_icosphere(4, 0.3);
   // A small patch of points hovering 2 cm above the north pole.
