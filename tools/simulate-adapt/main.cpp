@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <thread>
 
 #include "adapt/garment_motion.h"
 #include "cli/tool.h"
@@ -78,13 +79,14 @@ int main(int argc, char** argv) {
                  "Body contact: velocity (constraints inside the implicit solve, then projection) or "
                  "projection (position projection after the step only)")
       ->capture_default_str()->check(CLI::IsMember({"velocity", "projection"}));
-  // A second thread prepares body frames and adaptations (see --threads).
-  tool.common().threads = 2;
+  // A second thread prepares body frames and adaptations (see --threads),
+  // where the machine has a second core.
+  tool.common().threads = std::thread::hardware_concurrency() >= 2 ? 2 : 1;
   tool.add_common_options();
   app.get_option("--threads")
-      ->description("Threads: 2 or more prepare the body frames and the lagging adaptations on a second thread "
-                    "while the cloth steps; 1 runs everything in turn. The outputs are the same for any count "
-                    "[count]");
+      ->description("Threads: 2 or more prepare the body frames and the lagging adaptations and query half the "
+                    "body contacts on a second thread while the cloth steps; 1 runs everything in turn. The "
+                    "outputs are the same for any count. Default: 2 where the machine has two cores [count]");
 
   return tool.run(argc, argv, [&] {
     const auto start = std::chrono::steady_clock::now();
