@@ -67,6 +67,10 @@ void stretch_figures(const Eigen::VectorXd& s, const Eigen::VectorXd& area, doub
 
 }  // namespace
 
+int applied_adaptation_lag(const MotionRunOptions& options) {
+  return std::max(0, std::min(options.adaptation_lag, options.adapt_every - 1));
+}
+
 MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionSpec& motion,
                                    const Eigen::MatrixXd& V_garment, const Eigen::MatrixXi& F_garment,
                                    const GarmentFile& garment, const MotionRunOptions& options,
@@ -199,14 +203,20 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
     double seconds = 0.0;
   };
   const std::launch policy = options.threads > 1 ? std::launch::async : std::launch::deferred;
-  const int lag = std::min(options.adaptation_lag, options.adapt_every - 1);
+  // The result of work launched with `policy`; the time the stepping thread
+  // waited for the worker is counted (run in turn, it is the work's own time).
+  auto await = [&](auto& future) {
+    const auto t_wait = Clock::now();
+    auto value = future.get();
+    if (policy == std::launch::async) result.times.waiting += seconds_since(t_wait);
+    return value;
+  };
+  const int lag = applied_adaptation_lag(options);
   std::future<Adaptation> pending_adaptation;
   long apply_after_step = 0;
   auto apply_adaptation = [&]() {
     if (!pending_adaptation.valid()) return;
-    const auto t_wait = Clock::now();
-    Adaptation a = pending_adaptation.get();
-    if (policy == std::launch::async) result.times.waiting += seconds_since(t_wait);
+    Adaptation a = await(pending_adaptation);
     result.times.adaptation += a.seconds;
     V_rest = std::move(a.V_rest);
     record_adaptation(a.report);
@@ -251,13 +261,10 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
     advance_offsets();
     sim.step();
     ++result.steps;
-    if (pending_adaptation.valid() && result.steps >= apply_after_step) apply_adaptation();
+    if (result.steps >= apply_after_step) apply_adaptation();
     if (options.adapt && result.steps % options.adapt_every == 0) {
-      if (lag == 0) {
-        adapt_now();
-      } else {
-        launch_adaptation();
-      }
+      launch_adaptation();
+      if (lag == 0) apply_adaptation();
     }
   };
 
@@ -303,12 +310,6 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   auto request_next_stage = [&]() {
     if (next_request < requests.size()) next_stage = std::async(policy, prepare_stage, requests[next_request++], V_body);
   };
-  auto take_stage = [&]() {
-    const auto t_wait = Clock::now();
-    BodyStage stage = next_stage.get();
-    if (policy == std::launch::async) result.times.waiting += seconds_since(t_wait);
-    return stage;
-  };
 
   result.times.setup = seconds_since(run_start);
   const double limit = 1.0 + options.adaptation.delta;
@@ -317,7 +318,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
     const MotionFrame& frame = frames[i];
     if (i > 0) {
       for (int s = 1; s <= options.substeps; ++s) {
-        BodyStage stage = take_stage();
+        BodyStage stage = await(next_stage);
         result.times.body += stage.seconds;
         collider.set_body(std::move(stage.frame));
         V_body = std::move(stage.V);

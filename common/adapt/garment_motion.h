@@ -105,9 +105,9 @@ struct MotionRunOptions {
   int adaptation_lag = 2;
   // 1: every phase in turn on the calling thread. 2 or more: the body frames
   // (interpolation, pin targets, collision tree) are prepared one frame ahead,
-  // and the lagging adaptations computed, on a second thread while the cloth
-  // steps. The work and its inputs are the same, so the outputs are identical
-  // for any count.
+  // the lagging adaptations computed and half the body contacts queried on a
+  // second thread while the cloth steps. The work and its inputs are the
+  // same, so the outputs are identical for any count.
   int threads = 1;
 };
 
@@ -172,6 +172,10 @@ struct MotionRunResult {
 };
 
 using ProgressCallback = std::function<void(const std::string&)>;
+
+// The adaptation lag a run applies: options.adaptation_lag cut to
+// adapt_every - 1 (and to 0 from below).
+int applied_adaptation_lag(const MotionRunOptions& options);
 
 // Runs the motion. V_garment/F_garment: the garment's design rest shape (also
 // its initial drape, on the first key pose). Throws GeometryError for a garment

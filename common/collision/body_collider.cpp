@@ -283,22 +283,6 @@ struct BodyCollider::Impl {
   mutable std::vector<long> vertex_normal_version;
   bool all_vertex_normals = false;        // the current frame's are all computed
   int threads = 1;      // contacts() and resolve() split their vertices over up to two threads
-
-  // Baerentzen & Aanaes 2005, eq. 3: the incident faces' normals weighted by
-  // their angles at v, for positions Vb and face normals N.
-  Eigen::Vector3d angle_weighted_normal(int v, const Eigen::MatrixXd& Vb, const Eigen::MatrixXd& N) const {
-    Eigen::Vector3d n = Eigen::Vector3d::Zero();
-    for (int f : incident[v]) {
-      int k = 0;
-      while (F(f, k) != v) ++k;
-      const Eigen::Vector3d x = Vb.row(F(f, k)).transpose();
-      const Eigen::Vector3d e1 = Vb.row(F(f, (k + 1) % 3)).transpose() - x;
-      const Eigen::Vector3d e2 = Vb.row(F(f, (k + 2) % 3)).transpose() - x;
-      const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
-      n += angle * N.row(f).transpose();
-    }
-    return n;
-  }
   std::vector<Triangle> triangles;
   Tree tree;
   bool built = false;
@@ -321,6 +305,22 @@ struct BodyCollider::Impl {
       return n;
     }
     return vertex_pseudo_normal(F(f, feature));
+  }
+
+  // Baerentzen & Aanaes 2005, eq. 3: the incident faces' normals weighted by
+  // their angles at v, for positions Vb and face normals N.
+  Eigen::Vector3d angle_weighted_normal(int v, const Eigen::MatrixXd& Vb, const Eigen::MatrixXd& N) const {
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for (int f : incident[v]) {
+      int k = 0;
+      while (F(f, k) != v) ++k;
+      const Eigen::Vector3d x = Vb.row(F(f, k)).transpose();
+      const Eigen::Vector3d e1 = Vb.row(F(f, (k + 1) % 3)).transpose() - x;
+      const Eigen::Vector3d e2 = Vb.row(F(f, (k + 2) % 3)).transpose() - x;
+      const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
+      n += angle * N.row(f).transpose();
+    }
+    return n;
   }
 
   Eigen::Vector3d vertex_pseudo_normal(int v) const {

@@ -3,7 +3,6 @@
 // 1 + delta (Wolff et al. 2023); --no-adapt evaluates the fixed design instead.
 // Writes rest.ply, draped_<k>_<pose>.ply (face field max_stretch), timing.json
 // and report.json (written last) into --out.
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -170,7 +169,7 @@ int main(int argc, char** argv) {
                          {"dt_s", options.dt},
                          {"substeps", options.substeps},
                          {"adapt_every", options.adapt_every},
-                         {"adaptation_lag", std::min(options.adaptation_lag, options.adapt_every - 1)},
+                         {"adaptation_lag", gp::adapt::applied_adaptation_lag(options)},
                          {"delta", options.adaptation.delta},
                          {"hysteresis", options.adaptation.hysteresis},
                          {"arap_tolerance", options.adaptation.arap.tolerance},
