@@ -33,10 +33,11 @@ PLY_TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": 
              "float": "f4", "float32": "f4", "double": "f8", "float64": "f8"}
 
 
-def read_ply(path):
-    """Vertices and triangles of a PLY file, ASCII or binary, with any extra
-    vertex or face properties (meshio cannot read binary faces that carry
-    scalar properties, which the pipeline writes for stretch maps)."""
+def read_ply_elements(path):
+    """Every element of a PLY file, ASCII or binary, as {name: {property:
+    array}}; list properties (faces) come as an (n, 3) integer array under
+    their own name (triangles only). meshio cannot read binary faces that
+    carry scalar properties, which the pipeline writes for stretch maps."""
     with open(path, "rb") as f:
         data = f.read()
     end = data.find(b"end_header")
@@ -55,54 +56,56 @@ def read_ply(path):
         elif tok[0] == "property":
             elements[-1][2].append(tok[1:])
     order = {"binary_little_endian": "<", "binary_big_endian": ">"}.get(fmt)
-    points, faces = None, None
+    out = {}
     if order is None:  # ASCII
         words = data[body_start:].split()
         pos = 0
         for name, count, props in elements:
-            rows = []
+            columns = {p[-1]: [] for p in props}
             for _ in range(count):
-                row = []
                 for prop in props:
                     if prop[0] == "list":
                         n = int(words[pos]); pos += 1
-                        row.append([int(w) for w in words[pos:pos + n]]); pos += n
+                        columns[prop[-1]].append([int(w) for w in words[pos:pos + n]]); pos += n
                     else:
-                        row.append(float(words[pos])); pos += 1
-                rows.append(row)
-            if name == "vertex":
-                names = [p[-1] for p in props]
-                points = np.array([[r[names.index(a)] for a in "xyz"] for r in rows], dtype=np.float64)
-            elif name == "face":
-                li = next(i for i, p in enumerate(props) if p[0] == "list")
-                faces = np.array([r[li] for r in rows], dtype=np.int64)
-        return points, faces
+                        columns[prop[-1]].append(float(words[pos])); pos += 1
+            out[name] = {}
+            for prop in props:
+                if prop[0] == "list":
+                    out[name][prop[-1]] = np.array(columns[prop[-1]], dtype=np.int64).reshape(-1, 3)
+                else:
+                    out[name][prop[-1]] = np.array(columns[prop[-1]], dtype=PLY_TYPES[prop[0]])
+        return out
     pos = body_start
     for name, count, props in elements:
-        if all(p[0] != "list" for p in props):
-            dtype = np.dtype([(p[-1], order + PLY_TYPES[p[0]]) for p in props])
-            arr = np.frombuffer(data, dtype=dtype, count=count, offset=pos)
-            pos += dtype.itemsize * count
-            if name == "vertex":
-                points = np.stack([arr[a].astype(np.float64) for a in "xyz"], axis=1)
-            continue
-        # Lists: assume triangles (checked), which makes every record the same size.
         fields = []
         for p in props:
             if p[0] == "list":
-                fields += [("n", order + PLY_TYPES[p[1]]), ("idx", order + PLY_TYPES[p[2]], (3,))]
+                fields += [("n", order + PLY_TYPES[p[1]]), (p[-1], order + PLY_TYPES[p[2]], (3,))]
             else:
                 fields.append((p[-1], order + PLY_TYPES[p[0]]))
         dtype = np.dtype(fields)
         arr = np.frombuffer(data, dtype=dtype, count=count, offset=pos)
-        if count and not np.all(arr["n"] == 3):
+        # Lists: assume triangles (checked), which makes every record the same size.
+        if any(p[0] == "list" for p in props) and count and not np.all(arr["n"] == 3):
             raise ValueError(f"element '{name}' has lists that are not triangles")
         pos += dtype.itemsize * count
-        if name == "face":
-            faces = arr["idx"].astype(np.int64)
-    if points is None:
+        out[name] = {p[-1]: (arr[p[-1]].astype(np.int64) if p[0] == "list" else arr[p[-1]]) for p in props}
+    return out
+
+
+def read_ply(path):
+    """Vertices (n, 3) and triangles (m, 3) of a PLY file."""
+    elements = read_ply_elements(path)
+    if "vertex" not in elements:
         raise ValueError("no vertex element")
-    return points, faces if faces is not None else np.zeros((0, 3), np.int64)
+    v = elements["vertex"]
+    points = np.stack([np.asarray(v[a], dtype=np.float64) for a in "xyz"], axis=1)
+    faces = np.zeros((0, 3), np.int64)
+    for prop, values in elements.get("face", {}).items():
+        if values.ndim == 2:
+            faces = values
+    return points, faces
 
 
 def load(path):
