@@ -137,7 +137,7 @@ def sim_summary(m):
         "body_faces": r["counts"]["body_faces"], "body_faces_kept": r["counts"]["body_faces_kept"],
         "steps": r["run"]["steps"], "settle_steps": sum(k["settle_steps"] for k in keys),
         "rejected_steps": r["run"]["rejected_steps"],
-        "cg_iterations": r["run"]["cg_iterations"], "adaptations": r["run"]["adaptations"],
+        "cg_iterations": m.json("timing.json")["work"]["cg_iterations"], "adaptations": r["run"]["adaptations"],
         "all_settled": r["run"]["all_settled"], "arap_converged": r["run"]["arap_converged"],
         "solver": r["options"]["solver"],
         "steps_per_s": t["steps_per_s"], "ms_per_step": t["ms_per_step"], "run_s": t["run_s"],
