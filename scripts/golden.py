@@ -3,6 +3,8 @@
 their outputs with the files in testdata/golden/ within stated tolerances.
 
   scripts/golden.py --bin build/bin            compare (exit 1 on any difference)
+  scripts/golden.py --bin build/bin --kernels haswell,skylakex,sandybridge-nofma
+                                               the same under several CPU kernels
   scripts/golden.py --bin build/bin --update   rewrite the goldens, showing what changed
 
 Meshes are compared by scripts/meshdiff.py (same topology: per-vertex
@@ -10,8 +12,18 @@ distance; otherwise Hausdorff), with tolerances relative to the bounding-box
 diagonal; report figures by relative difference. Tolerances are loose enough
 for a different --threads count (CHOLMOD and OpenBLAS may sum in another
 order) and tight enough to catch any change of method.
+
+With --kernels, each case runs once per emulated CPU: OpenBLAS is made to
+pick another core type's kernels (OPENBLAS_CORETYPE) and, for a CPU without
+FMA, glibc's libm its non-FMA code paths (GLIBC_TUNABLES). The last bits of
+the outputs then differ (see README.md, "Reproducibility"); every run must
+still match the goldens within the tolerances, and every discrete output
+(counts, flags and names in the reports, mesh connectivity, the flat pieces'
+vertex-to-piece and vertex-to-rest maps, that is the cuts) must be identical
+across the runs.
 """
 import argparse
+import hashlib
 import json
 import os
 import shutil
@@ -56,10 +68,21 @@ CASES = {
 }
 
 
-def run_case(name, case, bin_dir, out, threads):
+# Emulated CPUs: the environment that makes OpenBLAS and libm take the code
+# paths of another machine. Sandy Bridge has AVX but neither AVX2 nor FMA, so
+# its glibc takes the non-FMA paths of exp, log, atan2, sin, cos and pow.
+KERNELS = {
+    "haswell": {"OPENBLAS_CORETYPE": "Haswell"},
+    "skylakex": {"OPENBLAS_CORETYPE": "SkylakeX"},
+    "zen": {"OPENBLAS_CORETYPE": "Zen"},
+    "sandybridge-nofma": {"OPENBLAS_CORETYPE": "Sandybridge", "GLIBC_TUNABLES": "glibc.cpu.hwcaps=-AVX2,-FMA"},
+}
+
+
+def run_case(name, case, bin_dir, out, threads, env=None):
     r = subprocess.run(["make", "--no-print-directory", "-f", os.path.join(ROOT, "pipelines", "fit.mk"),
                         f"CUSTOMER={case['customer']}", f"OUT={out}", f"BIN={bin_dir}", f"THREADS={threads}"],
-                       cwd=ROOT, capture_output=True, text=True)
+                       cwd=ROOT, capture_output=True, text=True, env={**os.environ, **(env or {})})
     if r.returncode != 0:
         raise SystemExit(f"golden: {name}: the pipeline failed:\n{r.stdout}{r.stderr}")
 
@@ -82,10 +105,13 @@ def collect_figures(case, out):
     return figs
 
 
-def compare_case(name, case, out):
+def compare_case(name, case, out, label=None):
+    """Failures of the outputs in `out` against the goldens of case `name`;
+    lines are printed and failures named with `label` (default: the name)."""
     failures = []
+    golden_name, name = name, label or name
     for path, tol, rms_tol in case["meshes"]:
-        golden = os.path.join(GOLDEN, name, path.replace("/", "__"))
+        golden = os.path.join(GOLDEN, golden_name, path.replace("/", "__"))
         if not os.path.isfile(golden):
             failures.append(f"{name}: no golden file for {path} (run make update-golden)")
             continue
@@ -94,7 +120,7 @@ def compare_case(name, case, out):
         print(f"golden: {name}: {path}: {line}")
         if not r["equal"]:
             failures.append(f"{name}: {path} differs: {line}")
-    with open(figure_file(name)) as f:
+    with open(figure_file(golden_name)) as f:
         expected = json.load(f)
     got = collect_figures(case, out)
     for path, keys, rel, absolute in case["figures"]:
@@ -104,6 +130,54 @@ def compare_case(name, case, out):
         print(f"golden: {name}: {key}: {g} (golden {e}) {'ok' if ok else 'DIFFERENT'}")
         if not ok:
             failures.append(f"{name}: {key} is {g}, golden {e}")
+    return failures
+
+
+def discrete_outputs(out):
+    """Every discrete output of a run, as {name: value}: the integers, flags
+    and strings of every report.json (paths made relative to the output
+    folder; hashes of files, which see the last bits, left out), and of every
+    PLY mesh its vertex and face counts, a hash of its connectivity and of its
+    integer vertex fields (the flat pieces' piece and rest_vertex: the cuts)."""
+    found = {}
+
+    def walk(value, key):
+        if isinstance(value, dict):
+            for k, v in value.items():
+                if "sha256" not in k:
+                    walk(v, f"{key}/{k}")
+        elif isinstance(value, list):
+            found[f"{key}#length"] = len(value)
+            for i, v in enumerate(value):
+                walk(v, f"{key}/{i}")
+        elif isinstance(value, str):
+            found[key] = value.replace(out, "<OUT>")
+        elif isinstance(value, (bool, int)):
+            found[key] = value
+
+    for folder, _, files in sorted(os.walk(out)):
+        for f in sorted(files):
+            path = os.path.join(folder, f)
+            rel = os.path.relpath(path, out)
+            if f == "report.json":
+                with open(path) as fh:
+                    walk(json.load(fh), rel)
+            elif f.endswith(".ply"):
+                elements = meshdiff.read_ply_elements(path)
+                for element, props in elements.items():
+                    for prop, values in props.items():
+                        if values.ndim == 2 or values.dtype.kind in "iu":
+                            found[f"{rel}:{element}/{prop}"] = (
+                                f"{len(values)} x {hashlib.sha256(values.astype('<i8').tobytes()).hexdigest()[:16]}")
+    return found
+
+
+def compare_discrete(reference_name, reference, name, got):
+    failures = []
+    for key in sorted(set(reference) | set(got)):
+        a, b = reference.get(key, "<absent>"), got.get(key, "<absent>")
+        if a != b:
+            failures.append(f"{key}: {a} ({reference_name}) against {b} ({name})")
     return failures
 
 
@@ -136,20 +210,43 @@ def main():
     p.add_argument("--update", action="store_true", help="rewrite the golden files")
     p.add_argument("--threads", type=int, default=1, help="--threads for every stage (default 1)")
     p.add_argument("--case", action="append", help="run only this case (repeatable)")
+    p.add_argument("--kernels", default="",
+                   help="comma-separated emulated CPUs to run each case under (" + ", ".join(KERNELS) +
+                        "; default: this machine's own)")
     args = p.parse_args()
+    kernels = [k for k in args.kernels.split(",") if k]
+    for k in kernels:
+        if k not in KERNELS:
+            p.error(f"unknown kernel '{k}' (known: {', '.join(KERNELS)})")
+    if args.update and kernels:
+        p.error("--update writes the goldens from this machine's own kernels; leave out --kernels")
     failures = []
     for name, case in CASES.items():
         if args.case and name not in args.case:
             continue
-        out = tempfile.mkdtemp(prefix=f"gp_golden_{name}_")
-        try:
-            run_case(name, case, os.path.abspath(args.bin), out, args.threads)
-            if args.update:
-                update_case(name, case, out)
-            else:
-                failures += compare_case(name, case, out)
-        finally:
-            shutil.rmtree(out, ignore_errors=True)
+        reference = None
+        for kernel in kernels or [None]:
+            label = f"{name} [{kernel}]" if kernel else name
+            out = tempfile.mkdtemp(prefix=f"gp_golden_{name}_")
+            try:
+                run_case(label, case, os.path.abspath(args.bin), out, args.threads, KERNELS.get(kernel))
+                if args.update:
+                    update_case(name, case, out)
+                    continue
+                failures += compare_case(name, case, out, label)
+                if kernel:
+                    got = discrete_outputs(out)
+                    if reference is None:
+                        reference = (kernel, got)
+                        print(f"golden: {label}: {len(got)} discrete outputs")
+                    else:
+                        different = compare_discrete(reference[0], reference[1], kernel, got)
+                        print(f"golden: {label}: discrete outputs "
+                              f"{'identical' if not different else f'DIFFERENT in {len(different)}'} "
+                              f"to those under {reference[0]}")
+                        failures += [f"{name}: discrete output differs: {d}" for d in different[:20]]
+            finally:
+                shutil.rmtree(out, ignore_errors=True)
     if failures:
         print("golden: FAILED:\n  " + "\n  ".join(failures))
         return 1
