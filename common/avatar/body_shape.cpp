@@ -5,6 +5,7 @@
 
 #include "avatar/girth.h"
 #include "core/error.h"
+#include "core/math.h"
 
 namespace gp {
 namespace {
@@ -105,7 +106,7 @@ Profile torso_profile(const BodyShape& s, double y) {
   p.b = mix(R[i].back, R[i + 1].back, 2);
   p.zc = mix(R[i].center_z, R[i + 1].center_z, 3);
   const double u = (y - s.belly_y) / s.belly_sigma;
-  p.f += s.m.belly_depth * std::exp(-u * u);
+  p.f += s.m.belly_depth * gp::math::exp(-u * u);
   return p;
 }
 
@@ -114,7 +115,7 @@ double torso_distance(const BodyShape& s, const Eigen::Vector3d& p) {
   const double x = p.x(), z = p.z() - pr.zc;
   const double n = s.torso_exponent;
   const double u = std::abs(x) / pr.a, v = std::abs(z) / (z >= 0 ? pr.f : pr.b);
-  const double rho = std::pow(std::pow(u, n) + std::pow(v, n), 1.0 / n);
+  const double rho = gp::math::pow(gp::math::pow(u, n) + gp::math::pow(v, n), 1.0 / n);
   const double r = std::hypot(x, z);
   // Distance along the horizontal ray from the centre line: exact on the
   // surface, an over-estimate elsewhere (fine for a level set).
@@ -206,9 +207,9 @@ double unit_section_perimeter(double front, double back, double n) {
   Eigen::Vector2d prev;
   for (int i = 0; i <= N; ++i) {
     const double t = 2 * kPi * i / N;
-    const double c = std::cos(t), s = std::sin(t);
-    const double x = (c < 0 ? -1 : 1) * std::pow(std::abs(c), 2.0 / n);
-    const double z = (s < 0 ? -back : front) * std::pow(std::abs(s), 2.0 / n);
+    const double c = gp::math::cos(t), s = gp::math::sin(t);
+    const double x = (c < 0 ? -1 : 1) * gp::math::pow(std::abs(c), 2.0 / n);
+    const double z = (s < 0 ? -back : front) * gp::math::pow(std::abs(s), 2.0 / n);
     const Eigen::Vector2d q(x, z);
     if (i > 0) per += (q - prev).norm();
     prev = q;
@@ -459,7 +460,7 @@ BodyShape build_body_shape(const Measurements& m) {
     s.trapezius[side][1] =
         Ball{Eigen::Vector3d(sx * (0.5 * m.shoulder_width - 0.035 * k), shoulder_y - 0.02 * k, -0.01 * k),
              0.03 * k};
-    const Eigen::Vector3d d(sx * std::sin(arm_angle), -std::cos(arm_angle), 0.0);
+    const Eigen::Vector3d d(sx * gp::math::sin(arm_angle), -gp::math::cos(arm_angle), 0.0);
     const double L = m.arm_length + sx * 0.5 * m.arm_length_difference;
     const double Lj = L - 0.03 * k;  // the shoulder point sits above the joint centre
     const double u = 0.54 * Lj, f = 0.46 * Lj;
@@ -628,7 +629,7 @@ double field_girth(const BodyShape& s, const GirthLandmark& g, int rays) {
     throw GeometryError("girth landmark '" + g.name + "' lies outside the body");
   for (int i = 0; i < rays; ++i) {
     const double t = 2 * kPi * i / rays;
-    const Eigen::Vector3d dir = std::cos(t) * e1 + std::sin(t) * e2;
+    const Eigen::Vector3d dir = gp::math::cos(t) * e1 + gp::math::sin(t) * e2;
     double lo = 0.0, hi = -1.0;
     double r = 0.0;
     while (r < max_len) {
@@ -649,7 +650,7 @@ double field_girth(const BodyShape& s, const GirthLandmark& g, int rays) {
         hi = mid;
     }
     const double rr = 0.5 * (lo + hi);
-    pts.emplace_back(rr * std::cos(t), rr * std::sin(t));
+    pts.emplace_back(rr * gp::math::cos(t), rr * gp::math::sin(t));
   }
   return convex_hull_perimeter(pts);
 }

@@ -7,13 +7,15 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/math.h"
+
 namespace gp {
 namespace {
 
 double min_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
   auto ang = [](const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
     const Eigen::Vector3d u = q - p, v = r - p;
-    return std::atan2(u.cross(v).norm(), u.dot(v));
+    return gp::math::atan2(u.cross(v).norm(), u.dot(v));
   };
   return std::min({ang(a, b, c), ang(b, c, a), ang(c, a, b)});
 }
@@ -29,8 +31,8 @@ uint64_t key(int a, int b) {
 }  // namespace
 
 int flip_for_angles(const Eigen::MatrixXd& V, Eigen::MatrixXi& F, const FlipOptions& o) {
-  const double cos_max = std::cos(o.max_dihedral * M_PI / 180.0);
-  const double cos_needle = std::cos(2.0 * o.max_dihedral * M_PI / 180.0);
+  const double cos_max = gp::math::cos(o.max_dihedral * M_PI / 180.0);
+  const double cos_needle = gp::math::cos(2.0 * o.max_dihedral * M_PI / 180.0);
   auto P = [&](int i) -> Eigen::Vector3d { return V.row(i).transpose(); };
   std::vector<int> valence(V.rows(), 0);
   for (Eigen::Index f = 0; f < F.rows(); ++f)

@@ -12,6 +12,7 @@
 #include "avatar/simplify.h"
 #include "avatar/skinning.h"
 #include "core/error.h"
+#include "core/math.h"
 #include "mesh/measures.h"
 #include "mesh/topology.h"
 
@@ -122,7 +123,7 @@ int smooth_needles(Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vect
         const Eigen::Vector3d a = V.row(F(f, k)).transpose();
         const Eigen::Vector3d u = V.row(F(f, (k + 1) % 3)).transpose() - a;
         const Eigen::Vector3d w = V.row(F(f, (k + 2) % 3)).transpose() - a;
-        if (std::atan2(u.cross(w).norm(), u.dot(w)) < limit) {
+        if (gp::math::atan2(u.cross(w).norm(), u.dot(w)) < limit) {
           for (int m = 0; m < 3; ++m) mark[F(f, m)] = 1;
           any = true;
         }
@@ -258,7 +259,7 @@ void correct_girths(const BodyShape& shape, const std::vector<GirthResult>& girt
   };
   auto hat = [](double t, double w) {
     const double u = std::abs(t) / w;
-    return u >= 1 ? 0.0 : 0.5 * (1 + std::cos(M_PI * u));
+    return u >= 1 ? 0.0 : 0.5 * (1 + gp::math::cos(M_PI * u));
   };
   for (Eigen::Index v = 0; v < V.rows(); ++v) {
     Eigen::Vector3d p = V.row(v).transpose();
@@ -446,7 +447,7 @@ OrderedJson avatar_report(const AvatarSpec& spec, const AvatarOptions& o, const 
         const Eigen::Vector3d a = r.poses.V[0].row(r.poses.F(f, k)).transpose();
         const Eigen::Vector3d u = r.poses.V[0].row(r.poses.F(f, (k + 1) % 3)).transpose() - a;
         const Eigen::Vector3d v = r.poses.V[0].row(r.poses.F(f, (k + 2) % 3)).transpose() - a;
-        min_angle = std::min(min_angle, std::atan2(u.cross(v).norm(), u.dot(v)) * 180.0 / M_PI);
+        min_angle = std::min(min_angle, gp::math::atan2(u.cross(v).norm(), u.dot(v)) * 180.0 / M_PI);
       }
   mesh["min_angle_degrees"] = min_angle;
   mesh["height_m"] = r.height;

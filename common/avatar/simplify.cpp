@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/math.h"
 
 namespace gp {
 namespace {
@@ -87,7 +88,7 @@ Mesh simplify_mesh(const Mesh& mesh, int target_vertices, const SimplifyOptions&
   for (int pass = 0; pass < 40 && alive > target_vertices; ++pass) {
     const int alive_before = alive;
     const double turn = opt.max_normal_turn * (pass < 8 ? 1.0 : pass < 16 ? 1.5 : 2.5);
-    const double cos_max = std::cos(std::min(turn, 150.0) * M_PI / 180.0);
+    const double cos_max = gp::math::cos(std::min(turn, 150.0) * M_PI / 180.0);
     heap = decltype(heap)();
     for (size_t f = 0; f < F.size(); ++f) {
       if (!face_alive[f]) continue;

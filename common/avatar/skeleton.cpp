@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/math.h"
 
 namespace gp {
 namespace {
@@ -10,7 +11,10 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 
 Eigen::Quaterniond about(const Eigen::Vector3d& axis, double degrees) {
-  return Eigen::Quaterniond(Eigen::AngleAxisd(degrees * kDeg, axis.normalized()));
+  // As Eigen::AngleAxisd, with the portable sine and cosine (core/math.h).
+  const auto [s, c] = gp::math::sincos(0.5 * degrees * kDeg);
+  const Eigen::Vector3d v = s * axis.normalized();
+  return Eigen::Quaterniond(c, v.x(), v.y(), v.z());
 }
 
 Eigen::Vector3d bone_direction(const Skeleton& s, int from, int to) {
@@ -152,7 +156,7 @@ JointRotations builtin_pose(const Skeleton& s, const std::string& name) {
     // (scapulohumeral rhythm) drags the whole shoulder girdle with skinning
     // and inflates the volume by about 4 %.
     for (const Arm& a : arms) {
-      const Eigen::Vector3d up(a.side * std::sin(30.0 * kDeg), std::cos(30.0 * kDeg), 0.0);
+      const Eigen::Vector3d up(a.side * gp::math::sin(30.0 * kDeg), gp::math::cos(30.0 * kDeg), 0.0);
       b.set_global(a.shoulder, swing(s, a.shoulder, a.elbow, up));
     }
   } else if (name == "armsforward") {

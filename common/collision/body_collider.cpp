@@ -18,6 +18,7 @@
 #include <Eigen/Dense>
 
 #include "core/error.h"
+#include "core/math.h"
 #include "mesh/topology.h"
 
 namespace gp::collision {
@@ -317,7 +318,7 @@ struct BodyCollider::Impl {
       const Eigen::Vector3d x = Vb.row(F(f, k)).transpose();
       const Eigen::Vector3d e1 = Vb.row(F(f, (k + 1) % 3)).transpose() - x;
       const Eigen::Vector3d e2 = Vb.row(F(f, (k + 2) % 3)).transpose() - x;
-      const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
+      const double angle = gp::math::atan2(e1.cross(e2).norm(), e1.dot(e2));
       n += angle * N.row(f).transpose();
     }
     return n;

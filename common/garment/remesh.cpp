@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "core/error.h"
+#include "core/math.h"
 #include "garment/surface_point.h"
 #include "mesh/topology.h"
 
@@ -217,7 +218,7 @@ MeshQuality measure_quality(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d a = V.row(F(f, k)), b = V.row(F(f, (k + 1) % 3)), c = V.row(F(f, (k + 2) % 3));
       const Eigen::Vector3d u = b - a, w = c - a;
-      const double angle = std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / M_PI;
+      const double angle = gp::math::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / M_PI;
       smallest = std::min(smallest, angle);
     }
     q.min_angle_deg = std::min(q.min_angle_deg, smallest);

@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "core/error.h"
+#include "core/math.h"
 #include "interp/deformation_gradient.h"
 #include "interp/polar_decomposition.h"
 #include "interp/rotation_log.h"
@@ -181,7 +182,7 @@ void PoseInterpolator::frame(int a, int b, double t, Eigen::MatrixXd& V_out) {
   for (int f = 0; f < nf; ++f) {
     const Eigen::Vector3d w = t * tr.omega.row(f).transpose();
     const double theta = w.norm();
-    const double c = std::cos(theta), s = std::sin(theta);
+    const double c = gp::math::cos(theta), s = gp::math::sin(theta);
     // Q(t) E_a = exp(t omega) ((1 - t) E_a + t S E_a), S E_a = U_b.
     const Eigen::Vector3d u1 =
         (1.0 - t) * tr.E_a.block<1, 3>(f, 0).transpose() + t * tr.U_b.block<1, 3>(f, 0).transpose();

@@ -8,6 +8,7 @@
 #include <queue>
 #include <tuple>
 
+#include "core/math.h"
 #include "mesh/topology.h"
 
 namespace gp {
@@ -26,7 +27,7 @@ Eigen::Vector3d rotation_log(const Eigen::Matrix3d& R) {
   const Eigen::Vector3d w = vee_antisymmetric(R);
   const double s = 0.5 * w.norm();                  // sin(theta)
   const double c = 0.5 * (R.trace() - 1.0);         // cos(theta)
-  const double theta = std::atan2(s, c);            // accurate at both ends, unlike acos
+  const double theta = gp::math::atan2(s, c);            // accurate at both ends, unlike acos
   if (theta < 1e-6) {
     // theta / sin(theta) = 1 + theta^2/6 + ...
     return 0.5 * (1.0 + theta * theta / 6.0) * w;
@@ -52,8 +53,8 @@ Eigen::Matrix3d rotation_exp(const Eigen::Vector3d& omega) {
     b = 0.5 - theta2 / 24.0;
   } else {
     const double theta = std::sqrt(theta2);
-    a = std::sin(theta) / theta;
-    b = (1.0 - std::cos(theta)) / theta2;
+    a = gp::math::sin(theta) / theta;
+    b = (1.0 - gp::math::cos(theta)) / theta2;
   }
   return Eigen::Matrix3d::Identity() + a * K + b * (K * K);
 }

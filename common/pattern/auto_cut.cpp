@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "core/error.h"
+#include "core/math.h"
 #include "mesh/topology.h"
 
 namespace gp {
@@ -87,7 +88,7 @@ std::vector<double> angle_defects(const Eigen::MatrixXd& V, const Eigen::MatrixX
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d a = V.row(F(f, (k + 1) % 3)) - V.row(F(f, k));
       const Eigen::Vector3d b = V.row(F(f, (k + 2) % 3)) - V.row(F(f, k));
-      const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
+      const double angle = gp::math::atan2(a.cross(b).norm(), a.dot(b));
       defect[static_cast<size_t>(F(f, k))] -= angle;
     }
   for (const auto& loop : boundary_loops(F))

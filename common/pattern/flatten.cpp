@@ -9,6 +9,7 @@
 #include <Eigen/SparseCore>
 
 #include "core/error.h"
+#include "core/math.h"
 #include "linalg/cholmod_solver.h"
 #include "mesh/topology.h"
 
@@ -70,9 +71,9 @@ double signed_area_2d(const Eigen::MatrixXd& UV, const Eigen::Vector3i& f) {
 // Closest rotation to a 2x2 matrix (polar decomposition), in closed form: for
 // J = [a b; c d] the rotation maximizing tr(R^T J) has angle atan2(c - b, a + d).
 Eigen::Matrix2d closest_rotation(const Eigen::Matrix2d& J) {
-  const double angle = std::atan2(J(1, 0) - J(0, 1), J(0, 0) + J(1, 1));
+  const double angle = gp::math::atan2(J(1, 0) - J(0, 1), J(0, 0) + J(1, 1));
   Eigen::Matrix2d R;
-  R << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+  R << gp::math::cos(angle), -gp::math::sin(angle), gp::math::sin(angle), gp::math::cos(angle);
   return R;
 }
 
@@ -189,8 +190,8 @@ Eigen::MatrixXd tutte(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const 
   Eigen::VectorXd fixed = Eigen::VectorXd::Constant(2 * n, std::numeric_limits<double>::quiet_NaN());
   for (size_t k = 0; k < loop.size(); ++k) {
     const double angle = 2.0 * M_PI * s[k] / perimeter;
-    fixed[loop[k]] = radius * std::cos(angle);
-    fixed[loop[k] + n] = radius * std::sin(angle);
+    fixed[loop[k]] = radius * gp::math::cos(angle);
+    fixed[loop[k] + n] = radius * gp::math::sin(angle);
   }
   const auto neighbors = vertex_neighbors(F, n);
   std::vector<Triplet> trip;

@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 
 #include "core/error.h"
+#include "core/math.h"
 
 namespace gp {
 namespace {
@@ -100,9 +101,9 @@ Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options) {
     LaidOutPiece& out = layout.pieces[i];
     const Eigen::Vector2d g = grain_direction(p, out.grain_from_body_vertical);
     // Rotate g onto +y.
-    out.rotation = std::atan2(g.x(), g.y());
+    out.rotation = gp::math::atan2(g.x(), g.y());
     Eigen::Matrix2d R;
-    R << std::cos(out.rotation), -std::sin(out.rotation), std::sin(out.rotation), std::cos(out.rotation);
+    R << gp::math::cos(out.rotation), -gp::math::sin(out.rotation), gp::math::sin(out.rotation), gp::math::cos(out.rotation);
     out.UV = p.flat.UV * R.transpose();
     for (int v : p.boundary) out.outline.push_back(out.UV.row(v).transpose());
     const std::string what = "piece " + p.name;

@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 
 #include "core/error.h"
+#include "core/math.h"
 #include "mesh/topology.h"
 
 namespace gp {
@@ -19,7 +20,7 @@ std::vector<double> angle_defects(const Eigen::MatrixXd& V, const Eigen::MatrixX
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d a = (V.row(F(f, (k + 1) % 3)) - V.row(F(f, k))).transpose();
       const Eigen::Vector3d b = (V.row(F(f, (k + 2) % 3)) - V.row(F(f, k))).transpose();
-      defect[static_cast<size_t>(F(f, k))] -= std::atan2(a.cross(b).norm(), a.dot(b));
+      defect[static_cast<size_t>(F(f, k))] -= gp::math::atan2(a.cross(b).norm(), a.dot(b));
     }
   for (size_t v = 0; v < defect.size(); ++v)
     if (!inner[v]) defect[v] = 0.0;

@@ -7,6 +7,8 @@
 #include <set>
 #include <unordered_map>
 
+#include "core/math.h"
+
 namespace gp {
 namespace {
 
@@ -202,7 +204,7 @@ std::optional<VertexCorrespondence> find_vertex_correspondence(
           const double lr = (V_ref.row(a) - V_ref.row(b)).norm();
           const double lo =
               (V_other.row(result.other_of_ref[a]) - V_other.row(result.other_of_ref[b])).norm();
-          if (lr > 0 && lo > 0) s.distortion += std::abs(std::log(lo / lr));
+          if (lr > 0 && lo > 0) s.distortion += std::abs(gp::math::log(lo / lr));
         }
         for (int v : touched_vertices) {
           s.vertex_pairs.push_back({v, result.other_of_ref[v]});

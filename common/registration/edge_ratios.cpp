@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/math.h"
 #include "mesh/topology.h"
 
 namespace gp {
@@ -43,13 +44,13 @@ EdgeRatioStats edge_ratio_stats(const Eigen::MatrixXd& V_ref, const Eigen::Matri
   s.median = pct(0.5);
   s.p95 = pct(0.95);
   s.p99 = pct(0.99);
-  const double worst_log = std::max(std::abs(std::log(s.min)), std::abs(std::log(s.max)));
-  s.worst_factor = std::exp(worst_log);
+  const double worst_log = std::max(std::abs(gp::math::log(s.min)), std::abs(gp::math::log(s.max)));
+  s.worst_factor = gp::math::exp(worst_log);
 
   const size_t k = std::min(edges.size(), static_cast<size_t>(std::max(0, worst_count)));
   std::partial_sort(edges.begin(), edges.begin() + static_cast<std::ptrdiff_t>(k), edges.end(),
                     [](const EdgeRatioEdge& a, const EdgeRatioEdge& b) {
-                      const double la = std::abs(std::log(a.ratio)), lb = std::abs(std::log(b.ratio));
+                      const double la = std::abs(gp::math::log(a.ratio)), lb = std::abs(gp::math::log(b.ratio));
                       if (la != lb) return la > lb;
                       return std::make_pair(a.v0, a.v1) < std::make_pair(b.v0, b.v1);
                     });

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "core/math.h"
 #include "mesh/measures.h"
 #include "mesh/topology.h"
 
@@ -127,7 +128,7 @@ MeshCheckResult check_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
   // Triangle shape. Faces touching a non-finite vertex are left to that finding.
   const double area_floor = options.degenerate_area_fraction * r.bounding_box_diagonal *
                             r.bounding_box_diagonal;
-  const double needle_cos = std::cos(options.needle_angle_degrees * M_PI / 180.0);
+  const double needle_cos = gp::math::cos(options.needle_angle_degrees * M_PI / 180.0);
   for (int f = 0; f < F.rows(); ++f) {
     if (!finite[F(f, 0)] || !finite[F(f, 1)] || !finite[F(f, 2)]) continue;
     const Eigen::Vector3d p[3] = {V.row(F(f, 0)), V.row(F(f, 1)), V.row(F(f, 2))};

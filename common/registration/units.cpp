@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include "core/error.h"
+#include "core/math.h"
 
 namespace gp {
 
@@ -58,7 +59,7 @@ UpAxis detect_up_axis(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, bool* 
   // Sign, first cue: the soles. A standing body's lowest 5 % holds flat
   // surface facing the floor (about 0.04 m^2 for two feet), while its highest
   // 5 % is a rounded head or hands with little surface facing straight up.
-  const double cos20 = std::cos(20.0 * M_PI / 180.0);
+  const double cos20 = gp::math::cos(20.0 * M_PI / 180.0);
   double flat_low = 0, flat_high = 0;
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
