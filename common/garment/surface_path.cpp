@@ -1,6 +1,7 @@
 #include "garment/surface_path.h"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <queue>
@@ -13,20 +14,25 @@ std::vector<int> shortest_edge_path(const Eigen::MatrixXd& V,
                                     const std::vector<std::vector<int>>& neighbors, int from,
                                     int to) {
   const int n = static_cast<int>(neighbors.size());
-  std::vector<double> dist(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
+  constexpr double kUnitsPerMetre = 1e9;
+  constexpr long long kUnreached = std::numeric_limits<long long>::max();
+  std::vector<long long> dist(static_cast<size_t>(n), kUnreached);
   std::vector<int> parent(static_cast<size_t>(n), -1);
-  using Entry = std::pair<double, int>;
+  using Entry = std::pair<long long, int>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-  dist[from] = 0.0;
-  queue.push({0.0, from});
+  dist[from] = 0;
+  queue.push({0, from});
   while (!queue.empty()) {
     const auto [d, v] = queue.top();
     queue.pop();
     if (d > dist[v]) continue;
     if (v == to) break;
     for (int w : neighbors[v]) {
-      const double nd = d + (V.row(v) - V.row(w)).norm();
-      if (nd < dist[w]) {
+      const double length = (V.row(v) - V.row(w)).norm();
+      if (!std::isfinite(length)) continue;
+      const long long nd = d + std::llround(length * kUnitsPerMetre);
+      // A tie goes to the smaller predecessor id.
+      if (nd < dist[w] || (nd == dist[w] && v < parent[w])) {
         dist[w] = nd;
         parent[w] = v;
         queue.push({nd, w});

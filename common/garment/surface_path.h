@@ -9,8 +9,10 @@ namespace gp {
 
 // Shortest edge path from vertex `from` to vertex `to`, both included, over the
 // graph `neighbors` (one ring per vertex, e.g. gp::vertex_neighbors) with edge
-// lengths taken from V (#V by 3). Ties are broken by vertex id, so the result
-// is deterministic. Empty when `to` cannot be reached.
+// lengths taken from V (#V by 3). Lengths are summed as whole nanometres, so
+// that paths of equal length (a mirror-symmetric body) tie exactly instead of
+// by their last bits, and ties are broken by vertex id: the path does not
+// change when V changes by rounding. Empty when `to` cannot be reached.
 std::vector<int> shortest_edge_path(const Eigen::MatrixXd& V,
                                     const std::vector<std::vector<int>>& neighbors, int from,
                                     int to);
