@@ -91,7 +91,9 @@ render::Image compose_sheet(const std::string& title, const std::vector<std::pai
     width += v.width + gap;
   }
   width -= gap;
-  width = std::max(width, std::min(720, 60 * static_cast<int>(title.size()) / 7));
+  // Wide enough for the title and the row labels too.
+  width = std::max(width, font.width(title, text + 2) + 8);
+  for (const auto& row : rows) width = std::max(width, font.width(row.first, text) + 8);
   const render::Image legend = render::colour_bar(scale, font, std::min(width, 720), 14);
   const int height = title_h + static_cast<int>(rows.size()) * (row_label_h + vh + gap) + legend.height + gap;
   render::Image sheet(width, height, kWhite);
