@@ -2,14 +2,11 @@
 
 #include <cstdio>
 
+#include "core/text_format.h"
+
 namespace gp::report {
 namespace {
 
-std::string fixed(double v, int digits) {
-  char b[64];
-  std::snprintf(b, sizeof(b), "%.*f", digits, v);
-  return b;
-}
 
 double number_at(const StageReport& r, const std::string& p) { return lookup(r, p)->get<double>(); }
 
@@ -68,7 +65,7 @@ std::string verdict_of(const Json* object) {
 std::vector<Check> fit_checks(const FitRun& run, const FitThresholds& t) {
   std::vector<Check> out;
   auto add = [&out](CheckLevel level, std::string text) { out.push_back({level, std::move(text)}); };
-  const std::string limit = fixed(1.0 + run.delta, 2);
+  const std::string limit = format_fixed(1.0 + run.delta, 2);
 
   const std::string body_verdict = lookup(run.poses, "/verdict")->get<std::string>();
   if (body_verdict != "pass")
@@ -83,14 +80,14 @@ std::vector<Check> fit_checks(const FitRun& run, const FitThresholds& t) {
     const double p99 = number_at(run.fit, p + "/p99_stretch");
     const double depth = number_at(run.fit, p + "/deepest_penetration_m");
     if (above >= t.area_above_limit)
-      add(CheckLevel::fail, "At " + name + ", " + fixed(100.0 * above, 2) + " % of the cloth is stretched beyond " +
-                                limit + " (allowed: under " + fixed(100.0 * t.area_above_limit, 0) + " %).");
+      add(CheckLevel::fail, "At " + name + ", " + format_fixed(100.0 * above, 2) + " % of the cloth is stretched beyond " +
+                                limit + " (allowed: under " + format_fixed(100.0 * t.area_above_limit, 0) + " %).");
     if (p99 > 1.0 + run.delta + t.p99_margin)
-      add(CheckLevel::fail, "At " + name + ", the 99th percentile of the stretch is " + fixed(p99, 3) +
-                                " (allowed: " + fixed(1.0 + run.delta + t.p99_margin, 2) + ").");
+      add(CheckLevel::fail, "At " + name + ", the 99th percentile of the stretch is " + format_fixed(p99, 3) +
+                                " (allowed: " + format_fixed(1.0 + run.delta + t.p99_margin, 2) + ").");
     if (depth > t.penetration)
-      add(CheckLevel::fail, "At " + name + ", the cloth lies up to " + fixed(1e3 * depth, 1) +
-                                " mm inside the body (allowed: " + fixed(1e3 * t.penetration, 0) + " mm).");
+      add(CheckLevel::fail, "At " + name + ", the cloth lies up to " + format_fixed(1e3 * depth, 1) +
+                                " mm inside the body (allowed: " + format_fixed(1e3 * t.penetration, 0) + " mm).");
     if (!lookup(run.fit, p + "/settled")->get<bool>())
       add(CheckLevel::warning, "At " + name + ", the cloth had not come to rest after " +
                                    std::to_string(lookup(run.fit, p + "/settle_steps")->get<long long>()) +
@@ -116,10 +113,10 @@ std::vector<Check> fit_checks(const FitRun& run, const FitThresholds& t) {
   const Json& summary = *lookup(run.pattern, "/summary");
   if (!summary["meets_distortion_limit"].get<bool>())
     add(CheckLevel::fail, "The pattern pieces are distorted beyond the limit: worst p95 " +
-                              fixed(100.0 * summary["worst_p95_error"].get<double>(), 2) + " % (limit " +
-                              fixed(100.0 * summary["limit"]["p95_error"].get<double>(), 2) + " %), worst " +
-                              fixed(100.0 * summary["worst_max_error"].get<double>(), 2) + " % (limit " +
-                              fixed(100.0 * summary["limit"]["max_error"].get<double>(), 2) + " %).");
+                              format_fixed(100.0 * summary["worst_p95_error"].get<double>(), 2) + " % (limit " +
+                              format_fixed(100.0 * summary["limit"]["p95_error"].get<double>(), 2) + " %), worst " +
+                              format_fixed(100.0 * summary["worst_max_error"].get<double>(), 2) + " % (limit " +
+                              format_fixed(100.0 * summary["limit"]["max_error"].get<double>(), 2) + " %).");
   if (const Json* j = lookup(run.pattern, "/summary/overlapping_pieces"); j && j->is_number() && j->get<double>() > 0)
     add(CheckLevel::fail, std::to_string(j->get<long long>()) + " pattern pieces overlap themselves when laid flat.");
   if (const Json* j = lookup(run.pattern, "/summary/flipped_triangles"); j && j->is_number() && j->get<double>() > 0)

@@ -10,6 +10,7 @@
 #include "core/atomic_file.h"
 #include "core/base64.h"
 #include "core/error.h"
+#include "core/text_format.h"
 #include "io/gltf_writer.h"
 #include "io/mesh_io.h"
 #include "mesh/measures.h"
@@ -30,11 +31,6 @@ const char* kGenerator = "fit-report (custom-fit garment pipeline)";
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-std::string fixed(double v, int digits) {
-  char b[64];
-  std::snprintf(b, sizeof(b), "%.*f", digits, v);
-  return b;
-}
 
 // The files of three.js the page loads, by their place in the package.
 const std::pair<const char*, const char*> kThreeFiles[] = {{"build/three.min.js", "three.min.js"},
@@ -210,11 +206,11 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
     rows.push_back(garment_row("as designed", drapes_no_adapt[i], colours_before[i]));
   }
   const std::vector<Views> views = render_views(rows, cameras, options.sheet);
-  const std::string limit = fixed(1.0 + run.delta, 2);
+  const std::string limit = format_fixed(1.0 + run.delta, 2);
   auto figures_of = [&](const StageReport& report, const KeyPoseRun& k) {
     const Json& e = *lookup(report, k.pointer);
-    return "max stretch " + fixed(e["max_stretch"].get<double>(), 3) + ", p99 " + fixed(e["p99_stretch"].get<double>(), 3) +
-           ", area above " + limit + ": " + fixed(100.0 * e["area_fraction_above_limit"].get<double>(), 2) + " %";
+    return "max stretch " + format_fixed(e["max_stretch"].get<double>(), 3) + ", p99 " + format_fixed(e["p99_stretch"].get<double>(), 3) +
+           ", area above " + limit + ": " + format_fixed(100.0 * e["area_fraction_above_limit"].get<double>(), 2) + " %";
   };
   for (size_t i = 0; i < n; ++i) {
     const KeyPoseRun& k = run.keys[i];
@@ -254,7 +250,7 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
     files.rest_sheet = "renders/rest_vs_design.png";
     const double total_growth = area_rest.sum() / std::max(area_design.sum(), 1e-300);
     render::write_png(folder / files.rest_sheet,
-                      picture_sheet("The rest shape against the design (area x" + fixed(total_growth, 3) + ")",
+                      picture_sheet("The rest shape against the design (area x" + format_fixed(total_growth, 3) + ")",
                                     {SheetRow{"as designed", {d_layer}}, SheetRow{"adapted rest shape", {r_layer}}},
                                     frame_views(rest_box, options.sheet), growth, font, options.sheet));
   }

@@ -3,40 +3,22 @@
 #include <cstdio>
 
 #include "core/error.h"
+#include "core/text_format.h"
 #include "spec/spec_object.h"
 #include "report/report_assets.h"
 
 namespace gp::report {
 namespace {
 
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
-
-std::string fixed(double v, int digits) {
-  char b[64];
-  std::snprintf(b, sizeof(b), "%.*f", digits, v);
-  return b;
-}
 
 // A figure of `report` at `pointer`, or "not checked" where it is absent.
 std::string figure(const StageReport& report, const std::string& pointer, const std::string& format) {
   const Json* v = pointer.empty() ? nullptr : lookup(report, pointer);
-  const std::string attrs = " data-src=\"" + escape(report.file) + "\" data-ptr=\"" + escape(pointer) +
+  const std::string attrs = " data-src=\"" + escape_xml(report.file) + "\" data-ptr=\"" + escape_xml(pointer) +
                             "\" data-format=\"" + format + "\"";
   if (!v || v->is_null()) return "<span class=\"figure absent\"" + attrs + ">not checked</span>";
   try {
-    return "<span class=\"figure\"" + attrs + ">" + escape(format_figure(*v, format)) + "</span>";
+    return "<span class=\"figure\"" + attrs + ">" + escape_xml(format_figure(*v, format)) + "</span>";
   } catch (const SpecError& e) {
     throw SpecError(e.what(), report.path.string() + ": " + pointer);
   }
@@ -66,7 +48,7 @@ std::string crossings_cell(const StageReport& fit, const std::string& pointer) {
   if (j->is_object())
     for (const auto& kv : j->items())
       if (kv.value().is_number())
-        out += (out.empty() ? "" : "<br>") + escape(kv.key()) + ": " + figure(fit, pointer + "/" + kv.key(), "integer");
+        out += (out.empty() ? "" : "<br>") + escape_xml(kv.key()) + ": " + figure(fit, pointer + "/" + kv.key(), "integer");
   return out.empty() ? "(no counts)" : out;
 }
 
@@ -85,12 +67,12 @@ std::string format_figure(const Json& v, const std::string& format) {
   if (!v.is_number()) throw SpecError("expected a number for a figure, found " + json_type_name(v));
   const double x = v.get<double>();
   if (format == "integer") return std::to_string(v.get<long long>());
-  if (format == "fixed2") return fixed(x, 2);
-  if (format == "fixed3") return fixed(x, 3);
-  if (format == "percent2") return fixed(100.0 * x, 2) + " %";
-  if (format == "mm2") return fixed(1e3 * x, 2) + " mm";
-  if (format == "times3") return "\xc3\x97" + fixed(x, 3);
-  if (format == "metres2") return fixed(x, 2) + " m";
+  if (format == "fixed2") return format_fixed(x, 2);
+  if (format == "fixed3") return format_fixed(x, 3);
+  if (format == "percent2") return format_fixed(100.0 * x, 2) + " %";
+  if (format == "mm2") return format_fixed(1e3 * x, 2) + " mm";
+  if (format == "times3") return "\xc3\x97" + format_fixed(x, 3);
+  if (format == "metres2") return format_fixed(x, 2) + " m";
   throw UsageError("unknown figure format '" + format + "'");
 }
 
@@ -98,12 +80,12 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
                         const std::string& title) {
   const StageReport& fit = run.fit;
   const StageReport& pattern = run.pattern;
-  const std::string limit = fixed(1.0 + run.delta, 2);
+  const std::string limit = format_fixed(1.0 + run.delta, 2);
   std::string h;
   h += "<!doctype html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   h += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
-  h += "<title>Fit report: " + escape(title) + "</title>\n<style>\n" + std::string(report_css()) + "</style>\n</head>\n<body>\n";
-  h += "<h1>Fit report: " + escape(title) + "</h1>\n";
+  h += "<title>Fit report: " + escape_xml(title) + "</title>\n<style>\n" + std::string(report_css()) + "</style>\n</head>\n<body>\n";
+  h += "<h1>Fit report: " + escape_xml(title) + "</h1>\n";
   h += "<p class=\"lead\">" + std::to_string(run.keys.size()) + " key poses, garment of " +
        figure(fit, "/counts/garment_vertices", "integer") + " vertices, body of " +
        optional_figure(fit, "/counts/body_vertices", "integer") + " vertices. Stretch limit of the adaptation: 1 + " +
@@ -118,7 +100,7 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
   for (CheckLevel level : {CheckLevel::fail, CheckLevel::warning, CheckLevel::not_checked}) {
     std::string items;
     for (const Check& c : checks)
-      if (c.level == level) items += "<li>" + escape(c.text) + "</li>\n";
+      if (c.level == level) items += "<li>" + escape_xml(c.text) + "</li>\n";
     if (items.empty()) continue;
     const char* cls = level == CheckLevel::fail ? "fail" : level == CheckLevel::warning ? "warning" : "unchecked";
     const char* head = level == CheckLevel::fail      ? "Failed"
@@ -156,7 +138,7 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
     for (size_t i = 0; i < run.keys.size(); ++i) {
       const std::string v = verification_pointer(fit, i);
       const std::string p = v.empty() ? "" : v + "/";
-      h += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + escape(run.keys[i].pose) + "</td><td>" +
+      h += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + escape_xml(run.keys[i].pose) + "</td><td>" +
            verdict_cell(fit, v) + "</td><td>" + figure(fit, v.empty() ? "" : p + "max_stretch", "fixed3") + "</td><td>" +
            figure(fit, v.empty() ? "" : p + "p99_stretch", "fixed3") + "</td><td>" +
            figure(fit, v.empty() ? "" : p + "mean_stretch", "fixed3") + "</td><td>" +
@@ -176,15 +158,15 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
     const ReportFiles::Pose& f = files.poses[i];
     const std::string p = run.keys[i].pointer;
     h += "<div class=\"pose\" id=\"pose-" + std::to_string(i + 1) + "\">\n<h3>Key pose " + std::to_string(i + 1) +
-         ": " + escape(run.keys[i].pose) + "</h3>\n";
+         ": " + escape_xml(run.keys[i].pose) + "</h3>\n";
     h += "<p>max stretch " + figure(fit, p + "/max_stretch", "fixed3") + ", p99 " + figure(fit, p + "/p99_stretch", "fixed3") +
          ", area above " + limit + ": " + figure(fit, p + "/area_fraction_above_limit", "percent2") + ".</p>\n";
-    h += "<img class=\"sheet\" src=\"" + escape(f.sheet) + "\" alt=\"" + escape(run.keys[i].pose) +
+    h += "<img class=\"sheet\" src=\"" + escape_xml(f.sheet) + "\" alt=\"" + escape_xml(run.keys[i].pose) +
          ": front, side and back, coloured by stretch\">\n";
-    h += "<div class=\"viewer\" data-model=\"" + escape(f.model_id) + "\" data-front=\"" + escape(files.front) +
+    h += "<div class=\"viewer\" data-model=\"" + escape_xml(f.model_id) + "\" data-front=\"" + escape_xml(files.front) +
          "\"><canvas width=\"640\" height=\"480\"></canvas>"
          "<label><input type=\"checkbox\" class=\"show-body\" checked> show the body</label> "
-         "<a href=\"" + escape(f.glb) + "\" download>" + escape(f.glb) + "</a></div>\n</div>\n";
+         "<a href=\"" + escape_xml(f.glb) + "\" download>" + escape_xml(f.glb) + "</a></div>\n</div>\n";
   }
   h += "</section>\n";
 
@@ -196,15 +178,15 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
          "<th>adapted</th><th>area above " + limit + " as designed</th><th>adapted</th></tr>\n";
     for (size_t i = 0; i < run.keys.size(); ++i) {
       const std::string p = run.keys[i].pointer, q = run.keys_no_adapt[i].pointer;
-      h += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + escape(run.keys[i].pose) + "</td><td>" +
+      h += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + escape_xml(run.keys[i].pose) + "</td><td>" +
            figure(*run.fit_no_adapt, q + "/max_stretch", "fixed3") + "</td><td>" + figure(fit, p + "/max_stretch", "fixed3") +
            "</td><td>" + figure(*run.fit_no_adapt, q + "/area_fraction_above_limit", "percent2") + "</td><td>" +
            figure(fit, p + "/area_fraction_above_limit", "percent2") + "</td></tr>\n";
     }
     h += "</table>\n";
     for (size_t i = 0; i < run.keys.size(); ++i)
-      h += "<h3>Key pose " + std::to_string(i + 1) + ": " + escape(run.keys[i].pose) + "</h3>\n<img class=\"sheet\" src=\"" +
-           escape(files.poses[i].before_after) + "\" alt=\"" + escape(run.keys[i].pose) + ": as designed and adapted\">\n";
+      h += "<h3>Key pose " + std::to_string(i + 1) + ": " + escape_xml(run.keys[i].pose) + "</h3>\n<img class=\"sheet\" src=\"" +
+           escape_xml(files.poses[i].before_after) + "\" alt=\"" + escape_xml(run.keys[i].pose) + ": as designed and adapted\">\n";
     h += "</section>\n";
   }
 
@@ -223,9 +205,9 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
   h += "<tr><th>sum of |angle defect| [rad] (design)</th><td>" +
        optional_figure(pattern, "/rest_shape/abs_angle_defect_sum_rad", "fixed2") + " (" +
        optional_figure(pattern, "/rest_shape/abs_angle_defect_sum_design_rad", "fixed2") + ")</td></tr>\n";
-  h += "</table>\n<img class=\"sheet\" src=\"" + escape(files.rest_sheet) + "\" alt=\"the design and the adapted rest shape\">\n";
-  h += "<p>3D: <a href=\"" + escape(files.rest_glb) + "\" download>" + escape(files.rest_glb) + "</a>, <a href=\"" +
-       escape(files.design_glb) + "\" download>" + escape(files.design_glb) + "</a></p>\n</section>\n";
+  h += "</table>\n<img class=\"sheet\" src=\"" + escape_xml(files.rest_sheet) + "\" alt=\"the design and the adapted rest shape\">\n";
+  h += "<p>3D: <a href=\"" + escape_xml(files.rest_glb) + "\" download>" + escape_xml(files.rest_glb) + "</a>, <a href=\"" +
+       escape_xml(files.design_glb) + "\" download>" + escape_xml(files.design_glb) + "</a></p>\n</section>\n";
 
   // Pattern.
   section(h, "pattern", "The sewing pattern");
@@ -253,10 +235,10 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
   const std::string sewn = sewn_fit_pointer(pattern);
   h += "<tr><th>sewn fit in every key pose</th><td>" + verdict_cell(pattern, sewn) + "</td></tr>\n";
   h += "</table>\n";
-  h += "<p>The pattern at 1:1 in millimetres (" + escape(files.pattern_svg) + "; as a picture: <a href=\"" +
-       escape(files.pattern_png) + "\">" + escape(files.pattern_png) + "</a>).</p>\n";
-  h += "<img class=\"pattern\" src=\"" + escape(files.pattern_svg) + "\" alt=\"sewing pattern\">\n";
-  h += "<img class=\"pattern-png\" src=\"" + escape(files.pattern_png) + "\" alt=\"sewing pattern as a picture\">\n";
+  h += "<p>The pattern at 1:1 in millimetres (" + escape_xml(files.pattern_svg) + "; as a picture: <a href=\"" +
+       escape_xml(files.pattern_png) + "\">" + escape_xml(files.pattern_png) + "</a>).</p>\n";
+  h += "<img class=\"pattern\" src=\"" + escape_xml(files.pattern_svg) + "\" alt=\"sewing pattern\">\n";
+  h += "<img class=\"pattern-png\" src=\"" + escape_xml(files.pattern_png) + "\" alt=\"sewing pattern as a picture\">\n";
   h += "</section>\n";
 
   section(h, "timings", "Timings");
@@ -264,7 +246,7 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
        "<table class=\"figures\" id=\"timings-table\"><tr><th>stage</th><th>total [s]</th><th>phases [s]</th></tr></table>\n"
        "</section>\n";
 
-  for (const std::string& s : files.scripts) h += "<script src=\"" + escape(s) + "\"></script>\n";
+  for (const std::string& s : files.scripts) h += "<script src=\"" + escape_xml(s) + "\"></script>\n";
   h += "</body>\n</html>\n";
   return h;
 }

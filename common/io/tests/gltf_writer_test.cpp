@@ -49,19 +49,22 @@ T read_at(const Glb& g, int accessor, size_t element) {
   return x;
 }
 
+gp::GltfMesh named(const std::string& name, const gp::Mesh& mesh) {
+  gp::GltfMesh m;
+  m.name = name;
+  m.V = mesh.V;
+  m.F = mesh.F;
+  return m;
+}
+
 }  // namespace
 
 TEST_CASE("a glb holds named meshes with positions, normals, colours and custom attributes", "[io][gltf]") {
   const gp::Mesh sphere = gp::testing::make_icosphere(2);
-  gp::GltfMesh body;
-  body.name = "body";
-  body.V = sphere.V;
-  body.F = sphere.F;
+  gp::GltfMesh body = named("body", sphere);
   body.N = sphere.V;  // unit sphere: normals are the positions
-  gp::GltfMesh garment;
-  garment.name = "garment";
-  garment.V = sphere.V * 1.1;
-  garment.F = sphere.F;
+  gp::GltfMesh garment = named("garment", sphere);
+  garment.V *= 1.1;
   garment.colours = Eigen::MatrixXf::Constant(sphere.V.rows(), 3, 1.0f);
   garment.colours.col(1).setConstant(0.5f);
   Eigen::VectorXf stretch = Eigen::VectorXf::LinSpaced(sphere.V.rows(), 1.0f, 1.3f);
@@ -107,11 +110,7 @@ TEST_CASE("a glb holds named meshes with positions, normals, colours and custom 
 
 TEST_CASE("meshes past 65534 vertices get 32-bit indices", "[io][gltf]") {
   const gp::Mesh grid = gp::testing::make_grid(260, 260);  // 68,121 vertices
-  gp::GltfMesh m;
-  m.name = "grid";
-  m.V = grid.V;
-  m.F = grid.F;
-  const Glb g = parse(gp::glb_bytes({m}, "test"));
+  const Glb g = parse(gp::glb_bytes({named("grid", grid)}, "test"));
   const int idx = g.json["meshes"][0]["primitives"][0]["indices"].get<int>();
   CHECK(g.json["accessors"][idx]["componentType"] == 5125);
   CHECK(read_at<std::uint32_t>(g, idx, 3 * static_cast<size_t>(grid.F.rows()) - 1) ==
@@ -120,10 +119,7 @@ TEST_CASE("meshes past 65534 vertices get 32-bit indices", "[io][gltf]") {
 
 TEST_CASE("degenerate normals are written as unit vectors", "[io][gltf]") {
   const gp::Mesh sphere = gp::testing::make_icosphere(0);
-  gp::GltfMesh m;
-  m.name = "m";
-  m.V = sphere.V;
-  m.F = sphere.F;
+  gp::GltfMesh m = named("m", sphere);
   m.N = Eigen::MatrixXd::Zero(sphere.V.rows(), 3);
   m.N(0, 0) = std::nan("");
   const Glb g = parse(gp::glb_bytes({m}, "test"));
@@ -134,10 +130,7 @@ TEST_CASE("degenerate normals are written as unit vectors", "[io][gltf]") {
 
 TEST_CASE("the glb writer rejects bad meshes", "[io][gltf]") {
   const gp::Mesh sphere = gp::testing::make_icosphere(0);
-  gp::GltfMesh m;
-  m.name = "m";
-  m.V = sphere.V;
-  m.F = sphere.F;
+  const gp::GltfMesh m = named("m", sphere);
   gp::GltfMesh bad = m;
   bad.F(0, 0) = static_cast<int>(m.V.rows());
   CHECK_THROWS_AS(gp::glb_bytes({bad}, "t"), gp::UsageError);

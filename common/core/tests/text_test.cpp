@@ -28,3 +28,12 @@ TEST_CASE("base64 decoding rejects bad text", "[core]") {
   CHECK_THROWS_AS(gp::base64_decode("Zm9*"), gp::InputError);   // alphabet
   CHECK_THROWS_AS(gp::base64_decode("Z=9v"), gp::InputError);   // padding in the middle
 }
+
+#include "core/text_format.h"
+
+TEST_CASE("fixed decimals never print a negative zero; XML text is escaped", "[core]") {
+  CHECK(gp::format_fixed(1.23456, 2) == "1.23");
+  CHECK(gp::format_fixed(-0.0001, 3) == "0.000");
+  CHECK(gp::format_fixed(-0.5, 1) == "-0.5");
+  CHECK(gp::escape_xml("a<b & \"c\">") == "a&lt;b &amp; &quot;c&quot;&gt;");
+}
