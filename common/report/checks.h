@@ -14,7 +14,9 @@ enum class CheckLevel { fail, warning, not_checked };
 
 struct Check {
   CheckLevel level = CheckLevel::fail;
-  std::string text;  // one sentence, plain words
+  std::string id;    // what was checked, a stable name, e.g. "penetration"
+  std::string pose;  // the key pose it is about, or empty
+  std::string text;  // one sentence, plain words, with the figures
 };
 
 struct FitThresholds {

@@ -78,6 +78,9 @@ TEST_CASE("failed checks are stated in plain words with the pose and the figure"
   CHECK(mentions(checks, CheckLevel::fail, "distorted beyond the limit"));
   CHECK(mentions(checks, CheckLevel::warning, "key pose 1 (apose), the cloth had not come to rest after 80"));
   CHECK(mentions(checks, CheckLevel::warning, "12 faces turned over"));
+  bool penetration_named = false;
+  for (const Check& c : checks) penetration_named |= c.id == "penetration" && c.pose == "tpose";
+  CHECK(penetration_named);
 }
 
 TEST_CASE("verification, crossings and sewn fit are read where the stages write them", "[report]") {
