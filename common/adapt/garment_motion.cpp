@@ -327,7 +327,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
         step(targets);
       }
     }
-    if (progress && i > 0 && i % 20 == 0 && frame.key < 0) {
+    if (progress && i > 0 && i % 5 == 0 && frame.key < 0) {
       char line[200];
       std::snprintf(line, sizeof(line), "frame %zu/%zu (%s): %ld steps, %d adaptations, %.1f steps/s", i,
                     frames.size() - 1, motion.keys[static_cast<size_t>(frame.transition) + 1].pose.c_str(),
@@ -374,7 +374,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
       key.rest_area_change = area_change_over_window();
       const bool fixed = !options.adapt || (key.settle_steps >= options.fixed_point_steps &&
                                             key.rest_area_change < options.fixed_point_area_change);
-      if (progress && key.settle_steps % 200 == 0) {
+      if (progress && key.settle_steps % 40 == 0) {
         char line[256];
         std::snprintf(line, sizeof(line),
                       "settling %s: %d steps, max speed %.4f m/s (net %.4f), max stretch %.4f (change %.4f), "

@@ -172,6 +172,8 @@ struct MotionRunResult {
 };
 
 // A progress report of a motion run: where it is, and a line saying so.
+// Sent every 5 interpolation frames, every 40 settling steps and at the end of
+// every key pose.
 struct MotionProgress {
   std::string message;       // one line with the figures of the moment
   int key = 0;               // the key pose being approached or settled (0-based)

@@ -138,8 +138,8 @@ int main(int argc, char** argv) {
           if (p.key_done) {
             tool.log().progress_done();
             tool.log().info(p.message);
-          } else {
-            tool.log().detail(p.message);
+          } else if (p.settle_steps > 0 ? p.settle_steps % 200 == 0 : p.frame % 20 == 0) {
+            tool.log().detail(p.message);  // --verbose: the figures of the moment, now and then
           }
         });
     tool.log().progress_done();
