@@ -4,7 +4,7 @@
 #   make            build everything (Release) into $(BUILD)
 #   make deps       install missing Debian packages (says what it runs)
 #   make test       unit, command-line and script tests (CTest)
-#   make demo       fit a garment on a generated body (pipelines/customers/demo)
+#   make demo       fit a garment on a generated body (pipelines/customers/demo); prints the report's path
 #   make fit CUSTOMER=dir [OUT=dir]   one customer's fit (see pipelines/fit.mk)
 #   make -j2 fit-all CUSTOMERS="dir dir ..."   several customers in parallel
 #   make bench      benchmarks -> BENCHMARKS.md and benchmarks/*.png (under 15 min)

@@ -11,6 +11,10 @@
 #   seams.json          optional seam spec (seam-spec/1) for export-rest
 #   customer.mk         optional overrides of the *_FLAGS variables below
 #
+# The last stage, fit-report, writes $(OUT)/report/index.html: pictures, 3D
+# views and the figures of every stage (NO_ADAPT=1 adds the design simulated
+# without adaptation, shown beside the adapted garment).
+#
 # Every stage writes one folder under $(OUT) and its report.json last, so a
 # stage's report is the make target that marks it done; make reruns exactly
 # the stages whose inputs (or the stage's binary) changed. Stages write to a
@@ -34,9 +38,18 @@ EXPORT_FLAGS   ?=
 # default: on the shared shirt it adds 16 s (designed) to 100 s (adapted) to
 # the export's 10-25 s, against about 660 s for simulate-adapt.
 ROUND_TRIP     ?=
+# NO_ADAPT=1: also simulate the garment as designed through the same motion
+# without adaptation (fit-noadapt/), so that the report shows the design and
+# the adapted garment side by side. Off by default: it doubles the simulation.
+NO_ADAPT       ?=
+REPORT_FLAGS   ?=
 -include $(C)/customer.mk
 
+# Stages print only errors, except simulate-adapt, which runs for minutes and
+# prints its progress (a live line on a terminal, a line every 10 s in a log)
+# and each key pose's figures.
 QUIET   ?= --quiet
+SIMULATE_QUIET ?=
 THREADS ?= 1
 RUN = @echo "fit: $(1)"; $(BIN)/$(1) --threads $(THREADS)
 
@@ -72,7 +85,14 @@ endif
 # --- simulation and adaptation -------------------------------------------------
 $(OUT)/fit/report.json: $(GARMENT_REPORT) $(C)/motion.json $(OUT)/poses/report.json $(BIN)/simulate-adapt
 	$(call RUN,simulate-adapt) --poses $(OUT)/poses/poses.json --motion $(C)/motion.json \
-	  --garment $(GARMENT) $(SIMULATE_FLAGS) --out $(@D) --force $(QUIET)
+	  --garment $(GARMENT) $(SIMULATE_FLAGS) --out $(@D) --force $(SIMULATE_QUIET)
+
+ifneq ($(NO_ADAPT),)
+NO_ADAPT_REPORT := $(OUT)/fit-noadapt/report.json
+$(NO_ADAPT_REPORT): $(GARMENT_REPORT) $(C)/motion.json $(OUT)/poses/report.json $(BIN)/simulate-adapt
+	$(call RUN,simulate-adapt) --no-adapt --poses $(OUT)/poses/poses.json --motion $(C)/motion.json \
+	  --garment $(GARMENT) $(SIMULATE_FLAGS) --out $(@D) --force $(SIMULATE_QUIET)
+endif
 
 # --- pattern -------------------------------------------------------------------
 SEAMS := $(wildcard $(C)/seams.json)
@@ -80,7 +100,13 @@ $(OUT)/pattern/report.json: $(OUT)/fit/report.json $(SEAMS) $(BIN)/export-rest
 	$(call RUN,export-rest) $(OUT)/fit/rest.ply --garment $(GARMENT) $(if $(SEAMS),--seams $(SEAMS) --body $(OUT)/poses/poses.json) \
 	  $(if $(ROUND_TRIP),--round-trip $(OUT)/poses/poses.json) $(EXPORT_FLAGS) --out $(@D) --force $(QUIET)
 
+# --- report --------------------------------------------------------------------
+# Pictures, 3D views and every stage's figures in one folder that opens from disk.
+$(OUT)/report/report.json: $(OUT)/pattern/report.json $(OUT)/fit/report.json $(NO_ADAPT_REPORT) $(BIN)/fit-report
+	$(call RUN,fit-report) $(OUT) $(REPORT_FLAGS) --out $(@D) --force $(QUIET)
+
 .PHONY: fit
 .DEFAULT_GOAL := fit
-fit: $(OUT)/pattern/report.json
+fit: $(OUT)/report/report.json
 	@echo "fit: done: rest shape $(OUT)/fit/rest.ply, pattern $(OUT)/pattern/pattern.svg, reports $(OUT)/*/report.json"
+	@echo "fit: report: $(OUT)/report/index.html"

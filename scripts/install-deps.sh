@@ -17,7 +17,15 @@ packages=(
   python3 python3-numpy python3-scipy python3-meshio  # scripts/meshdiff.py
   python3-ezdxf            # reading back the DXF patterns in tests
   python3-matplotlib       # benchmark plots
+  libpng-dev libfreetype-dev fonts-dejavu-core  # fit-report: PNG renders and their labels
+  librsvg2-bin             # fit-report: the pattern as a picture (rsvg-convert)
+  chromium                 # the fit report's browser test (headless)
 )
+# Node.js and npm run the report's tests and install three.js (scripts/web/):
+# Debian's packages where the machine has no Node.js of its own.
+if ! command -v npm >/dev/null 2>&1; then
+  packages+=(nodejs npm)
+fi
 
 # `install-deps.sh --fuzz` adds what `make fuzz` needs (clang with libFuzzer).
 if [ "${1:-}" = "--fuzz" ]; then
@@ -49,3 +57,14 @@ case "$blas" in
   *openblas*) ;;
   *) echo "deps: warning: libblas.so.3 resolves to '${blas:-nothing}', not OpenBLAS; CHOLMOD will be slower" ;;
 esac
+
+# npm packages at the exact versions of scripts/web/package-lock.json: three.js
+# (copied into every fit report) and the test tools. Reinstalled only when the
+# lock file changed since the last install.
+web="$(cd "$(dirname "$0")" && pwd)/web"
+if [ ! -f "$web/node_modules/.package-lock.json" ] || [ "$web/package-lock.json" -nt "$web/node_modules/.package-lock.json" ]; then
+  echo "deps: running: (cd $web && npm ci --no-audit --no-fund)"
+  (cd "$web" && npm ci --no-audit --no-fund --loglevel=error)
+else
+  echo "deps: npm packages of scripts/web are installed"
+fi

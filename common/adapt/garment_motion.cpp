@@ -327,12 +327,13 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
         step(targets);
       }
     }
-    if (progress && i > 0 && i % 20 == 0 && frame.key < 0) {
+    if (progress && i > 0 && i % 5 == 0 && frame.key < 0) {
       char line[200];
       std::snprintf(line, sizeof(line), "frame %zu/%zu (%s): %ld steps, %d adaptations, %.1f steps/s", i,
                     frames.size() - 1, motion.keys[static_cast<size_t>(frame.transition) + 1].pose.c_str(),
                     result.steps, result.adaptations, result.steps / std::max(seconds_since(run_start), 1e-9));
-      progress(line);
+      progress({line, frame.transition + 1, static_cast<int>(motion.keys.size()), i, frames.size(), result.steps, 0,
+                false, principal_stretches(V_rest, sim.positions(), F_garment).col(0).maxCoeff()});
     }
     if (frame.key < 0) continue;
 
@@ -373,7 +374,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
       key.rest_area_change = area_change_over_window();
       const bool fixed = !options.adapt || (key.settle_steps >= options.fixed_point_steps &&
                                             key.rest_area_change < options.fixed_point_area_change);
-      if (progress && key.settle_steps % 200 == 0) {
+      if (progress && key.settle_steps % 40 == 0) {
         char line[256];
         std::snprintf(line, sizeof(line),
                       "settling %s: %d steps, max speed %.4f m/s (net %.4f), max stretch %.4f (change %.4f), "
@@ -382,7 +383,8 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
                       key.max_net_speed, stretch, std::abs(stretch - previous_stretch_at_check),
                       100.0 * key.rest_area_change,
                       std::min(key.settle_steps, options.fixed_point_steps));
-        progress(line);
+        progress({line, frame.key, static_cast<int>(motion.keys.size()), i, frames.size(), result.steps,
+                  key.settle_steps, false, stretch});
       }
       if (slow && steady && fixed && ramp_done) {
         key.settled = true;
@@ -415,7 +417,8 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
                     key.settled ? "yes" : "no", key.settle_steps, key.max_stretch, key.p99_stretch,
                     100.0 * key.area_fraction_above, 1e3 * key.deepest_penetration, key.rest_area_growth,
                     100.0 * key.rest_area_change, std::min(key.settle_steps, options.fixed_point_steps));
-      progress(line);
+      progress({line, frame.key, static_cast<int>(motion.keys.size()), i, frames.size(), result.steps,
+                key.settle_steps, true, key.max_stretch});
     }
     result.keys.push_back(std::move(key));
   }

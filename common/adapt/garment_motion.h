@@ -171,7 +171,21 @@ struct MotionRunResult {
   MotionRunTimes times;
 };
 
-using ProgressCallback = std::function<void(const std::string&)>;
+// A progress report of a motion run: where it is, and a line saying so.
+// Sent every 5 interpolation frames, every 40 settling steps and at the end of
+// every key pose.
+struct MotionProgress {
+  std::string message;       // one line with the figures of the moment
+  int key = 0;               // the key pose being approached or settled (0-based)
+  int keys = 0;              // key poses in the motion
+  size_t frame = 0;          // interpolation frames done
+  size_t frames = 0;         // interpolation frames in all (the first is the start pose)
+  long steps = 0;            // simulation steps so far
+  int settle_steps = 0;      // settling steps at the current key pose (0 while moving)
+  bool key_done = false;     // the key pose's figures were recorded
+  double max_stretch = 0.0;  // largest principal stretch of the cloth now
+};
+using ProgressCallback = std::function<void(const MotionProgress&)>;
 
 // The adaptation lag a run applies: options.adaptation_lag cut to
 // adapt_every - 1 (and to 0 from below).

@@ -1,6 +1,9 @@
 #include "cli/tool.h"
 
 #include <dlfcn.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <iostream>
 
 #include <Eigen/Core>
@@ -16,11 +19,23 @@ void Logger::warning(const std::string& msg) const {
 void Logger::detail(const std::string& msg) const {
   if (verbose_ && !quiet_) std::cerr << tool_ << ": " << msg << '\n';
 }
-void Logger::progress(const std::string& msg) const {
-  if (!quiet_) std::cerr << '\r' << tool_ << ": " << msg << "\033[K" << std::flush;
+Logger::Logger(std::string tool) : tool_(std::move(tool)), terminal_(::isatty(STDERR_FILENO) == 1) {}
+
+void Logger::progress(const std::string& msg, bool always) const {
+  if (quiet_) return;
+  if (terminal_) {
+    std::cerr << '\r' << tool_ << ": " << msg << "\033[K" << std::flush;
+    live_ = true;
+    return;
+  }
+  const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  if (!always && now - last_progress_ < progress_interval) return;
+  last_progress_ = now;
+  std::cerr << tool_ << ": " << msg << std::endl;
 }
 void Logger::progress_done() const {
-  if (!quiet_) std::cerr << '\n';
+  if (!quiet_ && live_) std::cerr << '\n';
+  live_ = false;
 }
 
 Tool::Tool(std::string name, std::string description)

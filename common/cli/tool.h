@@ -25,7 +25,7 @@ struct CommonOptions {
 // tools report through this.
 class Logger {
  public:
-  explicit Logger(std::string tool) : tool_(std::move(tool)) {}
+  explicit Logger(std::string tool);
   void set_level(bool quiet, bool verbose) {
     quiet_ = quiet;
     verbose_ = verbose;
@@ -33,15 +33,21 @@ class Logger {
   void info(const std::string& msg) const;     // hidden by --quiet
   void warning(const std::string& msg) const;  // hidden by --quiet
   void detail(const std::string& msg) const;   // shown only with --verbose
-  // A progress line rewritten in place ("\r"); finished by progress_done().
-  void progress(const std::string& msg) const;
+  // A progress line. On a terminal it is rewritten in place ("\r") and
+  // finished by progress_done(); otherwise (a log file, CI) it is a plain line,
+  // at most one per progress_interval seconds unless `always`. Hidden by --quiet.
+  void progress(const std::string& msg, bool always = false) const;
   void progress_done() const;
+  static constexpr double progress_interval = 10.0;  // seconds between plain progress lines
   bool verbose() const { return verbose_; }
 
  private:
   std::string tool_;
   bool quiet_ = false;
   bool verbose_ = false;
+  bool terminal_ = false;                  // stderr is a terminal
+  mutable bool live_ = false;              // a live line is on the terminal
+  mutable double last_progress_ = -1e300;  // steady-clock seconds of the last plain line
 };
 
 class Tool {

@@ -5,31 +5,6 @@
 #include <cstdio>
 
 namespace gp {
-namespace {
-
-std::string escape_xml(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
-
-}  // namespace
-
-std::string format_fixed(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*f", digits, x);
-  std::string s = buf;
-  if (s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s = s.substr(1);
-  return s;
-}
 
 void write_svg(std::ostream& out, const Pattern& pattern, const Layout& layout, const SvgOptions& options) {
   const double W = 1000.0 * layout.width, H = 1000.0 * layout.height;

@@ -7,6 +7,7 @@
 #include <ostream>
 #include <string>
 
+#include "core/text_format.h"  // format_fixed: deterministic text for coordinates
 #include "pattern/auto_cut.h"
 #include "pattern/layout.h"
 
@@ -17,8 +18,5 @@ struct SvgOptions {
 };
 
 void write_svg(std::ostream& out, const Pattern& pattern, const Layout& layout, const SvgOptions& options);
-
-// "%.3f" with "-0.000" printed as "0.000": deterministic text for coordinates.
-std::string format_fixed(double x, int digits = 3);
 
 }  // namespace gp

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Pipeline tests of `make fit` (pipelines/fit.mk) on a small generated
 customer (testdata/customers/small-shirt): a second run does nothing, touching
-the garment spec reruns exactly the dependent stages, a broken input stops the
+the garment spec reruns exactly the dependent stages (the fit report last), a broken input stops the
 pipeline at the right stage with its message and leaves earlier outputs
 intact, and two fresh runs give byte-identical files (timing.json aside)."""
 import argparse
@@ -58,10 +58,13 @@ class PipelineTest(unittest.TestCase):
 
     def test_1_first_run_runs_every_stage(self):
         self.assertEqual(self.first_stages,
-                         ["make-avatar", "register-check", "make-garment", "simulate-adapt", "export-rest"])
-        for stage in ("body", "poses", "garment", "fit", "pattern"):
+                         ["make-avatar", "register-check", "make-garment", "simulate-adapt", "export-rest",
+                          "fit-report"])
+        for stage in ("body", "poses", "garment", "fit", "pattern", "report"):
             self.assertTrue(os.path.isfile(os.path.join(self.out, stage, "report.json")), stage)
         self.assertIn("pattern.svg", self.first.stdout)
+        self.assertEqual(self.first.stdout.strip().splitlines()[-1],
+                         f"fit: report: {self.out}/report/index.html")
 
     def test_2_second_run_does_nothing(self):
         _, stages = fit(self.customer, self.out)
@@ -73,7 +76,7 @@ class PipelineTest(unittest.TestCase):
         time.sleep(1.1)  # make compares modification times
         os.utime(os.path.join(self.customer, "garment-spec.json"))
         _, stages = fit(self.customer, self.out)
-        self.assertEqual(stages, ["make-garment", "simulate-adapt", "export-rest"])
+        self.assertEqual(stages, ["make-garment", "simulate-adapt", "export-rest", "fit-report"])
         self.assertEqual(os.path.getmtime(body_report), before)
 
     def test_4_broken_input_stops_at_its_stage(self):
@@ -90,7 +93,7 @@ class PipelineTest(unittest.TestCase):
             self.assertIn("make-garment: error[spec]: unknown field 'offsett'", r.stderr)
             # Earlier and previous outputs are intact.
             self.assertEqual(read(os.path.join(self.out, "garment", "garment.json")), garment_before)
-            for stage in ("body", "poses", "fit", "pattern"):
+            for stage in ("body", "poses", "fit", "pattern", "report"):
                 self.assertTrue(os.path.isfile(os.path.join(self.out, stage, "report.json")), stage)
             self.assertEqual([f for f in os.listdir(self.out) if f.startswith(".")], [])
         finally:
@@ -104,8 +107,10 @@ class PipelineTest(unittest.TestCase):
         os.rename(self.out, previous)
         try:
             fit(self.customer, self.out)
-            files = [f for f in tree_files(previous) if os.path.basename(f) != "timing.json"]
-            self.assertEqual(files, [f for f in tree_files(self.out) if os.path.basename(f) != "timing.json"])
+            # Timings differ from run to run: timing.json, and the report's timing.js made of them.
+            timed = ("timing.json", "timing.js")
+            files = [f for f in tree_files(previous) if os.path.basename(f) not in timed]
+            self.assertEqual(files, [f for f in tree_files(self.out) if os.path.basename(f) not in timed])
             differ = [f for f in files
                       if not filecmp.cmp(os.path.join(previous, f), os.path.join(self.out, f), shallow=False)]
             self.assertEqual(differ, [])

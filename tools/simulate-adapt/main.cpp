@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "adapt/garment_motion.h"
+#include "adapt/motion_progress.h"
 #include "cli/tool.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -126,9 +127,22 @@ int main(int argc, char** argv) {
     interp_options.anchor = motion.anchor;
     gp::PoseInterpolator interpolator(poses, interp_options);
 
+    // Progress: a live line on a terminal, plain lines in a log; each key
+    // pose's figures as a line of their own.
+    gp::adapt::MotionProgressLine progress(options);
+    const auto run_start = std::chrono::steady_clock::now();
     const gp::adapt::MotionRunResult result = gp::adapt::run_garment_motion(
-        interpolator, motion, read.mesh.V, read.mesh.F, garment, options,
-        [&tool](const std::string& line) { tool.log().info(line); });
+        interpolator, motion, read.mesh.V, read.mesh.F, garment, options, [&](const gp::adapt::MotionProgress& p) {
+          const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
+          tool.log().progress(progress.line(p, elapsed), p.key_done);
+          if (p.key_done) {
+            tool.log().progress_done();
+            tool.log().info(p.message);
+          } else if (p.settle_steps > 0 ? p.settle_steps % 200 == 0 : p.frame % 20 == 0) {
+            tool.log().detail(p.message);  // --verbose: the figures of the moment, now and then
+          }
+        });
+    tool.log().progress_done();
 
     gp::StagedOutputDir out(tool.common().out_dir, tool.common().force);
     gp::Mesh rest;

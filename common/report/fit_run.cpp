@@ -1,0 +1,146 @@
+#include "report/fit_run.h"
+
+#include "core/error.h"
+#include "spec/spec_object.h"
+
+namespace fs = std::filesystem;
+
+namespace gp::report {
+namespace {
+
+StageReport read_stage(const fs::path& dir, const std::string& stage, const std::string& schema) {
+  StageReport r;
+  r.stage = stage;
+  r.file = stage + "/report.json";
+  r.path = dir / stage / "report.json";
+  if (!fs::is_regular_file(r.path))
+    throw InputError("missing " + stage + "/report.json: has the " + stage + " stage run?", r.path.string());
+  r.json = read_json_file(r.path);
+  check_schema(r.json, schema, {1}, r.path.string());
+  const fs::path timing = dir / stage / "timing.json";
+  if (fs::is_regular_file(timing)) r.timing = read_json_file(timing);
+  return r;
+}
+
+std::optional<StageReport> read_optional_stage(const fs::path& dir, const std::string& stage,
+                                               const std::string& schema) {
+  if (!fs::exists(dir / stage)) return std::nullopt;
+  return read_stage(dir, stage, schema);
+}
+
+fs::path require_file(const fs::path& path) {
+  if (!fs::is_regular_file(path)) throw InputError("missing file", path.string());
+  return path;
+}
+
+std::vector<KeyPoseRun> read_keys(const StageReport& fit, const fs::path& folder) {
+  const Json& keys = require(fit, "/key_poses", "array");
+  if (keys.empty()) throw SpecError("no key poses", fit.path.string() + ": /key_poses");
+  std::vector<KeyPoseRun> out;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    const std::string p = "/key_poses/" + std::to_string(i);
+    KeyPoseRun k;
+    k.pointer = p;
+    k.key = require(fit, p + "/key", "integer").get<int>();
+    k.pose = require(fit, p + "/pose", "string").get<std::string>();
+    k.mesh = require_file(folder / require(fit, p + "/mesh", "string").get<std::string>());
+    for (const char* number : {"max_stretch", "p99_stretch", "mean_stretch", "area_fraction_above_limit",
+                               "deepest_penetration_m", "rest_area_growth"})
+      require(fit, p + "/" + number, "number");
+    require(fit, p + "/steps", "integer");
+    require(fit, p + "/settle_steps", "integer");
+    require(fit, p + "/settled", "boolean");
+    out.push_back(k);
+  }
+  return out;
+}
+
+}  // namespace
+
+const Json* lookup(const StageReport& report, const std::string& pointer) {
+  try {
+    const Json::json_pointer p(pointer);
+    if (!report.json.contains(p)) return nullptr;
+    return &report.json.at(p);
+  } catch (const Json::exception&) {
+    return nullptr;  // a malformed pointer or one through a non-container
+  }
+}
+
+const Json& require(const StageReport& report, const std::string& pointer, const std::string& kind) {
+  const std::string where = report.path.string() + ": " + pointer;
+  const Json* v = lookup(report, pointer);
+  if (!v) throw SpecError("missing required field", where);
+  const bool ok = kind == "number"    ? v->is_number()
+                  : kind == "integer" ? v->is_number_integer()
+                  : kind == "boolean" ? v->is_boolean()
+                  : kind == "string"  ? v->is_string()
+                  : kind == "object"  ? v->is_object()
+                  : kind == "array"   ? v->is_array()
+                                      : false;
+  if (!ok) throw SpecError("expected " + kind + ", found " + json_type_name(*v), where);
+  return *v;
+}
+
+std::vector<const StageReport*> FitRun::stages() const {
+  std::vector<const StageReport*> out;
+  if (body) out.push_back(&*body);
+  out.push_back(&poses);
+  out.push_back(&garment);
+  if (extended) out.push_back(&*extended);
+  out.push_back(&fit);
+  if (fit_no_adapt) out.push_back(&*fit_no_adapt);
+  out.push_back(&pattern);
+  return out;
+}
+
+FitRun read_fit_run(const fs::path& dir) {
+  if (!fs::is_directory(dir)) throw InputError("no such fit folder", dir.string());
+  FitRun run;
+  run.dir = dir;
+  run.body = read_optional_stage(dir, "body", "make-avatar-report");
+  run.poses = read_stage(dir, "poses", "register-check-report");
+  run.garment = read_stage(dir, "garment", "make-garment-report");
+  run.extended = read_optional_stage(dir, "extended", "extend-boundary-report");
+  run.fit = read_stage(dir, "fit", "simulate-adapt-report");
+  run.fit_no_adapt = read_optional_stage(dir, "fit-noadapt", "simulate-adapt-report");
+  run.pattern = read_stage(dir, "pattern", "export-rest-report");
+
+  require(run.poses, "/verdict", "string");
+  run.poses_manifest = require_file(dir / "poses" / "poses.json");
+  const fs::path garment_dir = dir / (run.extended ? "extended" : "garment");
+  run.garment_file = require_file(garment_dir / "garment.json");
+  run.design_mesh = require_file(garment_dir / "garment.ply");
+  run.rest_mesh = require_file(dir / "fit" / "rest.ply");
+  run.pattern_svg = require_file(dir / "pattern" / "pattern.svg");
+
+  run.delta = require(run.fit, "/options/delta", "number").get<double>();
+  if (!(run.delta > 0.0 && run.delta < 0.3))
+    throw SpecError("the fit report's stretch scale needs 0 < delta < 0.3, got " + std::to_string(run.delta),
+                    run.fit.path.string() + ": /options/delta");
+  require(run.fit, "/options/adapt", "boolean");
+  run.keys = read_keys(run.fit, dir / "fit");
+  for (const char* p : {"/counts/garment_vertices", "/counts/garment_faces"}) require(run.fit, p, "integer");
+  for (const char* p : {"/summary/pieces", "/summary/seams"}) require(run.pattern, p, "integer");
+  for (const char* p : {"/summary/total_seam_length", "/summary/worst_p95_error", "/summary/worst_max_error",
+                        "/summary/limit/p95_error", "/summary/limit/max_error"})
+    require(run.pattern, p, "number");
+  require(run.pattern, "/summary/meets_distortion_limit", "boolean");
+  require(run.pattern, "/rest_shape", "object");
+  require(run.pattern, "/round_trip/checked", "boolean");
+
+  if (run.fit_no_adapt) {
+    if (require(*run.fit_no_adapt, "/options/adapt", "boolean").get<bool>())
+      throw SpecError("fit-noadapt/ holds a run with adaptation; expected simulate-adapt --no-adapt",
+                      run.fit_no_adapt->path.string() + ": /options/adapt");
+    run.keys_no_adapt = read_keys(*run.fit_no_adapt, dir / "fit-noadapt");
+    bool same = run.keys_no_adapt.size() == run.keys.size();
+    for (size_t i = 0; same && i < run.keys.size(); ++i) same = run.keys[i].pose == run.keys_no_adapt[i].pose;
+    if (!same)
+      throw SpecError("the run without adaptation has other key poses than fit/", run.fit_no_adapt->path.string() +
+                                                                                     ": /key_poses");
+  }
+  return run;
+}
+
+}  // namespace gp::report

@@ -1,0 +1,68 @@
+#pragma once
+// The stage folders of one fit, as pipelines/fit.mk lays them out under its
+// OUT folder, read for the fit report:
+//   body/      make-avatar        (optional: customers with measurements)
+//   poses/     register-check     poses.json and the pose meshes
+//   garment/   make-garment       garment.json, garment.ply (the design)
+//   extended/  extend-boundary    (optional) the garment that was simulated
+//   fit/       simulate-adapt     rest.ply, draped_<kk>_<pose>.ply
+//   fit-noadapt/ simulate-adapt --no-adapt (optional) the design through the same motion
+//   pattern/   export-rest        pattern.svg
+// Every folder's report.json is checked for its schema, and the fields the
+// report needs are checked strictly (a missing or mistyped one is a SpecError
+// naming the file and JSON pointer). Fields that other stages may or may not
+// write yet (verification, crossings, sewn-fit verdicts) are looked up
+// tolerantly by the report itself (html_report.h).
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "spec/json_file.h"
+
+namespace gp::report {
+
+struct StageReport {
+  std::string stage;            // folder name, e.g. "fit"
+  std::string file;             // "<stage>/report.json", relative to the fit folder
+  std::filesystem::path path;   // the file itself
+  Json json;
+  Json timing;                  // <stage>/timing.json, null if absent
+};
+
+// The value at `pointer` (RFC 6901) in the report, or nullptr.
+const Json* lookup(const StageReport& report, const std::string& pointer);
+
+struct KeyPoseRun {
+  int key = 0;
+  std::string pose;
+  std::filesystem::path mesh;   // the draped garment
+  std::string pointer;          // of its entry, e.g. "/key_poses/2"
+};
+
+struct FitRun {
+  std::filesystem::path dir;
+  std::optional<StageReport> body, extended, fit_no_adapt;
+  StageReport poses, garment, fit, pattern;
+  std::filesystem::path poses_manifest;  // poses/poses.json
+  std::filesystem::path garment_file;    // extended/ or garment/ garment.json
+  std::filesystem::path design_mesh;     // the garment as designed (the simulated one)
+  std::filesystem::path rest_mesh;       // fit/rest.ply
+  std::filesystem::path pattern_svg;     // pattern/pattern.svg
+  double delta = 0.1;                    // the adaptation's stretch limit is 1 + delta
+  std::vector<KeyPoseRun> keys;
+  std::vector<KeyPoseRun> keys_no_adapt;  // same poses as keys, or empty
+  // Stage folders in pipeline order, for the timings table.
+  std::vector<const StageReport*> stages() const;
+};
+
+// Reads the fit folder `dir`. Throws InputError naming the first missing
+// file (report.json of poses/, garment/, fit/, pattern/, or a mesh they name),
+// SpecError for a wrong schema or a missing or mistyped required field.
+FitRun read_fit_run(const std::filesystem::path& dir);
+
+// Checks that `pointer` exists in `report` and is of `kind` ("number",
+// "integer", "boolean", "string", "object", "array"); SpecError otherwise.
+const Json& require(const StageReport& report, const std::string& pointer, const std::string& kind);
+
+}  // namespace gp::report

@@ -1,0 +1,261 @@
+#include "report/html_report.h"
+
+#include <cstdio>
+
+#include "core/error.h"
+#include "core/text_format.h"
+#include "spec/spec_object.h"
+#include "report/report_assets.h"
+
+namespace gp::report {
+namespace {
+
+
+// A figure of `report` at `pointer`, or "not checked" where it is absent.
+std::string figure(const StageReport& report, const std::string& pointer, const std::string& format) {
+  const Json* v = pointer.empty() ? nullptr : lookup(report, pointer);
+  const std::string attrs = " data-src=\"" + escape_xml(report.file) + "\" data-ptr=\"" + escape_xml(pointer) +
+                            "\" data-format=\"" + format + "\"";
+  if (!v || v->is_null()) return "<span class=\"figure absent\"" + attrs + ">not checked</span>";
+  try {
+    return "<span class=\"figure\"" + attrs + ">" + escape_xml(format_figure(*v, format)) + "</span>";
+  } catch (const SpecError& e) {
+    throw SpecError(e.what(), report.path.string() + ": " + pointer);
+  }
+}
+
+// A figure that may be absent without meaning "not checked" (e.g. an
+// optional detail of a present check): an empty cell then.
+std::string optional_figure(const StageReport& report, const std::string& pointer, const std::string& format) {
+  const Json* v = lookup(report, pointer);
+  return v && !v->is_null() ? figure(report, pointer, format) : "&ndash;";
+}
+
+std::string verdict_cell(const StageReport& report, const std::string& pointer) {
+  if (pointer.empty()) return figure(report, "", "text");
+  const Json* obj = lookup(report, pointer);
+  if (obj->contains("verdict")) return figure(report, pointer + "/verdict", "text");
+  if (obj->contains("pass")) return figure(report, pointer + "/pass", "yesno");
+  return "(no verdict given)";
+}
+
+// A crossing count: a number, or an object of counts listed by name.
+std::string crossings_cell(const StageReport& fit, const std::string& pointer) {
+  if (pointer.empty()) return figure(fit, "", "integer");
+  const Json* j = lookup(fit, pointer);
+  if (j->is_number()) return figure(fit, pointer, "integer");
+  std::string out;
+  if (j->is_object())
+    for (const auto& kv : j->items())
+      if (kv.value().is_number())
+        out += (out.empty() ? "" : "<br>") + escape_xml(kv.key()) + ": " + figure(fit, pointer + "/" + kv.key(), "integer");
+  return out.empty() ? "(no counts)" : out;
+}
+
+void section(std::string& h, const std::string& id, const std::string& heading) {
+  h += "<section id=\"" + id + "\">\n<h2>" + heading + "</h2>\n";
+}
+
+}  // namespace
+
+std::string format_figure(const Json& v, const std::string& format) {
+  if (format == "text") return v.is_string() ? v.get<std::string>() : v.dump();
+  if (format == "yesno") {
+    if (!v.is_boolean()) throw SpecError("expected a boolean for a yes/no figure, found " + json_type_name(v));
+    return v.get<bool>() ? "yes" : "no";
+  }
+  if (!v.is_number()) throw SpecError("expected a number for a figure, found " + json_type_name(v));
+  const double x = v.get<double>();
+  if (format == "integer") return std::to_string(v.get<long long>());
+  if (format == "fixed2") return format_fixed(x, 2);
+  if (format == "fixed3") return format_fixed(x, 3);
+  if (format == "percent2") return format_fixed(100.0 * x, 2) + " %";
+  if (format == "mm2") return format_fixed(1e3 * x, 2) + " mm";
+  if (format == "times3") return "\xc3\x97" + format_fixed(x, 3);
+  if (format == "metres2") return format_fixed(x, 2) + " m";
+  throw UsageError("unknown figure format '" + format + "'");
+}
+
+std::string html_report(const FitRun& run, const ReportFiles& files, const std::vector<Check>& checks,
+                        const std::string& title) {
+  const StageReport& fit = run.fit;
+  const StageReport& pattern = run.pattern;
+  const std::string limit = format_fixed(1.0 + run.delta, 2);
+  std::string h;
+  h += "<!doctype html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
+  h += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
+  h += "<title>Fit report: " + escape_xml(title) + "</title>\n<style>\n" + std::string(report_css()) + "</style>\n</head>\n<body>\n";
+  h += "<h1>Fit report: " + escape_xml(title) + "</h1>\n";
+  h += "<p class=\"lead\">" + std::to_string(run.keys.size()) + " key poses, garment of " +
+       figure(fit, "/counts/garment_vertices", "integer") + " vertices, body of " +
+       optional_figure(fit, "/counts/body_vertices", "integer") + " vertices. Stretch limit of the adaptation: 1 + " +
+       "&delta; = " + limit + " (delta " + figure(fit, "/options/delta", "fixed3") + "). Rest shape adapted: " +
+       figure(fit, "/options/adapt", "yesno") + ".</p>\n";
+
+  // Checks first, in plain words.
+  section(h, "checks", "Checks");
+  int failed = 0;
+  for (const Check& c : checks) failed += c.level == CheckLevel::fail;
+  if (failed == 0) h += "<p class=\"ok\">No check failed.</p>\n";
+  for (CheckLevel level : {CheckLevel::fail, CheckLevel::warning, CheckLevel::not_checked}) {
+    std::string items;
+    for (const Check& c : checks)
+      if (c.level == level) items += "<li>" + escape_xml(c.text) + "</li>\n";
+    if (items.empty()) continue;
+    const char* cls = level == CheckLevel::fail ? "fail" : level == CheckLevel::warning ? "warning" : "unchecked";
+    const char* head = level == CheckLevel::fail      ? "Failed"
+                       : level == CheckLevel::warning ? "Worth a look"
+                                                      : "Not checked";
+    h += "<div class=\"checks " + std::string(cls) + "\"><h3>" + head + "</h3>\n<ul>\n" + items + "</ul></div>\n";
+  }
+  h += "</section>\n";
+
+  // Key poses table.
+  section(h, "key-poses", "Key poses");
+  h += "<p>Figures at the end of each key pose of the adaptation (largest principal stretch of each triangle "
+       "against the rest shape). The verification simulates the final rest shape afresh, without adaptation.</p>\n";
+  h += "<table class=\"figures\" id=\"key-pose-table\">\n<tr><th>#</th><th>pose</th><th>max stretch</th><th>p99</th>"
+       "<th>area above " + limit + "</th><th>deepest penetration</th><th>crossings</th><th>verification</th>"
+       "<th>steps</th><th>settle steps</th><th>settled</th><th>rest area growth</th></tr>\n";
+  for (size_t i = 0; i < run.keys.size(); ++i) {
+    const std::string p = run.keys[i].pointer;
+    h += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + figure(fit, p + "/pose", "text") + "</td><td>" +
+         figure(fit, p + "/max_stretch", "fixed3") + "</td><td>" + figure(fit, p + "/p99_stretch", "fixed3") +
+         "</td><td>" + figure(fit, p + "/area_fraction_above_limit", "percent2") + "</td><td>" +
+         figure(fit, p + "/deepest_penetration_m", "mm2") + "</td><td>" +
+         crossings_cell(fit, crossings_pointer(fit, i)) + "</td><td>" +
+         verdict_cell(fit, verification_pointer(fit, i)) + "</td><td>" + figure(fit, p + "/steps", "integer") +
+         "</td><td>" + figure(fit, p + "/settle_steps", "integer") + "</td><td>" + figure(fit, p + "/settled", "yesno") +
+         "</td><td>" + figure(fit, p + "/rest_area_growth", "times3") + "</td></tr>\n";
+  }
+  h += "</table>\n";
+  bool any_verification = false;
+  for (size_t i = 0; i < run.keys.size(); ++i) any_verification |= !verification_pointer(fit, i).empty();
+  if (any_verification) {
+    h += "<h3>Verification: the final rest shape through the motion, no adaptation</h3>\n"
+         "<table class=\"figures\" id=\"verification-table\">\n<tr><th>#</th><th>pose</th><th>verdict</th>"
+         "<th>max stretch</th><th>p99</th><th>mean</th><th>area above " + limit + "</th><th>deepest penetration</th></tr>\n";
+    for (size_t i = 0; i < run.keys.size(); ++i) {
+      const std::string v = verification_pointer(fit, i);
+      const std::string p = v.empty() ? "" : v + "/";
+      h += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + escape_xml(run.keys[i].pose) + "</td><td>" +
+           verdict_cell(fit, v) + "</td><td>" + figure(fit, v.empty() ? "" : p + "max_stretch", "fixed3") + "</td><td>" +
+           figure(fit, v.empty() ? "" : p + "p99_stretch", "fixed3") + "</td><td>" +
+           figure(fit, v.empty() ? "" : p + "mean_stretch", "fixed3") + "</td><td>" +
+           figure(fit, v.empty() ? "" : p + "area_fraction_above_limit", "percent2") + "</td><td>" +
+           figure(fit, v.empty() ? "" : p + "deepest_penetration_m", "mm2") + "</td></tr>\n";
+    }
+    h += "</table>\n";
+  }
+  h += "</section>\n";
+
+  // Pictures and 3D views per pose.
+  section(h, "renders", "The garment on the body");
+  h += "<p>Colour: the largest principal stretch of each triangle on a fixed scale from 1.0 to 1.3; the limit " +
+       limit + " is marked on the legend. Compression shows as 1.0. The body is grey. In the 3D views drag to "
+       "turn, scroll to zoom, right-drag to move.</p>\n";
+  for (size_t i = 0; i < run.keys.size(); ++i) {
+    const ReportFiles::Pose& f = files.poses[i];
+    const std::string p = run.keys[i].pointer;
+    h += "<div class=\"pose\" id=\"pose-" + std::to_string(i + 1) + "\">\n<h3>Key pose " + std::to_string(i + 1) +
+         ": " + escape_xml(run.keys[i].pose) + "</h3>\n";
+    h += "<p>max stretch " + figure(fit, p + "/max_stretch", "fixed3") + ", p99 " + figure(fit, p + "/p99_stretch", "fixed3") +
+         ", area above " + limit + ": " + figure(fit, p + "/area_fraction_above_limit", "percent2") + ".</p>\n";
+    h += "<img class=\"sheet\" src=\"" + escape_xml(f.sheet) + "\" alt=\"" + escape_xml(run.keys[i].pose) +
+         ": front, side and back, coloured by stretch\">\n";
+    h += "<div class=\"viewer\" data-model=\"" + escape_xml(f.model_id) + "\" data-front=\"" + escape_xml(files.front) +
+         "\"><canvas width=\"640\" height=\"480\"></canvas>"
+         "<label><input type=\"checkbox\" class=\"show-body\" checked> show the body</label> "
+         "<a href=\"" + escape_xml(f.glb) + "\" download>" + escape_xml(f.glb) + "</a></div>\n</div>\n";
+  }
+  h += "</section>\n";
+
+  if (run.fit_no_adapt) {
+    section(h, "before-after", "What the adaptation does: the design against the adapted garment");
+    h += "<p>Top row: the garment as designed, simulated through the same motion without adaptation "
+         "(fit-noadapt/). Bottom row: the adapted garment. Same colour scale.</p>\n";
+    h += "<table class=\"figures\" id=\"before-after-table\">\n<tr><th>#</th><th>pose</th><th>max stretch as designed</th>"
+         "<th>adapted</th><th>area above " + limit + " as designed</th><th>adapted</th></tr>\n";
+    for (size_t i = 0; i < run.keys.size(); ++i) {
+      const std::string p = run.keys[i].pointer, q = run.keys_no_adapt[i].pointer;
+      h += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + escape_xml(run.keys[i].pose) + "</td><td>" +
+           figure(*run.fit_no_adapt, q + "/max_stretch", "fixed3") + "</td><td>" + figure(fit, p + "/max_stretch", "fixed3") +
+           "</td><td>" + figure(*run.fit_no_adapt, q + "/area_fraction_above_limit", "percent2") + "</td><td>" +
+           figure(fit, p + "/area_fraction_above_limit", "percent2") + "</td></tr>\n";
+    }
+    h += "</table>\n";
+    for (size_t i = 0; i < run.keys.size(); ++i)
+      h += "<h3>Key pose " + std::to_string(i + 1) + ": " + escape_xml(run.keys[i].pose) + "</h3>\n<img class=\"sheet\" src=\"" +
+           escape_xml(files.poses[i].before_after) + "\" alt=\"" + escape_xml(run.keys[i].pose) + ": as designed and adapted\">\n";
+    h += "</section>\n";
+  }
+
+  // Rest shape.
+  section(h, "rest-shape", "The rest shape against the design");
+  const std::string last = run.keys.back().pointer;
+  h += "<p>Top row: the garment as designed. Bottom row: the adapted rest shape (the garment's unstretched "
+       "shape, off the body), each triangle coloured by its area over the design's.</p>\n";
+  h += "<table class=\"figures\" id=\"rest-table\">\n";
+  h += "<tr><th>rest area growth</th><td>" + figure(fit, last + "/rest_area_growth", "times3") + "</td></tr>\n";
+  h += "<tr><th>face area growth, 95th percentile</th><td>" + optional_figure(pattern, "/rest_shape/face_growth_p95", "times3") + "</td></tr>\n";
+  h += "<tr><th>face area growth, largest</th><td>" + optional_figure(pattern, "/rest_shape/face_growth_max", "times3") + "</td></tr>\n";
+  h += "<tr><th>faces turned over (tucks)</th><td>" + optional_figure(pattern, "/rest_shape/turned_faces", "integer") + "</td></tr>\n";
+  h += "<tr><th>cone points (design)</th><td>" + optional_figure(pattern, "/rest_shape/cone_points", "integer") + " (" +
+       optional_figure(pattern, "/rest_shape/cone_points_design", "integer") + ")</td></tr>\n";
+  h += "<tr><th>sum of |angle defect| [rad] (design)</th><td>" +
+       optional_figure(pattern, "/rest_shape/abs_angle_defect_sum_rad", "fixed2") + " (" +
+       optional_figure(pattern, "/rest_shape/abs_angle_defect_sum_design_rad", "fixed2") + ")</td></tr>\n";
+  h += "</table>\n<img class=\"sheet\" src=\"" + escape_xml(files.rest_sheet) + "\" alt=\"the design and the adapted rest shape\">\n";
+  h += "<p>3D: <a href=\"" + escape_xml(files.rest_glb) + "\" download>" + escape_xml(files.rest_glb) + "</a>, <a href=\"" +
+       escape_xml(files.design_glb) + "\" download>" + escape_xml(files.design_glb) + "</a></p>\n</section>\n";
+
+  // Pattern.
+  section(h, "pattern", "The sewing pattern");
+  h += "<table class=\"figures\" id=\"pattern-table\">\n";
+  h += "<tr><th>pieces</th><td>" + figure(pattern, "/summary/pieces", "integer") + "</td></tr>\n";
+  h += "<tr><th>seams</th><td>" + figure(pattern, "/summary/seams", "integer") + "</td></tr>\n";
+  h += "<tr><th>cuts added for distortion</th><td>" + optional_figure(pattern, "/summary/added_cuts", "integer") + "</td></tr>\n";
+  h += "<tr><th>seam length</th><td>" + figure(pattern, "/summary/total_seam_length", "metres2") + "</td></tr>\n";
+  h += "<tr><th>worst p95 distortion (limit)</th><td>" + figure(pattern, "/summary/worst_p95_error", "percent2") + " (" +
+       figure(pattern, "/summary/limit/p95_error", "percent2") + ")</td></tr>\n";
+  h += "<tr><th>worst distortion (limit)</th><td>" + figure(pattern, "/summary/worst_max_error", "percent2") + " (" +
+       figure(pattern, "/summary/limit/max_error", "percent2") + ")</td></tr>\n";
+  h += "<tr><th>within the limit</th><td>" + figure(pattern, "/summary/meets_distortion_limit", "yesno") + "</td></tr>\n";
+  h += "<tr><th>sheet</th><td>" + optional_figure(pattern, "/summary/sheet_width", "metres2") + " &times; " +
+       optional_figure(pattern, "/summary/sheet_height", "metres2") + "</td></tr>\n";
+  if (lookup(pattern, "/round_trip/checked")->get<bool>()) {
+    h += "<tr><th>round trip on the design pose: distance max / mean</th><td>" +
+         optional_figure(pattern, "/round_trip/distance_mm/max", "fixed2") + " / " +
+         optional_figure(pattern, "/round_trip/distance_mm/mean", "fixed2") + " mm</td></tr>\n";
+    h += "<tr><th>round trip: sewn garment's max stretch</th><td>" +
+         optional_figure(pattern, "/round_trip/sewn_stretch_against_flat_pieces/max_s1", "fixed3") + "</td></tr>\n";
+  } else {
+    h += "<tr><th>round trip on the design pose</th><td>" + figure(pattern, "/round_trip/distance_mm", "fixed2") + "</td></tr>\n";
+  }
+  const std::string sewn = sewn_fit_pointer(pattern);
+  h += "<tr><th>sewn fit in every key pose</th><td>" + verdict_cell(pattern, sewn) + "</td></tr>\n";
+  h += "</table>\n";
+  h += "<p>The pattern at 1:1 in millimetres (" + escape_xml(files.pattern_svg) + "; as a picture: <a href=\"" +
+       escape_xml(files.pattern_png) + "\">" + escape_xml(files.pattern_png) + "</a>).</p>\n";
+  h += "<img class=\"pattern\" src=\"" + escape_xml(files.pattern_svg) + "\" alt=\"sewing pattern\">\n";
+  h += "<img class=\"pattern-png\" src=\"" + escape_xml(files.pattern_png) + "\" alt=\"sewing pattern as a picture\">\n";
+  h += "</section>\n";
+
+  section(h, "timings", "Timings");
+  h += "<p>Wall-clock seconds of each stage, from its timing.json (they differ from run to run).</p>\n"
+       "<table class=\"figures\" id=\"timings-table\"><tr><th>stage</th><th>total [s]</th><th>phases [s]</th></tr></table>\n"
+       "</section>\n";
+
+  for (const std::string& s : files.scripts) h += "<script src=\"" + escape_xml(s) + "\"></script>\n";
+  h += "</body>\n</html>\n";
+  return h;
+}
+
+std::string timing_script(const FitRun& run) {
+  OrderedJson list = OrderedJson::array();
+  for (const StageReport* s : run.stages())
+    if (!s->timing.is_null()) list.push_back({{"stage", s->stage}, {"file", s->stage + "/timing.json"}, {"timing", s->timing}});
+  return "window.GP_TIMINGS = " + list.dump() + ";\n";
+}
+
+}  // namespace gp::report

@@ -1,0 +1,202 @@
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+
+#include "core/error.h"
+#include "render/text.h"
+#include "report/checks.h"
+#include "report/fit_run.h"
+#include "report/html_report.h"
+#include "report/picture_sheet.h"
+#include "testing/command.h"
+#include "testing/files.h"
+#include "testing/test_meshes.h"
+
+namespace fs = std::filesystem;
+using gp::Json;
+using namespace gp::report;
+
+namespace {
+
+// A fit run in memory with the fields the checks read: two key poses.
+FitRun small_run() {
+  FitRun run;
+  run.delta = 0.1;
+  run.poses.file = "poses/report.json";
+  run.poses.json = Json::parse(R"({"schema": "register-check-report/1", "verdict": "pass"})");
+  run.fit.file = "fit/report.json";
+  run.fit.json = Json::parse(R"({"schema": "simulate-adapt-report/1", "options": {"delta": 0.1, "adapt": true},
+    "key_poses": [
+      {"key": 0, "pose": "apose", "max_stretch": 1.05, "p99_stretch": 1.04, "mean_stretch": 1.01,
+       "area_fraction_above_limit": 0.0, "deepest_penetration_m": 0.0, "settle_steps": 80, "settled": true},
+      {"key": 1, "pose": "tpose", "max_stretch": 1.1, "p99_stretch": 1.099, "mean_stretch": 1.03,
+       "area_fraction_above_limit": 0.0, "deepest_penetration_m": 0.0, "settle_steps": 120, "settled": true}]})");
+  run.keys = {{0, "apose", "a.ply", "/key_poses/0"}, {1, "tpose", "t.ply", "/key_poses/1"}};
+  run.pattern.file = "pattern/report.json";
+  run.pattern.json = Json::parse(R"({"schema": "export-rest-report/1", "rest_shape": {},
+    "round_trip": {"checked": false},
+    "summary": {"pieces": 3, "seams": 4, "total_seam_length": 2.5, "worst_p95_error": 0.01, "worst_max_error": 0.03,
+                "meets_distortion_limit": true, "limit": {"p95_error": 0.02, "max_error": 0.05}}})");
+  return run;
+}
+
+int count(const std::vector<Check>& checks, CheckLevel level) {
+  int n = 0;
+  for (const Check& c : checks) n += c.level == level;
+  return n;
+}
+
+bool mentions(const std::vector<Check>& checks, CheckLevel level, const std::string& text) {
+  for (const Check& c : checks)
+    if (c.level == level && c.text.find(text) != std::string::npos) return true;
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE("a good fit fails no check, and what no stage checked is said so", "[report]") {
+  const std::vector<Check> checks = fit_checks(small_run());
+  CHECK(count(checks, CheckLevel::fail) == 0);
+  CHECK(count(checks, CheckLevel::warning) == 0);
+  CHECK(mentions(checks, CheckLevel::not_checked, "Verification"));
+  CHECK(mentions(checks, CheckLevel::not_checked, "Crossings"));
+  CHECK(mentions(checks, CheckLevel::not_checked, "Sewn fit"));
+}
+
+TEST_CASE("failed checks are stated in plain words with the pose and the figure", "[report]") {
+  FitRun run = small_run();
+  run.poses.json["verdict"] = "fail";
+  run.fit.json["key_poses"][1]["deepest_penetration_m"] = 0.0042;
+  run.fit.json["key_poses"][1]["area_fraction_above_limit"] = 0.034;
+  run.fit.json["key_poses"][0]["settled"] = false;
+  run.pattern.json["summary"]["meets_distortion_limit"] = false;
+  run.pattern.json["rest_shape"]["turned_faces"] = 12;
+  const std::vector<Check> checks = fit_checks(run);
+  CHECK(mentions(checks, CheckLevel::fail, "register-check"));
+  CHECK(mentions(checks, CheckLevel::fail, "key pose 2 (tpose), the cloth lies up to 4.2 mm inside the body"));
+  CHECK(mentions(checks, CheckLevel::fail, "3.40 % of the cloth is stretched beyond 1.10"));
+  CHECK(mentions(checks, CheckLevel::fail, "distorted beyond the limit"));
+  CHECK(mentions(checks, CheckLevel::warning, "key pose 1 (apose), the cloth had not come to rest after 80"));
+  CHECK(mentions(checks, CheckLevel::warning, "12 faces turned over"));
+  bool penetration_named = false;
+  for (const Check& c : checks) penetration_named |= c.id == "penetration" && c.pose == "tpose";
+  CHECK(penetration_named);
+}
+
+TEST_CASE("verification, crossings and sewn fit are read where the stages write them", "[report]") {
+  FitRun run = small_run();
+  run.fit.json["key_poses"][0]["verification"] = {{"verdict", "pass"}, {"max_stretch", 1.08}};
+  run.fit.json["verification"] = {{"key_poses", Json::array({Json::object(), {{"pass", false}}})}};
+  run.fit.json["key_poses"][1]["crossings"] = {{"body_edges_through_cloth", 3}, {"cloth_edges_through_body", 2}};
+  run.pattern.json["sewn_fit"] = {{"verdict", "fail"}};
+  CHECK(verification_pointer(run.fit, 0) == "/key_poses/0/verification");
+  CHECK(verification_pointer(run.fit, 1) == "/verification/key_poses/1");
+  CHECK(crossings_pointer(run.fit, 0).empty());
+  CHECK(crossings_pointer(run.fit, 1) == "/key_poses/1/crossings");
+  const std::vector<Check> checks = fit_checks(run);
+  CHECK(mentions(checks, CheckLevel::fail, "fails at key pose 2 (tpose)"));
+  CHECK(!mentions(checks, CheckLevel::fail, "fails at key pose 1"));
+  CHECK(mentions(checks, CheckLevel::fail, "cross 5 times"));
+  CHECK(mentions(checks, CheckLevel::fail, "sewn from the flat pattern"));
+  CHECK(!mentions(checks, CheckLevel::not_checked, "Verification"));
+  CHECK(!mentions(checks, CheckLevel::not_checked, "Sewn fit"));
+}
+
+TEST_CASE("figures are printed in the formats the page documents", "[report]") {
+  CHECK(format_figure(Json(1.09996), "fixed3") == "1.100");
+  CHECK(format_figure(Json(0.01234), "percent2") == "1.23 %");
+  CHECK(format_figure(Json(0.0042), "mm2") == "4.20 mm");
+  CHECK(format_figure(Json(1.39551), "times3") == "\xc3\x97" "1.396");
+  CHECK(format_figure(Json(25.378), "metres2") == "25.38 m");
+  CHECK(format_figure(Json(45), "integer") == "45");
+  CHECK(format_figure(Json(true), "yesno") == "yes");
+  CHECK(format_figure(Json("apose"), "text") == "apose");
+  CHECK_THROWS_AS(format_figure(Json("x"), "fixed3"), gp::SpecError);
+  CHECK_THROWS_AS(format_figure(Json(1.0), "nonsense"), gp::UsageError);
+}
+
+TEST_CASE("reading a fit folder names the missing file or the bad field", "[report]") {
+  const fs::path dir = gp::testing::fresh_temp_dir("report_fit_run");
+  try {
+    read_fit_run(dir / "nowhere");
+    FAIL("no error");
+  } catch (const gp::InputError& e) {
+    CHECK_THAT(e.where(), Catch::Contains("nowhere"));
+  }
+  try {
+    read_fit_run(dir);
+    FAIL("no error");
+  } catch (const gp::InputError& e) {
+    CHECK_THAT(e.where(), Catch::EndsWith("poses/report.json"));
+  }
+  fs::create_directories(dir / "poses");
+  gp::testing::write_file(dir / "poses" / "report.json", R"({"schema": "make-garment-report/1"})");
+  CHECK_THROWS_AS(read_fit_run(dir), gp::SpecError);
+  gp::testing::write_file(dir / "poses" / "report.json", R"({"schema": "register-check-report/1"})");
+  for (const char* stage : {"garment", "fit", "pattern"}) fs::create_directories(dir / stage);
+  gp::testing::write_file(dir / "garment" / "report.json", R"({"schema": "make-garment-report/1"})");
+  gp::testing::write_file(dir / "fit" / "report.json", R"({"schema": "simulate-adapt-report/1"})");
+  gp::testing::write_file(dir / "pattern" / "report.json", R"({"schema": "export-rest-report/1"})");
+  try {
+    read_fit_run(dir);
+    FAIL("no error");
+  } catch (const gp::SpecError& e) {
+    CHECK_THAT(e.where(), Catch::EndsWith("poses/report.json: /verdict"));
+  }
+  StageReport r;
+  r.path = "x.json";
+  r.json = Json::parse(R"({"a": {"b": [1, "two"]}})");
+  CHECK(require(r, "/a/b/0", "integer") == 1);
+  CHECK_THROWS_AS(require(r, "/a/b/1", "number"), gp::SpecError);
+  CHECK_THROWS_AS(require(r, "/a/c", "number"), gp::SpecError);
+  CHECK(lookup(r, "/a/b/5") == nullptr);
+  CHECK(lookup(r, "not a pointer") == nullptr);
+}
+
+TEST_CASE("a picture sheet is the same for any thread count", "[report]") {
+  const gp::Mesh sphere = gp::testing::make_icosphere(3);
+  Eigen::MatrixXf colours = Eigen::MatrixXf::Constant(sphere.F.rows(), 3, 0.5f);
+  colours.col(0) = Eigen::VectorXf::LinSpaced(sphere.F.rows(), 0.0f, 1.0f);
+  gp::render::MeshLayer layer{&sphere.V, &sphere.F, &colours, nullptr, {}};
+  SheetOptions options;
+  options.view_width = 80;
+  options.view_height = 120;
+  Eigen::AlignedBox3d box(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1));
+  const auto cameras = frame_views(box, options);
+  REQUIRE(cameras.size() == 3);
+  // The cube fits the narrower side: 2 m * (1 + margin) across 80 pixels.
+  CHECK(cameras[0].pixels_per_metre == Approx(80.0 / (2.0 * (1.0 + options.margin))));
+  CHECK(cameras[0].width == 80);
+  // A wide box fills the height and takes the width it needs, up to view_width.
+  options.view_width = 400;
+  const auto wide = frame_views(Eigen::AlignedBox3d(Eigen::Vector3d(-2, -1, -0.5), Eigen::Vector3d(2, 1, 0.5)), options);
+  CHECK(wide[0].pixels_per_metre == Approx(120.0 / (2.0 * (1.0 + options.margin))));
+  CHECK(wide[0].width == 240);  // front: 4 m wide
+  CHECK(wide[1].width == 64);   // side: 1 m deep would be 60; no view is narrower than 64
+  options.view_width = 80;
+  const gp::render::Font font(gp::render::default_font_path());
+  const auto scale = gp::render::stretch_scale(0.1);
+  options.threads = 1;
+  const gp::render::Image one = picture_sheet("t", {{"a", {layer}}, {"b", {layer}}}, cameras, scale, font, options);
+  options.threads = 3;
+  const gp::render::Image three = picture_sheet("t", {{"a", {layer}}, {"b", {layer}}}, cameras, scale, font, options);
+  CHECK(one.width == 3 * 80 + 2 * 6);
+  CHECK(one.pixels == three.pixels);
+}
+
+TEST_CASE("fit-report: --help lists its options, a missing folder exits 3 naming the file", "[report][cli]") {
+  const auto help = gp::testing::run_command(gp::testing::tool_path("fit-report") + " --help");
+  CHECK(help.exit_code == 0);
+  for (const char* option : {"--view-width", "--view-height", "--supersampling", "--front", "--pattern-width",
+                             "--three-dir", "--font", "--out", "--threads", "[pixels]"})
+    CHECK_THAT(help.out, Catch::Contains(option));
+  const fs::path dir = gp::testing::fresh_temp_dir("report_cli");
+  fs::create_directories(dir / "fit");
+  const auto missing = gp::testing::run_command(gp::testing::tool_path("fit-report") + " " + dir.string() +
+                                                " --out " + (dir / "report").string());
+  CHECK(missing.exit_code == 3);
+  CHECK_THAT(missing.err, Catch::StartsWith("fit-report: error[input]: missing poses/report.json"));
+  CHECK_THAT(missing.err, Catch::Contains((dir / "poses" / "report.json").string()));
+  CHECK(std::count(missing.err.begin(), missing.err.end(), '\n') == 1);
+  CHECK(!fs::exists(dir / "report"));
+}
