@@ -83,15 +83,20 @@ GARMENT_REPORT := $(OUT)/garment/report.json
 endif
 
 # --- simulation and adaptation -------------------------------------------------
+# simulate-adapt exits 8 when its verification fails (the final rest shape,
+# simulated afresh, stretches above the limit somewhere); its outputs are
+# complete, so the pattern and the report are still made, and `fit` exits 8
+# at the end, naming the report that shows where.
+VERDICT_OK = || test $$? -eq 8
 $(OUT)/fit/report.json: $(GARMENT_REPORT) $(C)/motion.json $(OUT)/poses/report.json $(BIN)/simulate-adapt
 	$(call RUN,simulate-adapt) --poses $(OUT)/poses/poses.json --motion $(C)/motion.json \
-	  --garment $(GARMENT) $(SIMULATE_FLAGS) --out $(@D) --force $(SIMULATE_QUIET)
+	  --garment $(GARMENT) $(SIMULATE_FLAGS) --out $(@D) --force $(SIMULATE_QUIET) $(VERDICT_OK)
 
 ifneq ($(NO_ADAPT),)
 NO_ADAPT_REPORT := $(OUT)/fit-noadapt/report.json
 $(NO_ADAPT_REPORT): $(GARMENT_REPORT) $(C)/motion.json $(OUT)/poses/report.json $(BIN)/simulate-adapt
 	$(call RUN,simulate-adapt) --no-adapt --poses $(OUT)/poses/poses.json --motion $(C)/motion.json \
-	  --garment $(GARMENT) $(SIMULATE_FLAGS) --out $(@D) --force $(SIMULATE_QUIET)
+	  --garment $(GARMENT) $(SIMULATE_FLAGS) --out $(@D) --force $(SIMULATE_QUIET) $(VERDICT_OK)
 endif
 
 # --- pattern -------------------------------------------------------------------
@@ -110,3 +115,5 @@ $(OUT)/report/report.json: $(OUT)/pattern/report.json $(OUT)/fit/report.json $(N
 fit: $(OUT)/report/report.json
 	@echo "fit: done: rest shape $(OUT)/fit/rest.ply, pattern $(OUT)/pattern/pattern.svg, reports $(OUT)/*/report.json"
 	@echo "fit: report: $(OUT)/report/index.html"
+	@if grep -q '"verdict": *"fail"' $(OUT)/fit/report.json; then \
+	  echo "fit: error[check]: the fitted garment fails its verification (see $(OUT)/report/index.html)" >&2; exit 8; fi

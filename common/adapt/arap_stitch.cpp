@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <string>
 
 #include <Eigen/Dense>
@@ -80,13 +81,18 @@ Matrix32d closest_orthonormal(const Matrix32d& S) {
   return closest_orthonormal_svd(S);
 }
 
-ArapStitcher::ArapStitcher(const Eigen::MatrixXd& V_reference, const Eigen::MatrixXi& F) : F_(F), corners_(F) {
+ArapStitcher::ArapStitcher(const Eigen::MatrixXd& V_reference, const Eigen::MatrixXi& F, double smoothing_length)
+    : F_(F), corners_(F) {
   n_ = static_cast<int>(V_reference.rows());
   if (V_reference.cols() != 3 || F.cols() != 3 || n_ == 0) throw UsageError("ARAP needs #V by 3 and #F by 3");
+  if (!(smoothing_length >= 0.0) || !std::isfinite(smoothing_length)) {
+    throw UsageError("the smoothing length must be finite and non-negative");
+  }
   weights_.resize(F.rows(), 3);
   diagonal_ = Eigen::VectorXd::Zero(n_);
+  Eigen::VectorXd vertex_area = Eigen::VectorXd::Zero(n_);
   std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(F.rows() * 12 + n_);
+  triplets.reserve(F.rows() * 12);
   for (int f = 0; f < F.rows(); ++f) {
     Eigen::Matrix3d X;
     for (int k = 0; k < 3; ++k) {
@@ -109,15 +115,38 @@ ArapStitcher::ArapStitcher(const Eigen::MatrixXd& V_reference, const Eigen::Matr
       triplets.emplace_back(j, i, -w);
       diagonal_(i) += w;
       diagonal_(j) += w;
+      vertex_area(F(f, k)) += area / 3.0;
     }
   }
+  // L_w: the weighted graph Laplacian of the ARAP energy.
+  Eigen::SparseMatrix<double> Lw(n_, n_);
+  Lw.setFromTriplets(triplets.begin(), triplets.end());
+  // Isolated vertices keep their place: give them a unit diagonal.
   for (int v = 0; v < n_; ++v) {
-    // Isolated vertices keep their place: give them a unit diagonal.
     if (diagonal_(v) == 0.0) diagonal_(v) = 1.0;
-    triplets.emplace_back(v, v, epsilon_ * diagonal_(v));
   }
-  Eigen::SparseMatrix<double> L(n_, n_);
-  L.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::SparseMatrix<double> L = Lw;
+  L += Eigen::SparseMatrix<double>(Eigen::VectorXd(epsilon_ * diagonal_).asDiagonal());
+  if (smoothing_length > 0.0) {
+    // Only inner vertices' rows: the Laplacian of an affine displacement
+    // (a uniform growth of a flat piece) vanishes there but not on the
+    // border, and the border's form is left free (natural boundary).
+    std::map<std::pair<int, int>, int> edge_uses;
+    for (int f = 0; f < F.rows(); ++f) {
+      for (int k = 0; k < 3; ++k) ++edge_uses[std::minmax(F(f, k), F(f, (k + 1) % 3))];
+    }
+    std::vector<bool> border(static_cast<size_t>(n_), false);
+    for (const auto& [edge, uses] : edge_uses) {
+      if (uses == 1) border[static_cast<size_t>(edge.first)] = border[static_cast<size_t>(edge.second)] = true;
+    }
+    Eigen::VectorXd inv_area(n_);
+    for (int v = 0; v < n_; ++v) {
+      inv_area(v) = vertex_area(v) > 0.0 && !border[static_cast<size_t>(v)] ? 1.0 / vertex_area(v) : 0.0;
+    }
+    smoothing_ = smoothing_length * smoothing_length *
+                 Eigen::SparseMatrix<double>(Lw.transpose() * inv_area.asDiagonal() * Lw);
+    L += smoothing_;
+  }
   solver_.compute(L);
   ++factorizations_;
 }
@@ -230,17 +259,25 @@ ArapReport ArapStitcher::stitch(const std::vector<Eigen::Matrix2d>& targets, Eig
     }
     return e;
   };
+  const Eigen::MatrixXd anchor_term = smoothing_.nonZeros() > 0 ? Eigen::MatrixXd(smoothing_ * V) : Eigen::MatrixXd();
   auto global_step = [&](const Eigen::MatrixXd& X, Eigen::MatrixXd& out) {
     B = B_rows;
     B.noalias() += epsilon_ * diagonal_.asDiagonal() * X;
+    if (anchor_term.size()) B += anchor_term;
     solver_.solve(B, out);
   };
 
+  const Eigen::MatrixXd V_anchor = V;
+  auto smoothing_energy = [&](const Eigen::MatrixXd& X) {
+    if (!anchor_term.size()) return 0.0;
+    const Eigen::MatrixXd d = X - V_anchor;
+    return (d.transpose() * (smoothing_ * d)).trace();
+  };
   for (int it = 0; it < options.max_iterations; ++it) {
-    double e = local_step(V);
+    double e = local_step(V) + smoothing_energy(V);
     if (accelerated && !(e < energy_previous)) {
       V = G_previous;
-      e = local_step(V);
+      e = local_step(V) + smoothing_energy(V);
       history = 0;
       column = 0;
     }

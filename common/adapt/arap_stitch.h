@@ -14,6 +14,14 @@
 // CHOLMOD once per connectivity and reused across iterations and adaptations.
 // The energy is then the area-weighted squared relative edge misfit.
 //
+// Smoothing (smoothing_length kappa > 0): + kappa^2 sum_v |(L d)_v|^2 / A_v
+// over inner vertices v (the border's form is free), d = X - X_0 the displacement from the shape the stitching starts from and
+// A_v the reference's vertex areas, a bilaplacian that resists changes of
+// form shorter than kappa. Per-triangle targets alone do not say where the
+// grown cloth goes in 3D, and plain ARAP puts it into mesh-sized folds
+// (tucks) and cone points; with the term it becomes a smooth bulge. The term
+// is constant, so it joins the factored matrix.
+//
 // Convergence: iterate until the largest change of an edge length in one
 // iteration, divided by the mean target edge length, falls below `tolerance`.
 // (The rest shape enters the cloth model only through its triangles' shapes; its
@@ -22,6 +30,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include "linalg/cholmod_solver.h"
 
@@ -52,9 +61,10 @@ class ArapStitcher {
  public:
   ArapStitcher() = default;
   // Fixed weights from the reference shape V_reference (#V by 3) with faces F
-  // (#F by 3); factors the global matrix. Throws GeometryError for degenerate
-  // reference triangles, NumericalError if the factorization fails.
-  ArapStitcher(const Eigen::MatrixXd& V_reference, const Eigen::MatrixXi& F);
+  // (#F by 3), and the smoothing length [m] (0: none); factors the global
+  // matrix. Throws GeometryError for degenerate reference triangles,
+  // NumericalError if the factorization fails.
+  ArapStitcher(const Eigen::MatrixXd& V_reference, const Eigen::MatrixXi& F, double smoothing_length = 0.0);
 
   // Stitches `targets` (#F edge matrices [t1-t0, t2-t0], 2D) starting from V (the
   // current rest shape, #V by 3); V is overwritten with the result. Throws
@@ -62,7 +72,8 @@ class ArapStitcher {
   ArapReport stitch(const std::vector<Eigen::Matrix2d>& targets, Eigen::MatrixXd& V,
                     const ArapOptions& options = {}) const;
 
-  // E(X, R) at the optimal rotations, and the normalization sum w |t_j - t_i|^2.
+  // E(X, R) at the optimal rotations (without the smoothing term, which needs
+  // the start shape).
   double energy(const std::vector<Eigen::Matrix2d>& targets, const Eigen::MatrixXd& V) const;
 
   const Eigen::MatrixXi& faces() const { return F_; }
@@ -77,6 +88,7 @@ class ArapStitcher {
   RowMatrixX3i corners_;
   RowMatrixX3d weights_;  // #F by 3: weight of edge k = (corner k -> corner k+1)
   Eigen::VectorXd diagonal_;  // D (#V)
+  Eigen::SparseMatrix<double> smoothing_;  // kappa^2 L_w^T A^-1 L_w (#V by #V), empty without smoothing
   double epsilon_ = 1e-5;
   // Simplicial: the factorization happens once, the three-column solve every
   // iteration, and for this small Laplacian the supernodal factor's BLAS calls

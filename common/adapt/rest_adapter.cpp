@@ -17,10 +17,13 @@ double mesh_area(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
 
 RestShapeAdapter::RestShapeAdapter(const Eigen::MatrixXd& V_reference, const Eigen::MatrixXi& F,
                                    AdaptOptions options)
-    : F_(F), options_(options), stitcher_(V_reference, F) {
+    : F_(F), options_(options), stitcher_(V_reference, F, options.smoothing_length) {
   if (!(options.delta >= 0.0)) throw UsageError("stretch limit delta must be non-negative");
   if (!(options.arap.tolerance > 0.0) || options.arap.max_iterations < 1) {
     throw UsageError("ARAP tolerance must be positive and the iteration cap at least 1");
+  }
+  if (!(options.smoothing_length >= 0.0) || options.rounds < 1) {
+    throw UsageError("the smoothing length must be non-negative and the rounds at least 1");
   }
 }
 
@@ -34,10 +37,23 @@ AdaptReport RestShapeAdapter::adapt(const Eigen::MatrixXd& V_sim, Eigen::MatrixX
     report.area_after = report.area_before;
     return report;
   }
-  Eigen::MatrixXd V = V_rest;
-  report.arap = stitcher_.stitch(targets, V, options_.arap);
-  if (!V.allFinite()) throw NumericalError("ARAP stitching produced non-finite positions");
-  V_rest = V;
+  std::vector<Eigen::Matrix2d> next = targets;
+  for (int round = 0; round < options_.rounds; ++round) {
+    if (round > 0) {
+      ClipStats clip;
+      next = clipped_targets(V_rest, V_sim, F_, options_.delta, nullptr, &clip, options_.hysteresis);
+      if (clip.clipped_faces == 0) break;
+    }
+    Eigen::MatrixXd V = V_rest;
+    const ArapReport r = stitcher_.stitch(next, V, options_.arap);
+    if (!V.allFinite()) throw NumericalError("ARAP stitching produced non-finite positions");
+    V_rest = V;
+    report.arap.iterations += r.iterations;
+    report.arap.residual = std::max(report.arap.residual, r.residual);
+    report.arap.misfit = r.misfit;
+    report.arap.converged = (round == 0 || report.arap.converged) && r.converged;
+    ++report.rounds;
+  }
   report.changed = true;
   report.area_after = mesh_area(V_rest, F_);
   return report;

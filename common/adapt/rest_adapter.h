@@ -17,7 +17,17 @@ namespace gp::adapt {
 
 struct AdaptOptions {
   double delta = 0.1;  // stretch limit: principal stretches above 1 + delta are clipped (paper value)
-  double hysteresis = 0.0;  // clipped stretches are set to 1 + delta - hysteresis (0: the paper's rule)
+  // Clipped stretches are set to 1 + delta - hysteresis (0: the paper's rule):
+  // a margin below the limit for the poses the rest shape is not adapted in.
+  double hysteresis = 0.02;
+  // m: the stitching resists changes of the rest shape's form shorter than
+  // this (a bilaplacian term, see arap_stitch.h), so that growth makes smooth
+  // bulges instead of tucks; 0: plain ARAP (the paper).
+  double smoothing_length = 0.01;
+  // Clip-and-stitch rounds per adaptation against the same simulated
+  // positions, until no triangle is clipped: the smoothing lets one stitching
+  // meet its targets only in part.
+  int rounds = 4;
   ArapOptions arap;    // stitching tolerance and iteration cap
 };
 
@@ -27,15 +37,17 @@ struct AdaptReport {
   double area_before = 0.0;  // rest area [m^2]
   double area_after = 0.0;
   bool changed = false;      // false when the rest shape was left as it was
+  int rounds = 0;            // clip-and-stitch rounds done
 };
 
 class RestShapeAdapter {
  public:
   // V_reference: the design rest shape (#V by 3, metres) whose triangles fix the
-  // ARAP weights; F: #F by 3. Factors the ARAP matrix once.
+  // ARAP weights and the smoothing; F: #F by 3. Factors the ARAP matrix once.
   RestShapeAdapter(const Eigen::MatrixXd& V_reference, const Eigen::MatrixXi& F, AdaptOptions options = {});
 
-  // Adapts V_rest (in/out) to the simulated positions V_sim (#V by 3).
+  // Adapts V_rest (in/out) to the simulated positions V_sim (#V by 3), in up
+  // to options().rounds clip-and-stitch rounds.
   // area_factors (#F, optional) scale the target areas (paint); pass them once,
   // e.g. at the first adaptation, since the rest shape keeps them afterwards.
   AdaptReport adapt(const Eigen::MatrixXd& V_sim, Eigen::MatrixXd& V_rest,

@@ -16,6 +16,9 @@ void Logger::info(const std::string& msg) const {
 void Logger::warning(const std::string& msg) const {
   if (!quiet_) std::cerr << tool_ << ": warning: " << msg << '\n';
 }
+void Logger::error(ExitCode code, const std::string& msg) const {
+  std::cerr << tool_ << ": error[" << category_name(code) << "]: " << msg << '\n';
+}
 void Logger::detail(const std::string& msg) const {
   if (verbose_ && !quiet_) std::cerr << tool_ << ": " << msg << '\n';
 }

@@ -33,6 +33,9 @@ class Logger {
   void info(const std::string& msg) const;     // hidden by --quiet
   void warning(const std::string& msg) const;  // hidden by --quiet
   void detail(const std::string& msg) const;   // shown only with --verbose
+  // The one error line of a run that ends with `code` though nothing was
+  // thrown (a check's verdict): "<tool>: error[<category>]: <msg>", always shown.
+  void error(ExitCode code, const std::string& msg) const;
   // A progress line. On a terminal it is rewritten in place ("\r") and
   // finished by progress_done(); otherwise (a log file, CI) it is a plain line,
   // at most one per progress_interval seconds unless `always`. Hidden by --quiet.

@@ -5,6 +5,8 @@
 #include <string>
 #include <utility>
 
+#include <Eigen/Dense>
+
 #include "core/error.h"
 
 namespace gp::cloth {
@@ -150,6 +152,19 @@ ClothEnergies cloth_energies(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
   }
   e.gravity = gravity_energy(V, rest.masses, params.gravity);
   return e;
+}
+
+Eigen::MatrixXd face_principal_stretches(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                         const ClothRestState& rest) {
+  if (rest.triangles.size() != static_cast<size_t>(F.rows())) {
+    throw UsageError("one rest triangle per face is needed for the stretches");
+  }
+  Eigen::MatrixXd S(F.rows(), 2);
+  for (int f = 0; f < F.rows(); ++f) {
+    const Eigen::Matrix<double, 3, 2> W = triangle_w(triangle_positions(V, F, f), rest.triangles[f]);
+    S.row(f) = Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(W).singularValues().transpose();
+  }
+  return S;
 }
 
 Eigen::MatrixXd cloth_gradient(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,

@@ -66,6 +66,12 @@ struct ClothEnergies {
 ClothEnergies cloth_energies(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                              const ClothRestState& rest, const ClothParameters& params);
 
+// Principal stretches s1 >= s2 of every face of the configuration V against
+// its rest triangle (the singular values of W = [w_u w_v], whatever the rest
+// triangles came from: a rest shape or flat pattern pieces). #F by 2.
+Eigen::MatrixXd face_principal_stretches(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                         const ClothRestState& rest);
+
 // Gradient of the total energy (stretch + shear + bend + gravity), #V by 3 [N].
 Eigen::MatrixXd cloth_gradient(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                const ClothRestState& rest, const ClothParameters& params);

@@ -6,8 +6,11 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <thread>
 
+#include "adapt/fit_verification.h"
+#include "adapt/garment_fit.h"
 #include "adapt/garment_motion.h"
 #include "adapt/motion_progress.h"
 #include "cli/tool.h"
@@ -26,10 +29,9 @@ namespace fs = std::filesystem;
 int main(int argc, char** argv) {
   gp::Tool tool("simulate-adapt", "Simulate a garment on the moving body and adapt its rest shape");
   std::string poses_path, motion_path, garment_path, solver = "refactor";
-  gp::adapt::MotionRunOptions options;
-  // A 1 % hysteresis band below the limit: a garment held stretched by the body
-  // settles at 1.09 after an adaptation instead of hovering just above 1.1.
-  options.adaptation.hysteresis = 0.01;
+  gp::adapt::FitOptions fit_options;
+  gp::adapt::MotionRunOptions& options = fit_options.motion;
+  gp::adapt::FitCriteria& criteria = fit_options.criteria;
   bool no_adapt = false;
   auto& app = tool.app();
   app.add_option("--poses", poses_path, "Pose set manifest (poses.json, pose-set/1)")->required();
@@ -37,6 +39,24 @@ int main(int argc, char** argv) {
   app.add_option("--garment", garment_path, "Garment file (garment.json, garment/1); its mesh sits beside it")
       ->required();
   app.add_flag("--no-adapt", no_adapt, "Keep the rest shape fixed (evaluate a single-pose design)");
+  bool no_verify = false;
+  app.add_flag("--no-verify", no_verify,
+               "Skip the verification pass (the final rest shape simulated afresh through the motion without "
+               "adaptation; a failing key pose exits 8) and adapt in one cycle");
+  app.add_option("--cycles", fit_options.max_cycles,
+                 "Adaptation cycles at most: another cycle through the motion, from the garment as designed with "
+                 "the rest shape so far, while the verification fails [count]")
+      ->capture_default_str()->check(CLI::Range(1, 100));
+  app.add_option("--verify-max-area", criteria.max_area_above,
+                 "Verification: a key pose fails when this fraction of the area or more is stretched above "
+                 "1+delta [1]")
+      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  app.add_option("--verify-p99-margin", criteria.p99_margin,
+                 "Verification: a key pose fails when its p99 stretch exceeds 1+delta plus this [1]")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--verify-max-penetration", criteria.max_penetration,
+                 "Verification: a key pose fails when a cloth vertex lies deeper inside the body [m]")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_option("--dt", options.dt, "Simulation time step [s]")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--substeps", options.substeps, "Simulation steps per interpolation frame [count]")
       ->capture_default_str()->check(CLI::Range(1, 1000));
@@ -50,6 +70,16 @@ int main(int argc, char** argv) {
   app.add_option("--arap-tolerance", options.adaptation.arap.tolerance,
                  "ARAP stitching tolerance: largest edge-length change per iteration / mean edge length [1]")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--smoothing-length", options.adaptation.smoothing_length,
+                 "The rest shape's stitching resists changes of its form shorter than this, so that growth makes "
+                 "smooth bulges rather than tucks (0: plain ARAP) [m]")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--adapt-rounds", options.adaptation.rounds,
+                 "Clip-and-stitch rounds per adaptation against the same cloth positions [count]")
+      ->capture_default_str()->check(CLI::Range(1, 100));
+  app.add_flag("--adapt-during-transitions", options.adapt_during_transitions,
+               "Adapt also while the body moves between key poses (the paper), not only while the cloth settles "
+               "at a key pose");
   app.add_option("--adaptation-lag", options.adaptation_lag,
                  "Steps after which an adaptation computed from the current positions is applied, so that it "
                  "runs beside those steps (0: at once; at most --adapt-every minus 1) [count]")
@@ -98,6 +128,7 @@ int main(int argc, char** argv) {
     gp::set_thread_count(1);
     options.threads = tool.common().threads;
     options.adapt = !no_adapt;
+    fit_options.verify = !no_verify;
     options.velocity_contacts = contact == "velocity";
     options.solver.strategy = solver == "pcg" ? gp::cloth::SolverStrategy::pcg_reused_factor
                                               : gp::cloth::SolverStrategy::refactor_every_step;
@@ -131,18 +162,21 @@ int main(int argc, char** argv) {
     // pose's figures as a line of their own.
     gp::adapt::MotionProgressLine progress(options);
     const auto run_start = std::chrono::steady_clock::now();
-    const gp::adapt::MotionRunResult result = gp::adapt::run_garment_motion(
-        interpolator, motion, read.mesh.V, read.mesh.F, garment, options, [&](const gp::adapt::MotionProgress& p) {
-          const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
-          tool.log().progress(progress.line(p, elapsed), p.key_done);
-          if (p.key_done) {
-            tool.log().progress_done();
-            tool.log().info(p.message);
-          } else if (p.settle_steps > 0 ? p.settle_steps % 200 == 0 : p.frame % 20 == 0) {
-            tool.log().detail(p.message);  // --verbose: the figures of the moment, now and then
-          }
-        });
+    const auto progress_callback = [&](const gp::adapt::MotionProgress& p) {
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
+      tool.log().progress(progress.line(p, elapsed), p.key_done);
+      if (p.key_done) {
+        tool.log().progress_done();
+        tool.log().info(p.message);
+      } else if (p.settle_steps > 0 ? p.settle_steps % 200 == 0 : p.frame % 20 == 0) {
+        tool.log().detail(p.message);  // --verbose: the figures of the moment, now and then
+      }
+    };
+    const gp::adapt::FitResult fit = gp::adapt::fit_garment(interpolator, motion, read.mesh.V, read.mesh.F, garment,
+                                                            fit_options, progress_callback);
     tool.log().progress_done();
+    const gp::adapt::MotionRunResult& result = fit.run;
+    const std::optional<gp::adapt::FitVerification>& verification = fit.verification;
 
     gp::StagedOutputDir out(tool.common().out_dir, tool.common().force);
     gp::Mesh rest;
@@ -174,6 +208,45 @@ int main(int argc, char** argv) {
                       {"max_speed_m_per_s", k.max_speed},
                       {"max_net_speed_m_per_s", k.max_net_speed}});
     }
+    gp::OrderedJson verified = nullptr;
+    if (verification) {
+      gp::OrderedJson poses_json = gp::OrderedJson::array();
+      for (const auto& check : verification->poses) {
+        const auto& k = check.figures;
+        char name[256];
+        // Without adaptation the run's own drapes are the fresh simulation.
+        std::snprintf(name, sizeof(name), options.adapt ? "verified_%02d_%s.ply" : "draped_%02d_%s.ply", k.key,
+                      k.pose.c_str());
+        if (options.adapt) {
+          gp::Mesh draped;
+          draped.V = k.V_draped;
+          draped.F = read.mesh.F;
+          draped.face_fields.push_back({"max_stretch", k.face_max_stretch});
+          gp::write_mesh(out.file(name), draped);
+        }
+        poses_json.push_back({{"key", k.key},
+                              {"pose", k.pose},
+                              {"mesh", name},
+                              {"verdict", check.passed() ? "pass" : "fail"},
+                              {"failures", check.failures},
+                              {"max_stretch", k.max_stretch},
+                              {"p99_stretch", k.p99_stretch},
+                              {"mean_stretch", k.mean_stretch},
+                              {"area_fraction_above_limit", k.area_fraction_above},
+                              {"deepest_penetration_m", k.deepest_penetration},
+                              {"steps", k.steps},
+                              {"settle_steps", k.settle_steps},
+                              {"settled", k.settled}});
+      }
+      verified = {{"verdict", verification->passed() ? "pass" : "fail"},
+                  {"criteria",
+                   {{"max_area_fraction_above_limit", criteria.max_area_above},
+                    {"p99_margin", criteria.p99_margin},
+                    {"max_penetration_m", criteria.max_penetration}}},
+                  {"steps", verification->steps},
+                  {"rejected_steps", verification->rejected_steps},
+                  {"key_poses", poses_json}};
+    }
     gp::OrderedJson report;
     report["schema"] = gp::schema_tag("simulate-adapt-report", 1);
     report["options"] = {{"poses", poses_path},
@@ -186,6 +259,11 @@ int main(int argc, char** argv) {
                          {"adaptation_lag", gp::adapt::applied_adaptation_lag(options)},
                          {"delta", options.adaptation.delta},
                          {"hysteresis", options.adaptation.hysteresis},
+                         {"smoothing_length_m", options.adaptation.smoothing_length},
+                         {"adapt_rounds", options.adaptation.rounds},
+                         {"adapt_during_transitions", options.adapt_during_transitions},
+                         {"verify", fit_options.verify},
+                         {"max_cycles", fit_options.max_cycles},
                          {"arap_tolerance", options.adaptation.arap.tolerance},
                          {"arap_max_iterations", options.adaptation.arap.max_iterations},
                          {"settle_speed_m_per_s", options.settle_speed},
@@ -215,16 +293,25 @@ int main(int argc, char** argv) {
                         {"body_faces", poses.F.rows()},
                         {"body_faces_kept", result.culled_body_faces}};
     report["key_poses"] = keys;
+    gp::OrderedJson cycles = gp::OrderedJson::array();
+    for (const gp::adapt::FitCycle& c : fit.cycles) {
+      cycles.push_back({{"steps", c.steps},
+                        {"adaptations", c.adaptations},
+                        {"rest_area_growth", c.rest_area_growth},
+                        {"verified", c.verified}});
+    }
+    report["cycles"] = cycles;
+    report["verification"] = verified;
     report["run"] = {{"steps", result.steps},
-                     {"rejected_steps", result.rejected_steps},
-                     {"accepted_folds", result.accepted_folds},
-                     {"contact_constraints", result.contact_constraints},
-                     {"contact_releases", result.contact_releases},
-                     {"pinched_contacts", result.pinched_contacts},
-                     {"crease_contacts", result.crease_contacts},
+                     {"rejected_steps", result.solver.rejected},
+                     {"accepted_folds", result.solver.accepted_flips},
+                     {"contact_constraints", result.solver.constraints},
+                     {"contact_releases", result.solver.released},
+                     {"pinched_contacts", result.collisions.pinched},
+                     {"crease_contacts", result.collisions.creases},
                      {"initial_min_distance_m", result.initial_min_distance},
                      {"adaptations", result.adaptations},
-                     {"arap_converged", result.arap_converged},
+                     {"arap_converged", result.arap.converged},
                      {"all_settled", result.all_settled},
                      {"rest_area_growth", result.keys.empty() ? 1.0 : result.keys.back().rest_area_growth}};
     // Timings differ between runs, so they live apart from the report.
@@ -246,15 +333,16 @@ int main(int argc, char** argv) {
     // last bits of the arithmetic (another CPU's BLAS or libm kernels) while the
     // results stay within the solvers' tolerances. The report keeps the
     // decisions that shape the result (steps, rejections, settling).
-    timing["work"] = {{"factorizations", result.factorizations},
-                      {"cg_iterations", result.cg_iterations},
-                      {"arap_iterations", result.arap_iterations},
-                      {"arap_max_iterations", result.arap_max_iterations},
-                      {"arap_max_residual", result.arap_max_residual},
-                      {"body_queries", result.body_queries},
-                      {"body_queries_skipped", result.body_queries_skipped},
-                      {"body_queries_reused", result.body_queries_reused},
-                      {"body_queries_local", result.body_queries_local}};
+    timing["work"] = {{"factorizations", result.solver.factorizations},
+                      {"cg_iterations", result.solver.cg_iterations},
+                      {"arap_iterations", result.arap.iterations},
+                      {"arap_max_iterations", result.arap.max_iterations},
+                      {"arap_max_residual", result.arap.max_residual},
+                      {"body_queries", result.collisions.queries},
+                      {"body_queries_skipped", result.collisions.skipped},
+                      {"body_queries_reused", result.collisions.reused},
+                      {"body_queries_local", result.collisions.local}};
+    timing["verification_s"] = verification ? verification->seconds : 0.0;
     timing["threads"] = options.threads;
     timing["setup_s"] = t.setup;
     timing["run_s"] = t.total;
@@ -264,6 +352,16 @@ int main(int argc, char** argv) {
     out.commit();
     tool.log().info("wrote " + tool.common().out_dir + " (" + std::to_string(result.keys.size()) + " key poses, " +
                     std::to_string(result.steps) + " steps)");
+    if (verification && !verification->passed()) {
+      for (const auto& check : verification->poses) {
+        if (check.passed()) continue;
+        tool.log().error(gp::ExitCode::check_failed, "the verification fails at key pose " +
+                                                         std::to_string(check.figures.key) + " (" +
+                                                         check.figures.pose + "): " + check.failures.front());
+        break;
+      }
+      return static_cast<int>(gp::ExitCode::check_failed);
+    }
     return 0;
   });
 }

@@ -75,7 +75,7 @@ inline void check_same_fit(const MotionRunResult& a, const MotionRunResult& b, d
                 << a.keys[k].max_stretch << " vs " << b.keys[k].max_stretch << "; deepest "
                 << a.keys[k].deepest_penetration << " vs " << b.keys[k].deepest_penetration << "; steps "
                 << a.keys[k].steps << " vs " << b.keys[k].steps << ", settling " << a.keys[k].settle_steps << " vs "
-                << b.keys[k].settle_steps << "; rejected " << a.rejected_steps << " vs " << b.rejected_steps);
+                << b.keys[k].settle_steps << "; rejected " << a.solver.rejected << " vs " << b.solver.rejected);
     CHECK(b.keys[k].V_draped.allFinite());
     CHECK(d.maxCoeff() < max_distance);
     CHECK(d.mean() < 0.01);

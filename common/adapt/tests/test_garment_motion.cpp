@@ -21,8 +21,8 @@ namespace {
 void check_identical(const MotionRunResult& a, const MotionRunResult& b) {
   CHECK(a.steps == b.steps);
   CHECK(a.adaptations == b.adaptations);
-  CHECK(a.arap_iterations == b.arap_iterations);
-  CHECK(a.rejected_steps == b.rejected_steps);
+  CHECK(a.arap.iterations == b.arap.iterations);
+  CHECK(a.solver.rejected == b.solver.rejected);
   CHECK(a.V_rest == b.V_rest);
   REQUIRE(a.keys.size() == b.keys.size());
   for (size_t k = 0; k < a.keys.size(); ++k) {

@@ -1,0 +1,69 @@
+#include "adapt/fit_verification.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "cloth/cloth_model.h"
+
+namespace gp::adapt {
+
+bool FitVerification::passed() const {
+  for (const PoseCheck& p : poses) {
+    if (!p.passed()) return false;
+  }
+  return true;
+}
+
+std::vector<std::string> check_pose(const KeyPoseResult& k, double delta, const FitCriteria& criteria) {
+  std::vector<std::string> failures;
+  char line[200];
+  const double limit = 1.0 + delta;
+  if (k.area_fraction_above >= criteria.max_area_above) {
+    std::snprintf(line, sizeof(line), "%.2f %% of the area stretched above %.3f (at most %.2f %%)",
+                  100.0 * k.area_fraction_above, limit, 100.0 * criteria.max_area_above);
+    failures.push_back(line);
+  }
+  if (k.p99_stretch > limit + criteria.p99_margin) {
+    std::snprintf(line, sizeof(line), "p99 stretch %.4f above %.4f", k.p99_stretch, limit + criteria.p99_margin);
+    failures.push_back(line);
+  }
+  if (k.deepest_penetration > criteria.max_penetration) {
+    std::snprintf(line, sizeof(line), "a cloth vertex %.1f mm inside the body (at most %.1f mm)",
+                  1e3 * k.deepest_penetration, 1e3 * criteria.max_penetration);
+    failures.push_back(line);
+  }
+  return failures;
+}
+
+std::vector<cloth::TriangleRest> rest_triangles_of(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F) {
+  return cloth::build_rest_state(V_rest, F, cloth::ClothParameters{}).triangles;
+}
+
+FitVerification verify_fit(PoseInterpolator& interpolator, const MotionSpec& motion,
+                           const Eigen::MatrixXd& V_start, const Eigen::MatrixXi& F, const GarmentFile& garment,
+                           const std::vector<cloth::TriangleRest>& rest_triangles, MotionRunOptions options,
+                           const FitCriteria& criteria) {
+  const auto start = std::chrono::steady_clock::now();
+  options.adapt = false;
+  options.rest_triangles = rest_triangles;
+  options.initial_rest.resize(0, 0);
+  FitVerification v = judge_run(run_garment_motion(interpolator, motion, V_start, F, garment, options),
+                                options.adaptation.delta, criteria);
+  v.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return v;
+}
+
+FitVerification judge_run(const MotionRunResult& run, double delta, const FitCriteria& criteria) {
+  FitVerification v;
+  v.steps = run.steps;
+  v.rejected_steps = run.solver.rejected;
+  for (const KeyPoseResult& k : run.keys) {
+    PoseCheck check;
+    check.failures = check_pose(k, delta, criteria);
+    check.figures = k;
+    v.poses.push_back(std::move(check));
+  }
+  return v;
+}
+
+}  // namespace gp::adapt

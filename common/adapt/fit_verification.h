@@ -1,0 +1,61 @@
+#pragma once
+// The honest figure of a fit: a rest shape (or a sewn pattern's flat pieces)
+// simulated afresh, from the garment as designed, through the whole motion
+// with no adaptation, and judged at every key pose. The adaptation's own
+// figures cannot show a fit: it clips every stretch above 1 + delta, so its
+// "max stretch 1.1" holds by construction; this pass measures whether the
+// final rest shape still fits the earlier poses.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "adapt/garment_motion.h"
+#include "cloth/cloth_energy.h"
+
+namespace gp::adapt {
+
+// A key pose fails when any bound is exceeded.
+struct FitCriteria {
+  double max_area_above = 0.01;    // rest-area fraction with max stretch above 1 + delta: fails at or above
+  double p99_margin = 0.02;        // fails when the p99 stretch exceeds 1 + delta + p99_margin
+  double max_penetration = 0.002;  // m: fails when a cloth vertex lies deeper inside the body
+};
+
+struct PoseCheck {
+  KeyPoseResult figures;              // drape, stretch and penetration figures of the key pose
+  std::vector<std::string> failures;  // one sentence per bound exceeded (empty: passed)
+  bool passed() const { return failures.empty(); }
+};
+
+struct FitVerification {
+  std::vector<PoseCheck> poses;       // one per key pose of the motion
+  long steps = 0;
+  long rejected_steps = 0;
+  double seconds = 0.0;               // wall time of the simulation
+  bool passed() const;
+};
+
+// The bounds a key pose's figures exceed, in words ("p99 stretch 1.134 above
+// 1.120"); empty when it passes. delta: the stretch limit of the fit.
+std::vector<std::string> check_pose(const KeyPoseResult& figures, double delta, const FitCriteria& criteria);
+
+// Simulates the garment through `motion` with the given rest triangles (one
+// per face of F) and no adaptation, starting at V_start (#V by 3: the garment
+// as designed, at the comfort offset), and checks every key pose. `options`
+// are the fit's (time step, settling, contacts, threads); adapt and
+// rest_triangles are set here. Throws as run_garment_motion.
+FitVerification verify_fit(PoseInterpolator& interpolator, const MotionSpec& motion,
+                           const Eigen::MatrixXd& V_start, const Eigen::MatrixXi& F, const GarmentFile& garment,
+                           const std::vector<cloth::TriangleRest>& rest_triangles, MotionRunOptions options,
+                           const FitCriteria& criteria = {});
+
+// The checks of a run without adaptation (its key poses are already a fresh
+// simulation of its rest shape); seconds is left 0.
+FitVerification judge_run(const MotionRunResult& run, double delta, const FitCriteria& criteria = {});
+
+// The rest triangles of a rest shape (#V by 3, same connectivity as F), with
+// the material's warp direction, as the simulator builds them.
+std::vector<cloth::TriangleRest> rest_triangles_of(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F);
+
+}  // namespace gp::adapt
