@@ -5,7 +5,7 @@
 #include <ostream>
 
 #include "io/mesh.h"
-#include "pattern/auto_cut.h"
+#include "pattern/make_pattern.h"
 #include "pattern/layout.h"
 #include "spec/json_file.h"
 

@@ -108,7 +108,7 @@ Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options) {
     for (int v : p.boundary) out.outline.push_back(out.UV.row(v).transpose());
     const std::string what = "piece " + p.name;
     if (options.seam_allowance > 0.0)
-      out.allowance = offset_polygon(bridged_outline(p.boundary, p.rest_vertex_ids, out.UV), options.seam_allowance,
+      out.allowance = offset_polygon(bridged_outline(p.boundary, p.mesh_vertex_ids, out.UV), options.seam_allowance,
                                      options.simplify_tolerance, what);
     lo[i] = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
     hi[i] = -lo[i];

@@ -13,7 +13,7 @@
 #include <vector>
 #include <Eigen/Core>
 
-#include "pattern/auto_cut.h"
+#include "pattern/pattern.h"
 #include "pattern/seam_allowance.h"
 
 namespace gp {
