@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 
+#include "core/math.h"
 #include "mesh/laplacian.h"
 #include "mesh/topology.h"
 #include "pattern/flatten.h"
@@ -31,7 +32,7 @@ std::vector<double> angle_defects(const Eigen::MatrixXd& V, const Eigen::MatrixX
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d a = V.row(F(f, (k + 1) % 3)) - V.row(F(f, k));
       const Eigen::Vector3d b = V.row(F(f, (k + 2) % 3)) - V.row(F(f, k));
-      defect[static_cast<size_t>(F(f, k))] -= std::atan2(a.cross(b).norm(), a.dot(b));
+      defect[static_cast<size_t>(F(f, k))] -= gp::math::atan2(a.cross(b).norm(), a.dot(b));
     }
   for (const auto& loop : boundary_loops(F))
     for (int v : loop) defect[static_cast<size_t>(v)] = 0.0;
@@ -299,11 +300,9 @@ std::optional<SurfaceCurve> panel_curve(const Pattern& pattern, size_t c, const 
   const Eigen::VectorXd mass = lumped_mass(p.V, p.F);
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   double total = 0.0;
-  std::vector<double> energy(static_cast<size_t>(p.V.rows()), 0.0);
   for (int v = 0; v < static_cast<int>(p.V.rows()); ++v) {
     const double x = u[static_cast<size_t>(v)];
     const double e = mass[v] * (x < 0.0 || options.symmetric ? x * x : options.flatten.ease_weight * x * x);
-    energy[static_cast<size_t>(v)] = e;
     centroid += e * p.V.row(v).transpose();
     total += e;
   }
@@ -324,19 +323,18 @@ std::optional<SurfaceCurve> panel_curve(const Pattern& pattern, size_t c, const 
   }
   if (!(up.norm() > 0.0)) up = Eigen::Vector2d(0.0, 1.0);
   up.normalize();
-  // Along the grain or across it: whichever is nearer the principal axis of
-  // the energy's spread in the chart (a band of distortion, such as a waist,
-  // is cut along its length; two blobs side by side along the line joining
-  // them), so that the seam runs through as much of the distortion as it can.
-  Eigen::Matrix2d spread = Eigen::Matrix2d::Zero();
-  for (int v = 0; v < static_cast<int>(p.V.rows()); ++v) {
-    const Eigen::Vector2d d = chart.row(v).transpose() - x;
-    spread += energy[static_cast<size_t>(v)] * d * d.transpose();
-  }
-  const Eigen::Vector2d across(-up.y(), up.x());
-  const bool along = up.dot(spread * up) >= across.dot(spread * across);
-  const Eigen::Vector2d dir = along ? up : across;
+  // Along the grain: the princess line of a tailor's fitted panels. (Cuts
+  // across the grain were tried: chosen by the principal axis of the energy's
+  // spread, they sliced garments whose sleeves stayed on into horizontal strips.)
+  const Eigen::Vector2d dir = up;
   const size_t nb = p.boundary.size();
+  std::vector<char> on_dart(static_cast<size_t>(p.V.rows()), 0);
+  {
+    std::vector<char> dart_vertex(static_cast<size_t>(pattern.mesh.V.rows()), 0);
+    for (int d : p.dart_seams)
+      for (int v : pattern.seams[static_cast<size_t>(d)].vertex_ids) dart_vertex[static_cast<size_t>(v)] = 1;
+    for (int v = 0; v < p.V.rows(); ++v) on_dart[static_cast<size_t>(v)] = dart_vertex[static_cast<size_t>(p.mesh_vertex_ids[v])];
+  }
   // Nearest outline crossings of the line x + s dir on either side.
   // The chord ends where it meets the outline, not at the nearest outline
   // vertex (which would jump from one vertex to the next).
@@ -344,6 +342,9 @@ std::optional<SurfaceCurve> panel_curve(const Pattern& pattern, size_t c, const 
   size_t k_plus = 0, k_minus = 0;
   double t_plus = 0.0, t_minus = 0.0;
   for (size_t k = 0; k < nb; ++k) {
+    // A dart's legs are outline too, but a seam ending on one would part
+    // the dart's sides.
+    if (on_dart[static_cast<size_t>(p.boundary[k])] && on_dart[static_cast<size_t>(p.boundary[(k + 1) % nb])]) continue;
     const Eigen::Vector2d q0 = chart.row(p.boundary[k]), q1 = chart.row(p.boundary[(k + 1) % nb]);
     const Eigen::Vector2d e = q1 - q0;
     const double det = -dir.x() * e.y() + dir.y() * e.x();
@@ -375,9 +376,7 @@ std::optional<SurfaceCurve> panel_curve(const Pattern& pattern, size_t c, const 
   P.row(1) = curve_point_position(chart, p.F, to).transpose();
   const SurfaceCurve cut = trace_polyline(chart, p.F, from, to, P, {}, options.smoothing.trace);
   if (cut.size() < 2) return std::nullopt;
-  if (where)
-    *where = std::string("panel seam ") + (along ? "along" : "across") +
-             " the grain through the centroid of its conformal distortion energy";
+  if (where) *where = "panel seam along the grain through the centroid of its conformal distortion energy";
   return cut;
 }
 

@@ -13,9 +13,8 @@
 // A dart runs straight, in the piece's conformal chart, from the tip to the
 // outline vertex nearest to it.
 //
-// A panel seam runs straight along the grain (the body's vertical) or across
-// it, whichever is nearer the principal axis of the spread of the piece's
-// distortion energy, through that energy's centroid, from outline to outline.
+// A panel seam runs straight along the grain (the body's vertical) through
+// the centroid of the piece's distortion energy, from outline to outline.
 // The energy is that of the conformal flattening keeping the boundary's
 // length (one-sided: u^2 where u < 0, ease_weight u^2 where u > 0): a linear
 // solve, so that the seam moves continuously with the shape.

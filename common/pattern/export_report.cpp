@@ -97,12 +97,30 @@ void write_pieces_obj(std::ostream& out, const Pattern& pattern, const Layout& l
   }
 }
 
+void write_seams_obj(std::ostream& out, const Pattern& pattern) {
+  out << "# export-rest: the seams as polylines on the rest shape (metres)\n";
+  int vo = 1;
+  for (const PatternSeam& s : pattern.seams) {
+    std::string name = s.name;
+    std::replace(name.begin(), name.end(), ' ', '_');
+    out << "o " << name << "\n";
+    for (int v : s.vertex_ids)
+      out << "v " << g17(pattern.mesh.V(v, 0)) << " " << g17(pattern.mesh.V(v, 1)) << " " << g17(pattern.mesh.V(v, 2)) << "\n";
+    out << "l";
+    for (size_t i = 0; i < s.vertex_ids.size(); ++i) out << " " << vo + static_cast<int>(i);
+    if (s.closed && !s.vertex_ids.empty()) out << " " << vo;
+    out << "\n";
+    vo += static_cast<int>(s.vertex_ids.size());
+  }
+}
+
 OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const PatternOptions& options,
                            const SeamTolerance& tol) {
   OrderedJson j;
   const std::vector<SeamMeasure> seams = measure_seams(pattern, layout, tol);
   double area_3d = 0.0, area_2d = 0.0, worst_p95 = 0.0, worst_max = 0.0, seam_length = 0.0, added_length = 0.0;
   double worst_compression_p99 = 0.0, worst_compression = 0.0, worst_ease_p95 = 0.0, worst_ease = 0.0;
+  double worst1_compression = 0.0, worst5_ease = 0.0;
   double smallest = std::numeric_limits<double>::infinity();
   int flipped = 0, overlapping = 0, seams_ok = 0, most_darts = 0;
   for (const auto& p : pattern.pieces) {
@@ -112,6 +130,8 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
     worst_p95 = std::max(worst_p95, st.p95_error);
     worst_max = std::max(worst_max, st.max_error);
     worst_compression_p99 = std::max(worst_compression_p99, st.p99_compression);
+    worst1_compression = std::max(worst1_compression, st.worst1_compression);
+    worst5_ease = std::max(worst5_ease, st.worst5_ease);
     worst_compression = std::max(worst_compression, st.max_compression);
     worst_ease_p95 = std::max(worst_ease_p95, st.p95_stretch);
     worst_ease = std::max(worst_ease, st.max_stretch);
@@ -146,10 +166,12 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
                   {"smallest_piece_area", pattern.pieces.empty() ? 0.0 : smallest},
                   {"area_3d", area_3d},
                   {"area_2d", area_2d},
+                  {"worst_compression", worst1_compression},
+                  {"worst_ease", worst5_ease},
                   {"worst_compression_p99", worst_compression_p99},
-                  {"worst_compression", worst_compression},
+                  {"worst_compression_max", worst_compression},
                   {"worst_ease_p95", worst_ease_p95},
-                  {"worst_ease", worst_ease},
+                  {"worst_ease_max", worst_ease},
                   {"worst_p95_error", worst_p95},
                   {"worst_max_error", worst_max},
                   {"meets_distortion_limit", pattern.meets_limit},
@@ -177,7 +199,9 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
                       {"cutting_line_length", lp.allowance.empty() ? 0.0 : polygon_perimeter(lp.allowance.front())},
                       {"darts", darts_here},
                       {"distortion",
-                       {{"p99_compression", s.p99_compression},
+                       {{"compression_worst1", s.worst1_compression},
+                        {"ease_worst5", s.worst5_ease},
+                        {"p99_compression", s.p99_compression},
                         {"max_compression", s.max_compression},
                         {"p95_ease", s.p95_stretch},
                         {"max_ease", s.max_stretch},
@@ -234,8 +258,8 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
     j["summary"]["limit"] = {{"kind", "symmetric"}, {"p95_error", options.p95_limit}, {"max_error", options.max_limit}};
   else
     j["summary"]["limit"] = {{"kind", "one-sided"},
-                             {"compression_p99", options.compression_p99},
-                             {"ease_p95", options.ease_p95}};
+                             {"compression_worst1", options.compression_worst1},
+                             {"ease_worst5", options.ease_worst5}};
   return j;
 }
 

@@ -36,6 +36,10 @@ Mesh flat_pieces_mesh(const Pattern& pattern, const Layout& layout);
 // coordinates = sheet positions in metres, one OBJ group per piece.
 void write_pieces_obj(std::ostream& out, const Pattern& pattern, const Layout& layout);
 
+// Every seam as a polyline on the rest shape (metres), one OBJ object per
+// seam named after it, in the pattern's seam order: where the cuts run.
+void write_seams_obj(std::ostream& out, const Pattern& pattern);
+
 // The report body: pieces, seams, added cuts, totals (without options and timing).
 OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const PatternOptions& options,
                            const SeamTolerance& tol);

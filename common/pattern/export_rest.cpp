@@ -88,7 +88,9 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
 
   result.pattern = make_pattern(rest.V, rest.F, result.seams, options.pattern, context);
   lap("cut_and_flatten");
-  result.layout = layout_pattern(result.pattern, options.layout);
+  LayoutOptions layout = options.layout;
+  layout.title = result.name;
+  result.layout = layout_pattern(result.pattern, layout);
   lap("layout");
   if (!result.pattern.meets_limit) {
     std::string failing;
@@ -103,7 +105,7 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
   if (have_design) {
     // A cone point whose defect is 2 pi * the limit cannot be flattened
     // within it unless its neighbourhood takes that error in full.
-    const double limit = options.pattern.symmetric ? options.pattern.max_limit : options.pattern.compression_p99;
+    const double limit = options.pattern.symmetric ? options.pattern.max_limit : options.pattern.compression_worst1;
     const double cone = 2.0 * M_PI * limit;
     const RestShapeDiagnostics d = diagnose_rest_shape(design.V, rest.V, rest.F, cone);
     result.rest_shape = {{"design_mesh", (fs::path(options.garment).parent_path() / result.garment.mesh_file).string()},
@@ -157,8 +159,8 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
     limit = {{"kind", "symmetric"}, {"p95_error", po.p95_limit}, {"max_error", po.max_limit}};
   else
     limit = {{"kind", "one-sided"},
-             {"compression_p99", po.compression_p99},
-             {"ease_p95", po.ease_p95}};
+             {"compression_worst1", po.compression_worst1},
+             {"ease_worst5", po.ease_worst5}};
   report["options"] = {
       {"limit", limit},
       {"dart_placement", po.dart_placement == PatternOptions::DartPlacement::conformal ? "conformal" : "curvature"},
@@ -240,6 +242,7 @@ void write_export_rest(const ExportRestResult& result, const ExportRestOptions& 
   write_file_atomic(dir / "pattern.svg", [&](std::ostream& s) { write_svg(s, pattern, layout, {result.name}); }, false);
   write_file_atomic(dir / "pattern.dxf", [&](std::ostream& s) { write_dxf(s, pattern, layout, result.name); }, false);
   write_file_atomic(dir / "pieces.obj", [&](std::ostream& s) { write_pieces_obj(s, pattern, layout); }, false);
+  write_file_atomic(dir / "seams.obj", [&](std::ostream& s) { write_seams_obj(s, pattern); }, false);
   write_mesh(dir / "pieces_flat.ply", flat_pieces_mesh(pattern, layout));
   OrderedJson timing = result.timing;
   if (result.round_trip_done) {

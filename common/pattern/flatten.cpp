@@ -97,7 +97,7 @@ double signed_area_2d(const Eigen::MatrixXd& UV, const Eigen::Vector3i& f) {
 Eigen::Matrix2d local_target(const Eigen::Matrix2d& J, double ease_weight, double& energy) {
   const double e = 0.5 * (J(0, 0) + J(1, 1)), f = 0.5 * (J(0, 0) - J(1, 1));
   const double g = 0.5 * (J(1, 0) + J(0, 1)), h = 0.5 * (J(1, 0) - J(0, 1));
-  const double q = std::hypot(e, h), r = std::hypot(f, g);
+  const double q = std::sqrt(e * e + h * h), r = std::sqrt(f * f + g * g);
   const double a1 = gp::math::atan2(g, f), a2 = gp::math::atan2(h, e);
   const double theta = 0.5 * (a2 - a1), phi = 0.5 * (a2 + a1);
   const double sx = q + r, sy = q - r;
@@ -296,7 +296,7 @@ Eigen::MatrixXd principal_stretches(const Eigen::MatrixXd& V, const Eigen::Matri
     // Closed-form singular values of a 2x2 matrix.
     const double e = 0.5 * (J(0, 0) + J(1, 1)), ff = 0.5 * (J(0, 0) - J(1, 1));
     const double g = 0.5 * (J(1, 0) + J(0, 1)), h = 0.5 * (J(1, 0) - J(0, 1));
-    const double q = std::hypot(e, h), r = std::hypot(ff, g);
+    const double q = std::sqrt(e * e + h * h), r = std::sqrt(ff * ff + g * g);
     S.row(f) << q + r, std::abs(q - r);
   }
   return S;
@@ -349,6 +349,26 @@ DistortionStats distortion_stats(const Eigen::MatrixXd& S, const Eigen::VectorXd
     }
     return value[static_cast<size_t>(order.back())];
   };
+  // Mean of the values over the worst `fraction` of the area.
+  auto worst_mean = [&](const std::vector<double>& value, double fraction) {
+    std::vector<int> order(static_cast<size_t>(m));
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+      return value[static_cast<size_t>(a)] > value[static_cast<size_t>(b)] ||
+             (value[static_cast<size_t>(a)] == value[static_cast<size_t>(b)] && a < b);
+    });
+    const double want = fraction * st.area_3d;
+    double acc = 0.0, sum = 0.0;
+    for (int f : order) {
+      const double take = std::min(area_3d[f], want - acc);
+      if (take <= 0.0) break;
+      sum += take * value[static_cast<size_t>(f)];
+      acc += take;
+    }
+    return acc > 0.0 ? sum / acc : 0.0;
+  };
+  st.worst1_compression = worst_mean(com, 0.01);
+  st.worst5_ease = worst_mean(str, 0.05);
   st.p95_error = percentile(err, 0.95);
   st.p95_stretch = percentile(str, 0.95);
   st.p95_compression = percentile(com, 0.95);
@@ -483,6 +503,48 @@ Eigen::MatrixXd tutte_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F
   return UV;
 }
 
+double flattening_energy(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& UV,
+                         const FlattenOptions& options, Eigen::MatrixXd* gradient) {
+  const std::vector<LocalTriangle> T = weighted_triangles(V, F, options.min_weight_fraction);
+  const std::vector<LocalTriangle> T0 = local_triangles(V, F);
+  const double ease_weight = std::clamp(options.ease_weight, 0.0, 1.0);
+  if (gradient) gradient->setZero(UV.rows(), 2);
+  double energy = 0.0;
+  for (int f = 0; f < F.rows(); ++f) {
+    const LocalTriangle& t = T[static_cast<size_t>(f)];
+    if (t.degenerate) continue;
+    const Eigen::Matrix2d J = jacobian(t, UV, F.row(f));
+    double e = 0.0;
+    const Eigen::Matrix2d target = local_target(J, ease_weight, e);
+    energy += t.area * e;
+    if (gradient) {
+      // dE/dJ = 2 w (J - T); J = (D U)^T, so dE/dU = D^T (dE/dJ)^T.
+      const Eigen::Matrix<double, 3, 2> g = 2.0 * t.area * t.D.transpose() * (J - target).transpose();
+      for (int k = 0; k < 3; ++k) gradient->row(F(f, k)) += g.row(k);
+    }
+  }
+  if (options.boundary_weight > 0.0) {
+    const Eigen::MatrixXi TT = triangle_adjacency(F);
+    for (int f = 0; f < F.rows(); ++f)
+      for (int k = 0; k < 3; ++k)
+        if (TT(f, k) < 0 && !T0[static_cast<size_t>(f)].degenerate) {
+          const int i = F(f, k), j = F(f, (k + 1) % 3);
+          const double l = (V.row(i) - V.row(j)).norm();
+          if (!(l > 0.0)) continue;
+          const double w = options.boundary_weight * T0[static_cast<size_t>(f)].area / (l * l);
+          const Eigen::RowVector2d x = UV.row(i) - UV.row(j);
+          const double len = x.norm();
+          energy += w * (len - l) * (len - l);
+          if (gradient && len > 0.0) {
+            const Eigen::RowVector2d g = 2.0 * w * (len - l) * x / len;
+            gradient->row(i) += g;
+            gradient->row(j) -= g;
+          }
+        }
+  }
+  return energy;
+}
+
 ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::MatrixXd& UV,
                      const FlattenOptions& options, bool injective) {
   const int n = static_cast<int>(V.rows());
@@ -603,7 +665,7 @@ ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::
   // is kept only where it lowers the energy, else the plain step is taken
   // and the history restarts. Local/global alone needs hundreds of
   // iterations on a whole shirt panel.
-  const int window = 6;
+  const int window = std::max(0, options.anderson_window);
   std::vector<Eigen::VectorXd> dG, dF;
   Eigen::VectorXd g_prev, f_prev;
   bool have_prev = false;
@@ -624,7 +686,7 @@ ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::
     have_prev = true;
     Eigen::MatrixXd next = target;
     bool accelerated = false;
-    if (!dF.empty()) {
+    if (!dF.empty() && window > 0) {
       const int k = static_cast<int>(dF.size());
       Eigen::MatrixXd A(f.size(), k);
       for (int j = 0; j < k; ++j) A.col(j) = dF[static_cast<size_t>(j)];

@@ -42,6 +42,9 @@ struct FlattenOptions {
   // A triangle's weight in the energy is its area, but at least this
   // fraction of the mean area: thin triangles along a cut resist turning over.
   double min_weight_fraction = 0.1;
+  // Iterates of the local/global steps mixed by Anderson acceleration
+  // (Peng et al. 2018); 0: plain local/global steps.
+  int anderson_window = 6;
   // When plain iterations leave flipped triangles: rerun injectively (true),
   // or return the flipped result (false).
   bool injective_fallback = true;
@@ -56,6 +59,12 @@ struct DistortionStats {
   double p95_stretch = 0.0;      // 95th percentile (by area) of s1 - 1
   double p95_compression = 0.0;  // 95th percentile (by area) of 1 - s2
   double p99_compression = 0.0;  // 99th percentile (by area) of 1 - s2
+  // Means over the worst part of the area (the last element taken in part,
+  // so that they change continuously): 1 - s2 over the worst 1 %, s1 - 1
+  // over the worst 5 %. Averages, unlike percentiles, do not jump from one
+  // triangle's value to the next when a thin triangle comes or goes.
+  double worst1_compression = 0.0;
+  double worst5_ease = 0.0;
   double mean_error = 0.0;       // area-weighted mean of max(|s1-1|, |s2-1|)
   double area_3d = 0.0;          // m^2
   double area_2d = 0.0;          // m^2 (signed sum of the flat triangles)
@@ -86,6 +95,14 @@ Eigen::MatrixXd lscm_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
 // Tutte's embedding (uniform weights) with the boundary on a circle spaced by
 // 3D arc length: flip-free for any 3-connected disk; #V by 2, counter-clockwise.
 Eigen::MatrixXd tutte_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<int>& loop);
+
+// The energy arap_flatten minimizes at UV (#V by 2): sum over triangles of
+// w_t sum_i f(s_i) (w_t the area, at least min_weight_fraction of the mean;
+// f(s) = (1 - s)^2 below 1, ease_weight (s - 1)^2 above; a flipped triangle
+// costs |J - R|^2, R its closest rotation) plus the boundary-length term
+// sum_e w_e (|u_i - u_j| - l_e)^2. With `gradient`, its gradient (#V by 2).
+double flattening_energy(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& UV,
+                         const FlattenOptions& options, Eigen::MatrixXd* gradient = nullptr);
 
 struct ArapRun {
   int iterations = 0;

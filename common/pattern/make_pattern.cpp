@@ -147,7 +147,7 @@ bool meets_limit(const PatternPiece& piece, const PatternOptions& options) {
   if (piece.flat.stats.flipped_triangles > 0 || piece.flat.boundary_overlaps) return false;
   const DistortionStats& s = piece.stats;
   if (options.symmetric) return s.p95_error <= options.p95_limit && s.max_error <= options.max_limit;
-  return s.p99_compression <= options.compression_p99 && s.p95_stretch <= options.ease_p95;
+  return s.worst1_compression <= options.compression_worst1 && s.worst5_ease <= options.ease_worst5;
 }
 
 Pattern cut_user_seams(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SeamPath>& seams,
@@ -353,8 +353,15 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
     Eigen::Vector3d from = Eigen::Vector3d::Zero();
     for (int v : loop) from += mesh.rest_V.row(v).transpose();
     from /= static_cast<double>(loop.size());
-    if (std::hypot(from.x() - axis.x(), from.z() - axis.z()) < options.limb_offset) continue;
-    PatternSeam seam{"armhole" + std::to_string(seams.size() + 1), "panel", "", {}, true, true};
+    if (Eigen::Vector2d(from.x() - axis.x(), from.z() - axis.z()).norm() < options.limb_offset) continue;
+    // The limb: the rest faces on the loop's side of the level set.
+    if (pattern.limb_of_rest_face.empty()) pattern.limb_of_rest_face.assign(static_cast<size_t>(mesh.rest_F.rows()), -1);
+    for (int f = 0; f < mesh.rest_F.rows(); ++f)
+      if (pattern.limb_of_rest_face[static_cast<size_t>(f)] < 0 &&
+          (d[mesh.rest_F(f, 0)] + d[mesh.rest_F(f, 1)] + d[mesh.rest_F(f, 2)]) / 3.0 < found)
+        pattern.limb_of_rest_face[static_cast<size_t>(f)] = static_cast<int>(pattern.limbs.size());
+    pattern.limbs.push_back({name, from.x() > axis.x()});
+    PatternSeam seam{"armhole" + std::to_string(seams.size() + 1), "armhole", "", {}, true, true};
     seam.reason = "the tube ending at the boundary " + name + " (a sleeve) meets the body " + metres(found) +
                   " from it, where its cross-section starts to grow fast: a seam around it there (" +
                   metres(curve_length(mesh.V, mesh.F, sets.front())) + ")";
@@ -517,8 +524,9 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options) {
   int pieces = static_cast<int>(pattern.pieces.size());
   for (size_t c : order) {
     const PatternPiece& p = pattern.pieces[c];
-    const std::string over = "piece " + p.name + " exceeds the limit (" + percent(p.stats.p99_compression) +
-                             " compression at p99, ease " + percent(p.stats.p95_stretch) + " at p95): ";
+    const std::string over = "piece " + p.name + " exceeds the limit (compression " +
+                             percent(p.stats.worst1_compression) + " over its worst 1 %, ease " +
+                             percent(p.stats.worst5_ease) + " over its worst 5 %): ";
     Eigen::MatrixXd chart;
     try {
       chart = conformal_chart(p);
@@ -575,7 +583,8 @@ void merge_small_pieces(Pattern& pattern, const PatternOptions& options, Flatten
     double best_area = options.min_piece_area;
     for (const CutEdge& e : pattern.cut.edges) {
       const PatternSeam& s = pattern.seams[static_cast<size_t>(e.seam)];
-      if (s.kind == "user" || s.kind == "dart" || tried.count(s.name)) continue;
+      // User seams and armholes are structure, darts lie inside one piece.
+      if (s.kind == "user" || s.kind == "armhole" || s.kind == "dart" || tried.count(s.name)) continue;
       const int l = pattern.piece_of_face[static_cast<size_t>(e.left_face)];
       const int r = pattern.piece_of_face[static_cast<size_t>(e.right_face)];
       if (l == r) continue;

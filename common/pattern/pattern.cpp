@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "mesh/topology.h"
 #include "pattern/curve_insertion.h"
+#include "pattern/piece_names.h"
 
 namespace gp {
 namespace {
@@ -91,6 +92,7 @@ void assemble_pieces(Pattern& pattern) {
     const auto loops = boundary_loops(p.F);
     if (loops.size() == 1) p.boundary = loops.front();
   }
+  name_pieces(pattern);
   // Darts belong to the piece on both their sides.
   for (size_t s = 0; s < pattern.seams.size(); ++s) {
     if (pattern.seams[s].kind != "dart") continue;

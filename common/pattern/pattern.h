@@ -33,9 +33,10 @@ PatternMesh pattern_mesh_of_rest(const Eigen::MatrixXd& V, const Eigen::MatrixXi
 
 struct PatternSeam {
   std::string name;
-  // "user" (the seam spec), "topology" (a piece had to be opened into a
-  // disk), "dart" (from the piece's edge to a tip inside it) or "panel" (a
-  // seam added where darts did not suffice).
+  // "user" (the seam spec), "armhole" (around a sleeve where it meets the
+  // body), "topology" (a piece had to be opened into a disk), "dart" (from
+  // the piece's edge to a tip inside it) or "panel" (a seam added where darts
+  // did not suffice).
   std::string kind;
   std::string reason;           // why it was added (empty for user seams)
   std::vector<int> vertex_ids;  // path in the pattern mesh (a dart: mouth first, tip last)
@@ -44,7 +45,7 @@ struct PatternSeam {
 };
 
 struct PatternPiece {
-  std::string name;             // body region: "front", "back", "left sleeve", ... (unique)
+  std::string name;             // body region: "front", "back", "left sleeve front", ... (unique; piece_names.h)
   std::vector<int> face_ids;    // pattern-mesh faces, ascending
   Eigen::MatrixXd V;            // #Vp by 3, metres
   Eigen::MatrixXi F;            // #Fp by 3, local ids, same order as face_ids
@@ -59,8 +60,16 @@ struct PatternPiece {
   bool meets_limit = false;
 };
 
+// A limb found by its armhole (make_pattern.h, cut_armholes).
+struct Limb {
+  std::string loop;   // the boundary loop that ends it (a sleeve's hem)
+  bool left = false;  // on the body's left (+x)
+};
+
 struct Pattern {
   PatternMesh mesh;
+  std::vector<Limb> limbs;
+  std::vector<int> limb_of_rest_face;  // per rest face: its limb, or -1 (the body); empty without limbs
   CutMesh cut;                     // the pattern mesh cut along every seam
   std::vector<PatternPiece> pieces;
   std::vector<PatternSeam> seams;  // user seams first, then added cuts in the order added
@@ -75,8 +84,8 @@ struct Pattern {
 };
 
 // Cuts the pattern mesh along every seam and extracts the pieces (faces,
-// vertices, local ids, darts); names them "P1", "P2", ... by their smallest
-// face, boundaries and flattenings left empty.
+// vertices, local ids, darts), in order of their smallest face, and names
+// them by body region (piece_names.h); flattenings are left empty.
 void assemble_pieces(Pattern& pattern);
 
 // Inserts the curves (on the pattern mesh, surface_curve.h) into the

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <map>
 
 #include <Eigen/SparseCholesky>
@@ -303,7 +304,8 @@ Eigen::MatrixXd smooth_polyline_2d(const Eigen::MatrixXd& P, const std::vector<i
   for (int i = 0; i < m; ++i) X.row(i) = pts[static_cast<size_t>(i)].transpose();
   if (fixed_out) *fixed_out = fixed_new;
   if (m < 3 || wavelength <= 0.0) return X;
-  const double lambda = std::pow(wavelength / (2.0 * M_PI * spacing), 4);
+  const double ratio = wavelength / (2.0 * M_PI * spacing);
+  const double lambda = ratio * ratio * ratio * ratio;
   std::vector<int> free_index(static_cast<size_t>(m), -1);
   int nf = 0;
   std::vector<char> is_fixed(static_cast<size_t>(m), 0);
@@ -428,6 +430,23 @@ SurfaceCurve smooth_open_path(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F
       std::vector<int> fixed_new;
       const Eigen::MatrixXd X =
           smooth_polyline_2d(P, fixed_rows, scale * spacing, scale * wavelength, &fixed_new);
+      // A path that is smooth already (a straight run of edges) stays on its edges.
+      double off = 0.0;
+      for (int r = 0; r < X.rows(); ++r) {
+        double d = std::numeric_limits<double>::infinity();
+        for (int i = 0; i + 1 < P.rows(); ++i) {
+          const Eigen::Vector2d a = P.row(i), b = P.row(i + 1), q = X.row(r);
+          const Eigen::Vector2d ab = b - a;
+          const double l2 = ab.squaredNorm();
+          const double t = l2 > 0.0 ? std::clamp((q - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+          d = std::min(d, (a + t * ab - q).norm());
+        }
+        off = std::max(off, d);
+      }
+      if (off < 1e-6 * scale * spacing) {
+        smoothed = true;
+        return vertex_curve(ids, false);
+      }
       // Fixed rows sit on their vertices; P's fixed rows map to X's in order.
       std::vector<int> row_vertex(static_cast<size_t>(X.rows()), -1);
       std::vector<int> fixed_all = fixed_rows;

@@ -25,9 +25,11 @@ int main(int argc, char** argv) {
   app.add_option("--limit", limit,
                  "Distortion limit: one-sided (bounds compression tightly, ease loosely) or symmetric (bounds both alike)")
       ->capture_default_str()->check(CLI::IsMember({"one-sided", "symmetric"}));
-  app.add_option("--compression-p99", po.compression_p99, "One-sided limit: compression 1 - s2 allowed on 99 % of the area [fraction]")
+  app.add_option("--compression-limit", po.compression_worst1,
+                 "One-sided limit: mean compression 1 - s2 allowed over the worst 1 % of a piece's area [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 1.0));
-  app.add_option("--ease-p95", po.ease_p95, "One-sided limit: ease s1 - 1 allowed on 95 % of the area [fraction]")
+  app.add_option("--ease-limit", po.ease_worst5,
+                 "One-sided limit: mean ease s1 - 1 allowed over the worst 5 % of a piece's area [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
   app.add_option("--p95-limit", po.p95_limit, "Symmetric limit: error max(|s1-1|, |s2-1|) allowed on 95 % of the area [fraction]")
       ->capture_default_str()->check(CLI::Range(1e-6, 1.0));
