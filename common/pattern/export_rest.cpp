@@ -88,6 +88,7 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
 
   result.pattern = make_pattern(rest.V, rest.F, result.seams, options.pattern, context);
   lap("cut_and_flatten");
+  for (const auto& [phase, s] : result.pattern.seconds) result.timing["cut_and_flatten_" + phase] = s;
   LayoutOptions layout = options.layout;
   layout.title = result.name;
   result.layout = layout_pattern(result.pattern, layout);

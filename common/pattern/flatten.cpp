@@ -95,27 +95,34 @@ double signed_area_2d(const Eigen::MatrixXd& UV, const Eigen::Vector3i& f) {
 // (local/global as majorization-minimization). A flipped J goes to its
 // closest rotation, as in ARAP. Returns T; `energy` gets sum_i f(s_i).
 Eigen::Matrix2d local_target(const Eigen::Matrix2d& J, double ease_weight, double& energy) {
+  // J = Q+ + Q-, Q+ = [e -h; h e] = q R(a) (its similarity part), Q- = [f g;
+  // g -f] = r S(b) (a reflection times r); J's singular values are q + r and
+  // q - r, and a matrix with the same singular vectors and singular values
+  // (tx, ty) is (tx + ty)/2 R(a) + (tx - ty)/2 S(b): no angle is needed.
   const double e = 0.5 * (J(0, 0) + J(1, 1)), f = 0.5 * (J(0, 0) - J(1, 1));
   const double g = 0.5 * (J(1, 0) + J(0, 1)), h = 0.5 * (J(1, 0) - J(0, 1));
   const double q = std::sqrt(e * e + h * h), r = std::sqrt(f * f + g * g);
-  const double a1 = gp::math::atan2(g, f), a2 = gp::math::atan2(h, e);
-  const double theta = 0.5 * (a2 - a1), phi = 0.5 * (a2 + a1);
   const double sx = q + r, sy = q - r;
-  double tx = 1.0, ty = 1.0;
-  if (sy > 0.0) {
-    auto target = [&](double s) { return s < 1.0 ? 1.0 : 1.0 + (1.0 - ease_weight) * (s - 1.0); };
-    auto cost = [&](double s) { return s < 1.0 ? (1.0 - s) * (1.0 - s) : ease_weight * (s - 1.0) * (s - 1.0); };
-    tx = target(sx);
-    ty = target(sy);
-    energy = cost(sx) + cost(sy);
-  } else {
+  Eigen::Matrix2d plus, minus;
+  plus << e, -h, h, e;
+  minus << f, g, g, -f;
+  if (!(q > 0.0)) {
+    // No similarity part: J is a reflection times r; its closest rotation is any, take I.
     energy = (sx - 1.0) * (sx - 1.0) + (sy - 1.0) * (sy - 1.0);
+    return Eigen::Matrix2d::Identity();
   }
-  const double c1 = gp::math::cos(phi), s1 = gp::math::sin(phi), c2 = gp::math::cos(theta), s2 = gp::math::sin(theta);
-  Eigen::Matrix2d U, W;
-  U << c1, -s1, s1, c1;
-  W << c2, -s2, s2, c2;
-  return U * Eigen::Vector2d(tx, ty).asDiagonal() * W;
+  if (!(sy > 0.0)) {
+    // Flipped (or degenerate): the closest rotation, as in ARAP.
+    energy = (sx - 1.0) * (sx - 1.0) + (sy - 1.0) * (sy - 1.0);
+    return plus / q;
+  }
+  auto target = [&](double s) { return s < 1.0 ? 1.0 : 1.0 + (1.0 - ease_weight) * (s - 1.0); };
+  auto cost = [&](double s) { return s < 1.0 ? (1.0 - s) * (1.0 - s) : ease_weight * (s - 1.0) * (s - 1.0); };
+  const double tx = target(sx), ty = target(sy);
+  energy = cost(sx) + cost(sy);
+  Eigen::Matrix2d T = (0.5 * (tx + ty) / q) * plus;
+  if (r > 0.0) T += (0.5 * (tx - ty) / r) * minus;
+  return T;
 }
 
 // Dirichlet matrix L = sum_t A_t D_t^T D_t (the cotangent Laplacian, PSD by construction).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -608,23 +609,40 @@ void merge_small_pieces(Pattern& pattern, const PatternOptions& options, Flatten
 
 Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SeamPath>& seams,
                      const PatternOptions& options, const PatternContext& context) {
+  using Clock = std::chrono::steady_clock;
+  auto last = Clock::now();
+  std::map<std::string, double> seconds;
+  auto lap = [&](const std::string& phase) {
+    const auto now = Clock::now();
+    seconds[phase] += std::chrono::duration<double>(now - last).count();
+    last = now;
+  };
   Pattern pattern = cut_user_seams(V, F, seams, options);
+  lap("user_seams");
   if (options.armholes) cut_armholes(pattern, options, context);
+  lap("armholes");
   cut_to_disks(pattern, options, context);
+  lap("disks");
   FlattenCache cache;
   for (int round = 0; round < options.max_rounds; ++round) {
     ++pattern.rounds;
     flatten_pieces(pattern, options, cache, true);
     while (match_seams(pattern, options, cache)) flatten_pieces(pattern, options, cache, true);
+    lap("flatten");
     if (pattern.meets_limit) break;
-    if (place_darts_and_panels(pattern, options) == 0) break;
+    const int added = place_darts_and_panels(pattern, options);
+    lap("darts_and_panels");
+    if (added == 0) break;
   }
   flatten_pieces(pattern, options, cache, true);
+  lap("flatten");
   merge_small_pieces(pattern, options, cache);
   // The output has no flipped triangle: pieces left with flips are
   // flattened injectively.
   flatten_pieces(pattern, options, cache, true);
   pattern.seams_within_tolerance = seam_sides_match(pattern, options, 1.0, nullptr);
+  lap("merge");
+  pattern.seconds = seconds;
   return pattern;
 }
 

@@ -4,6 +4,7 @@
 // so the pattern's mesh is the rest shape with the cut curves inserted), the
 // cuts (user seams, topology cuts, darts, panel seams), the pieces with their
 // flattenings. assemble_pieces() rebuilds the pieces from the mesh and cuts.
+#include <map>
 #include <string>
 #include <vector>
 #include <Eigen/Core>
@@ -81,6 +82,7 @@ struct Pattern {
   int flattenings = 0;             // pieces flattened (a piece unchanged by a round is reused)
   std::vector<std::string> merged_cuts;  // added cuts removed again to merge small pieces
   std::vector<std::string> notes;        // decisions worth reporting (a dart not placed, a split refused)
+  std::map<std::string, double> seconds; // wall time per phase (for timing.json only)
 };
 
 // Cuts the pattern mesh along every seam and extracts the pieces (faces,

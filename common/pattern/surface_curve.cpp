@@ -470,6 +470,20 @@ SurfaceCurve smooth_open_path(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F
       return c;
     }
   }
+  // No chart holds the whole curve (it passes where the band folds or meets
+  // the garment's edge): its two halves, joined at the middle vertex, each
+  // in a chart of its own.
+  if (ids.size() >= 8) {
+    const size_t half = ids.size() / 2;
+    const std::vector<int> a(ids.begin(), ids.begin() + static_cast<long>(half) + 1);
+    const std::vector<int> b(ids.begin() + static_cast<long>(half), ids.end());
+    bool ok_a = false, ok_b = false;
+    SurfaceCurve c = smooth_open_path(V, F, neighbors, vf, a, fixed_vertex, options, ok_a);
+    const SurfaceCurve second = smooth_open_path(V, F, neighbors, vf, b, fixed_vertex, options, ok_b);
+    c.insert(c.end(), second.begin() + 1, second.end());
+    smoothed = ok_a && ok_b;
+    return c;
+  }
   return vertex_curve(ids, false);
 }
 
