@@ -607,6 +607,14 @@ ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::
       const int fr = free_index[static_cast<size_t>(it.row())], fc = free_index[static_cast<size_t>(c)];
       if (fr >= 0 && fc >= 0) trip.emplace_back(fr, fc, it.value());
     }
+  // A vertex whose triangles are all degenerate carries no energy: a tiny
+  // proximal term eps |u - u_current|^2 keeps the system definite without
+  // moving the fixed point (its right-hand side is added in the global step).
+  double diagonal = 0.0;
+  for (const auto& t : trip)
+    if (t.row() == t.col()) diagonal += t.value();
+  const double proximal = 1e-10 * diagonal / std::max(1, m);
+  for (int i = 0; i < m; ++i) trip.emplace_back(i, i, proximal);
   CholmodSolver solver{kFlattenSolver};
   if (m > 0) {
     Eigen::SparseMatrix<double> A(m, m);
@@ -652,7 +660,7 @@ ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::
   auto global_step = [&](const Eigen::MatrixXd& from, const Eigen::MatrixXd& targets_rhs) {
     for (int i = 0; i < n; ++i) {
       const int fi = free_index[static_cast<size_t>(i)];
-      if (fi >= 0) B.row(fi) = targets_rhs.row(i);
+      if (fi >= 0) B.row(fi) = targets_rhs.row(i) + proximal * from.row(i);
     }
     for (Eigen::SparseMatrix<double>::InnerIterator e(L, pin); e; ++e) {
       const int fr = free_index[static_cast<size_t>(e.row())];
@@ -801,18 +809,33 @@ FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     }
   }
   if (!done) {
+    const FlattenResult plain = result;
+    bool start = true;
     if (lscm_solved && count_flips(UV_lscm, F) == 0) {
       result.UV = UV_lscm;
       result.initialization = "lscm, injective";
     } else {
       result.UV = tutte_flatten(V, F, loop);
       result.initialization = "tutte, injective";
-      if (count_flips(result.UV, F) != 0)
-        throw NumericalError("Tutte's embedding of the piece has flipped triangles (the piece is not 3-connected)");
+      // A piece that is not 3-connected (a vertex whose neighbours all lie
+      // on the outline) can fold even in Tutte's embedding.
+      start = count_flips(result.UV, F) == 0;
     }
-    const ArapRun run = arap_flatten(V, F, result.UV, options, true);
-    result.iterations += run.iterations;
-    result.energy = run.energy;
+    if (start) {
+      const ArapRun run = arap_flatten(V, F, result.UV, options, true);
+      result.iterations += run.iterations;
+      result.energy = run.energy;
+    } else if (plain.UV.size() > 0 && plain.UV.allFinite()) {
+      // No flip-free start: the plain flattening with its flips (reported).
+      result = plain;
+      result.initialization += ", flips kept";
+    } else {
+      // Nor a plain one (LSCM failed): plain iterations from Tutte's folded embedding.
+      const ArapRun run = arap_flatten(V, F, result.UV, options, false);
+      result.initialization = "tutte, flips kept";
+      result.iterations = run.iterations;
+      result.energy = run.energy;
+    }
   }
   if (!result.UV.allFinite()) throw NumericalError("the flattening produced non-finite coordinates");
   result.stats = distortion_stats(V, F, result.UV);

@@ -128,11 +128,12 @@ struct FlattenResult {
 
 // LSCM, then arap_flatten; if that leaves flipped triangles and
 // injective_fallback is set, they are untangled locally (their vertices moved
-// to their neighbours' mean) and arap_flatten resumed injectively, or, where
-// that fails, run injectively from a flip-free start (LSCM if it has no
-// flip, else Tutte). The piece (V #V by 3, F #F by 3, every
-// vertex used) must be one connected disk: one boundary loop, Euler
-// characteristic 1. Throws GeometryError if it is not, NumericalError if a
+// to their neighbours' mean) and arap_flatten resumed, or, where that fails,
+// run injectively from a flip-free start (LSCM if it has no flip, else
+// Tutte). A piece that is not 3-connected may have no flip-free start: its
+// plain flattening is returned with its flips (stats.flipped_triangles).
+// The piece (V #V by 3, F #F by 3, every vertex used) must be one connected
+// disk: one boundary loop, Euler characteristic 1. Throws GeometryError if it is not, NumericalError if a
 // solve fails. `material_ids` (#V, optional): the uncut vertex of every piece
 // vertex, for the overlap test of the flat outline (see polygon_self_intersects).
 FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
