@@ -87,8 +87,12 @@ void write_dxf(std::ostream& out, const Pattern& pattern, const Layout& layout, 
     for (const Notch& n : layout.notches)
       if (n.piece == static_cast<int>(i)) d.line(n.at, n.tip, "NOTCH");
     d.line(lp.grain_from, lp.grain_to, "GRAIN");
-    const double size = std::clamp(1000.0 * lp.label_room / 4.0, 2.0, 10.0);
-    d.text(lp.label_at + Eigen::Vector2d(0.002, 0.0), size, title + " " + pattern.pieces[i].name, "LABEL");
+    const PieceLabel label = piece_label(lp, title, pattern.pieces[i].name);
+    // DXF R12 text starts at its insertion point: shifted left by half its estimated width.
+    d.text(label.line1_at - Eigen::Vector2d(0.3 * label.size1 * static_cast<double>(label.line1.size()), 0.0),
+           1000.0 * label.size1, label.line1, "LABEL");
+    for (const DartMark& m : layout.darts)
+      if (m.piece == static_cast<int>(i)) d.line(0.5 * (m.mouth_left + m.mouth_right), m.tip, "DART");
     for (const SeamLabel& s : layout.seam_labels)
       if (s.piece == static_cast<int>(i)) d.text(s.at, 3.0, pattern.seams[static_cast<size_t>(s.seam)].name, "LABEL");
   }

@@ -7,7 +7,7 @@
 #include <ostream>
 #include <string>
 
-#include "pattern/auto_cut.h"
+#include "pattern/pattern.h"
 #include "pattern/layout.h"
 
 namespace gp {

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <set>
+
+#include "mesh/topology.h"
 
 #include "pattern/svg_writer.h"
 
@@ -48,7 +51,7 @@ Mesh flat_pieces_mesh(const Pattern& pattern, const Layout& layout) {
   Mesh mesh;
   mesh.V.setZero(nv, 3);
   mesh.F.resize(nf, 3);
-  Eigen::VectorXd piece_field(nv), rest_field(nv);
+  Eigen::VectorXd piece_field(nv), rest_field(nv), mesh_field(nv);
   int vo = 0, fo = 0;
   for (size_t i = 0; i < pattern.pieces.size(); ++i) {
     const PatternPiece& p = pattern.pieces[i];
@@ -56,7 +59,9 @@ Mesh flat_pieces_mesh(const Pattern& pattern, const Layout& layout) {
     for (int v = 0; v < p.V.rows(); ++v) {
       mesh.V(vo + v, 0) = UV(v, 0);
       mesh.V(vo + v, 1) = UV(v, 1);
-      rest_field[vo + v] = p.rest_vertex_ids[v];
+      const int m = p.mesh_vertex_ids[v];
+      rest_field[vo + v] = m < pattern.mesh.rest_vertex_count ? m : -1;
+      mesh_field[vo + v] = m;
       piece_field[vo + v] = static_cast<double>(i);
     }
     for (int f = 0; f < p.F.rows(); ++f) {
@@ -69,6 +74,7 @@ Mesh flat_pieces_mesh(const Pattern& pattern, const Layout& layout) {
   // PLY face properties besides the vertex index list.
   mesh.vertex_fields.push_back({"piece", piece_field});
   mesh.vertex_fields.push_back({"rest_vertex", rest_field});
+  mesh.vertex_fields.push_back({"pattern_vertex", mesh_field});
   return mesh;
 }
 
@@ -91,38 +97,84 @@ void write_pieces_obj(std::ostream& out, const Pattern& pattern, const Layout& l
   }
 }
 
+void write_seams_obj(std::ostream& out, const Pattern& pattern) {
+  out << "# export-rest: the seams as polylines on the rest shape (metres)\n";
+  int vo = 1;
+  for (const PatternSeam& s : pattern.seams) {
+    std::string name = s.name;
+    std::replace(name.begin(), name.end(), ' ', '_');
+    out << "o " << name << "\n";
+    for (int v : s.vertex_ids)
+      out << "v " << g17(pattern.mesh.V(v, 0)) << " " << g17(pattern.mesh.V(v, 1)) << " " << g17(pattern.mesh.V(v, 2)) << "\n";
+    out << "l";
+    for (size_t i = 0; i < s.vertex_ids.size(); ++i) out << " " << vo + static_cast<int>(i);
+    if (s.closed && !s.vertex_ids.empty()) out << " " << vo;
+    out << "\n";
+    vo += static_cast<int>(s.vertex_ids.size());
+  }
+}
+
 OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const PatternOptions& options,
                            const SeamTolerance& tol) {
   OrderedJson j;
   const std::vector<SeamMeasure> seams = measure_seams(pattern, layout, tol);
   double area_3d = 0.0, area_2d = 0.0, worst_p95 = 0.0, worst_max = 0.0, seam_length = 0.0, added_length = 0.0;
-  int flipped = 0, overlapping = 0, seams_ok = 0;
+  double worst_compression_p99 = 0.0, worst_compression = 0.0, worst_ease_p95 = 0.0, worst_ease = 0.0;
+  double worst1_compression = 0.0, worst5_ease = 0.0;
+  double smallest = std::numeric_limits<double>::infinity();
+  int flipped = 0, overlapping = 0, seams_ok = 0, most_darts = 0;
   for (const auto& p : pattern.pieces) {
-    area_3d += p.flat.stats.area_3d;
-    area_2d += p.flat.stats.area_2d;
-    worst_p95 = std::max(worst_p95, p.flat.stats.p95_error);
-    worst_max = std::max(worst_max, p.flat.stats.max_error);
+    const DistortionStats& st = p.stats;
+    area_3d += st.area_3d;
+    area_2d += st.area_2d;
+    worst_p95 = std::max(worst_p95, st.p95_error);
+    worst_max = std::max(worst_max, st.max_error);
+    worst_compression_p99 = std::max(worst_compression_p99, st.p99_compression);
+    worst1_compression = std::max(worst1_compression, st.worst1_compression);
+    worst5_ease = std::max(worst5_ease, st.worst5_ease);
+    worst_compression = std::max(worst_compression, st.max_compression);
+    worst_ease_p95 = std::max(worst_ease_p95, st.p95_stretch);
+    worst_ease = std::max(worst_ease, st.max_stretch);
+    smallest = std::min(smallest, st.area_3d);
     flipped += p.flat.stats.flipped_triangles;
     overlapping += p.flat.boundary_overlaps ? 1 : 0;
+    most_darts = std::max(most_darts, static_cast<int>(p.dart_seams.size()));
   }
+  int darts = 0;
   for (size_t i = 0; i < seams.size(); ++i) {
     seam_length += seams[i].length_3d;
     if (pattern.seams[i].kind != "user") added_length += seams[i].length_3d;
+    if (pattern.seams[i].kind == "dart") ++darts;
     seams_ok += seams[i].ok ? 1 : 0;
   }
+  // The garment's own boundary (hems, neck, cuffs): edges of the pattern
+  // mesh used by one face.
+  double boundary_length = 0.0;
+  for (const auto& loop : boundary_loops(pattern.mesh.F))
+    for (size_t k = 0; k < loop.size(); ++k)
+      boundary_length += (pattern.mesh.V.row(loop[k]) - pattern.mesh.V.row(loop[(k + 1) % loop.size()])).norm();
   j["summary"] = {{"pieces", pattern.pieces.size()},
                   {"seams", pattern.seams.size()},
+                  {"darts", darts},
+                  {"most_darts_in_a_piece", most_darts},
                   {"added_cuts", std::count_if(pattern.seams.begin(), pattern.seams.end(),
                                                [](const PatternSeam& s) { return s.kind != "user"; })},
                   {"total_seam_length", seam_length},
                   {"added_seam_length", added_length},
+                  {"user_seam_length", seam_length - added_length},
+                  {"boundary_length", boundary_length},
+                  {"smallest_piece_area", pattern.pieces.empty() ? 0.0 : smallest},
                   {"area_3d", area_3d},
                   {"area_2d", area_2d},
+                  {"worst_compression", worst1_compression},
+                  {"worst_ease", worst5_ease},
+                  {"worst_compression_p99", worst_compression_p99},
+                  {"worst_compression_max", worst_compression},
+                  {"worst_ease_p95", worst_ease_p95},
+                  {"worst_ease_max", worst_ease},
                   {"worst_p95_error", worst_p95},
                   {"worst_max_error", worst_max},
                   {"meets_distortion_limit", pattern.meets_limit},
-                  {"cut_cap_reached", pattern.cut_cap_reached},
-                  {"stuck_pieces", pattern.stuck_pieces},
                   {"flipped_triangles", flipped},
                   {"overlapping_pieces", overlapping},
                   {"seams_within_tolerance", seams_ok == static_cast<int>(seams.size())},
@@ -134,8 +186,10 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
   OrderedJson pieces = OrderedJson::array();
   for (size_t i = 0; i < pattern.pieces.size(); ++i) {
     const PatternPiece& p = pattern.pieces[i];
-    const DistortionStats& s = p.flat.stats;
+    const DistortionStats& s = p.stats;
     const LaidOutPiece& lp = layout.pieces[i];
+    std::vector<std::string> darts_here;
+    for (int d : p.dart_seams) darts_here.push_back(pattern.seams[static_cast<size_t>(d)].name);
     pieces.push_back({{"name", p.name},
                       {"vertices", p.V.rows()},
                       {"faces", p.F.rows()},
@@ -143,16 +197,20 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
                       {"area_2d", s.area_2d},
                       {"outline_length", polygon_perimeter(lp.outline)},
                       {"cutting_line_length", lp.allowance.empty() ? 0.0 : polygon_perimeter(lp.allowance.front())},
+                      {"darts", darts_here},
                       {"distortion",
-                       {{"p95_error", s.p95_error},
+                       {{"compression_worst1", s.worst1_compression},
+                        {"ease_worst5", s.worst5_ease},
+                        {"p99_compression", s.p99_compression},
+                        {"max_compression", s.max_compression},
+                        {"p95_ease", s.p95_stretch},
+                        {"max_ease", s.max_stretch},
+                        {"p95_error", s.p95_error},
                         {"max_error", s.max_error},
                         {"mean_error", s.mean_error},
-                        {"p95_stretch", s.p95_stretch},
-                        {"max_stretch", s.max_stretch},
-                        {"p95_compression", s.p95_compression},
-                        {"max_compression", s.max_compression}}},
+                        {"p95_compression", s.p95_compression}}},
                       {"meets_limit", p.meets_limit},
-                      {"flipped_triangles", s.flipped_triangles},
+                      {"flipped_triangles", p.flat.stats.flipped_triangles},
                       {"boundary_overlaps", p.flat.boundary_overlaps},
                       {"initialization", p.flat.initialization},
                       {"arap_iterations", p.flat.iterations},
@@ -160,6 +218,11 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
                       {"grain", lp.grain_from_body_vertical ? "body vertical" : "longest axis"}});
   }
   j["pieces"] = pieces;
+  auto point = [&](int v) {
+    OrderedJson xyz = OrderedJson::array();
+    for (int k = 0; k < 3; ++k) xyz.push_back(pattern.mesh.V(v, k));
+    return xyz;
+  };
   OrderedJson seam_list = OrderedJson::array();
   for (size_t i = 0; i < seams.size(); ++i) {
     const SeamMeasure& m = seams[i];
@@ -176,7 +239,9 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
                          {"mismatch_relative", m.length_3d > 0.0 ? m.mismatch / m.length_3d : 0.0},
                          {"within_tolerance", m.ok},
                          {"notches", notches},
-                         {"vertex_ids", s.vertex_ids}});
+                         {"smoothed", s.smoothed},
+                         {"from", point(s.vertex_ids.front())},
+                         {"to", point(s.closed ? s.vertex_ids.front() : s.vertex_ids.back())}});
   }
   j["seams"] = seam_list;
   OrderedJson added = OrderedJson::array();
@@ -188,7 +253,13 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
                        {"reason", pattern.seams[i].reason}});
   j["added_cuts"] = added;
   j["merged_cuts"] = pattern.merged_cuts;
-  j["summary"]["limit"] = {{"p95_error", options.p95_limit}, {"max_error", options.max_limit}};
+  j["notes"] = pattern.notes;
+  if (options.symmetric)
+    j["summary"]["limit"] = {{"kind", "symmetric"}, {"p95_error", options.p95_limit}, {"max_error", options.max_limit}};
+  else
+    j["summary"]["limit"] = {{"kind", "one-sided"},
+                             {"compression_worst1", options.compression_worst1},
+                             {"ease_worst5", options.ease_worst5}};
   return j;
 }
 

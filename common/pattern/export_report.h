@@ -5,7 +5,7 @@
 #include <ostream>
 
 #include "io/mesh.h"
-#include "pattern/auto_cut.h"
+#include "pattern/make_pattern.h"
 #include "pattern/layout.h"
 #include "spec/json_file.h"
 
@@ -35,6 +35,10 @@ Mesh flat_pieces_mesh(const Pattern& pattern, const Layout& layout);
 // All pieces in 3D (rest positions, cut along the seams) with texture
 // coordinates = sheet positions in metres, one OBJ group per piece.
 void write_pieces_obj(std::ostream& out, const Pattern& pattern, const Layout& layout);
+
+// Every seam as a polyline on the rest shape (metres), one OBJ object per
+// seam named after it, in the pattern's seam order: where the cuts run.
+void write_seams_obj(std::ostream& out, const Pattern& pattern);
 
 // The report body: pieces, seams, added cuts, totals (without options and timing).
 OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const PatternOptions& options,

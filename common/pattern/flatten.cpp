@@ -1,6 +1,7 @@
 #include "pattern/flatten.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -56,6 +57,23 @@ std::vector<LocalTriangle> local_triangles(const Eigen::MatrixXd& V, const Eigen
   return T;
 }
 
+// local_triangles with every area raised to at least `fraction` of the
+// mean: the weights of the flattening energies. The thin triangles a cut
+// leaves where it passes close to a vertex would otherwise turn over at no
+// cost (and make LSCM's system numerically singular); a stiff small triangle
+// keeps its shape, so its share of the energy still vanishes with its size.
+std::vector<LocalTriangle> weighted_triangles(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double fraction) {
+  std::vector<LocalTriangle> T = local_triangles(V, F);
+  double mean = 0.0;
+  int count = 0;
+  for (const LocalTriangle& t : T)
+    if (!t.degenerate) mean += t.area, ++count;
+  mean /= std::max(1, count);
+  for (LocalTriangle& t : T)
+    if (!t.degenerate) t.area = std::max(t.area, fraction * mean);
+  return T;
+}
+
 Eigen::Matrix2d jacobian(const LocalTriangle& t, const Eigen::MatrixXd& UV, const Eigen::Vector3i& f) {
   Eigen::Matrix<double, 3, 2> U;
   for (int k = 0; k < 3; ++k) U.row(k) = UV.row(f[k]);
@@ -68,13 +86,43 @@ double signed_area_2d(const Eigen::MatrixXd& UV, const Eigen::Vector3i& f) {
   return 0.5 * (a.x() * b.y() - a.y() * b.x());
 }
 
-// Closest rotation to a 2x2 matrix (polar decomposition), in closed form: for
-// J = [a b; c d] the rotation maximizing tr(R^T J) has angle atan2(c - b, a + d).
-Eigen::Matrix2d closest_rotation(const Eigen::Matrix2d& J) {
-  const double angle = gp::math::atan2(J(1, 0) - J(0, 1), J(0, 0) + J(1, 1));
-  Eigen::Matrix2d R;
-  R << gp::math::cos(angle), -gp::math::sin(angle), gp::math::sin(angle), gp::math::cos(angle);
-  return R;
+// The local step of the energy sum_i f(s_i) over the singular values s_i of
+// J, f(s) = (1 - s)^2 below 1 and ease_weight (s - 1)^2 above: the target
+// T = J - grad / 2 = U diag(t(s)) V^T with t(s) = 1 below 1 and
+// 1 + (1 - ease_weight)(s - 1) above (J = U diag(s) V^T in closed form,
+// s_y < 0 when J flips). With ease_weight <= 1 the quadratic |J - T|^2 about
+// the current J majorizes the energy, so the global step never raises it
+// (local/global as majorization-minimization). A flipped J goes to its
+// closest rotation, as in ARAP. Returns T; `energy` gets sum_i f(s_i).
+Eigen::Matrix2d local_target(const Eigen::Matrix2d& J, double ease_weight, double& energy) {
+  // J = Q+ + Q-, Q+ = [e -h; h e] = q R(a) (its similarity part), Q- = [f g;
+  // g -f] = r S(b) (a reflection times r); J's singular values are q + r and
+  // q - r, and a matrix with the same singular vectors and singular values
+  // (tx, ty) is (tx + ty)/2 R(a) + (tx - ty)/2 S(b): no angle is needed.
+  const double e = 0.5 * (J(0, 0) + J(1, 1)), f = 0.5 * (J(0, 0) - J(1, 1));
+  const double g = 0.5 * (J(1, 0) + J(0, 1)), h = 0.5 * (J(1, 0) - J(0, 1));
+  const double q = std::sqrt(e * e + h * h), r = std::sqrt(f * f + g * g);
+  const double sx = q + r, sy = q - r;
+  Eigen::Matrix2d plus, minus;
+  plus << e, -h, h, e;
+  minus << f, g, g, -f;
+  if (!(q > 0.0)) {
+    // No similarity part: J is a reflection times r; its closest rotation is any, take I.
+    energy = (sx - 1.0) * (sx - 1.0) + (sy - 1.0) * (sy - 1.0);
+    return Eigen::Matrix2d::Identity();
+  }
+  if (!(sy > 0.0)) {
+    // Flipped (or degenerate): the closest rotation, as in ARAP.
+    energy = (sx - 1.0) * (sx - 1.0) + (sy - 1.0) * (sy - 1.0);
+    return plus / q;
+  }
+  auto target = [&](double s) { return s < 1.0 ? 1.0 : 1.0 + (1.0 - ease_weight) * (s - 1.0); };
+  auto cost = [&](double s) { return s < 1.0 ? (1.0 - s) * (1.0 - s) : ease_weight * (s - 1.0) * (s - 1.0); };
+  const double tx = target(sx), ty = target(sy);
+  energy = cost(sx) + cost(sy);
+  Eigen::Matrix2d T = (0.5 * (tx + ty) / q) * plus;
+  if (r > 0.0) T += (0.5 * (tx - ty) / r) * minus;
+  return T;
 }
 
 // Dirichlet matrix L = sum_t A_t D_t^T D_t (the cotangent Laplacian, PSD by construction).
@@ -142,75 +190,6 @@ std::pair<int, int> far_pair(const Eigen::MatrixXd& V, const std::vector<int>& l
   return {a, farthest(a)};
 }
 
-Eigen::MatrixXd lscm(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                     const std::vector<LocalTriangle>& T, const std::vector<int>& loop) {
-  const int n = static_cast<int>(V.rows());
-  const Eigen::SparseMatrix<double> L = dirichlet_matrix(T, F, n);
-  std::vector<Triplet> trip;
-  for (int c = 0; c < L.outerSize(); ++c)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(L, c); it; ++it) {
-      trip.emplace_back(static_cast<int>(it.row()), c, it.value());
-      trip.emplace_back(static_cast<int>(it.row()) + n, c + n, it.value());
-    }
-  // Minus the signed flat area 1/2 sum_(i->j) (u_i v_j - u_j v_i) over the
-  // boundary (Levy et al. 2002; Mullen et al. 2008, eq. 4): E_C = E_D - A.
-  for (size_t k = 0; k < loop.size(); ++k) {
-    const int i = loop[k], j = loop[(k + 1) % loop.size()];
-    trip.emplace_back(i, j + n, -0.5);
-    trip.emplace_back(j + n, i, -0.5);
-    trip.emplace_back(j, i + n, 0.5);
-    trip.emplace_back(i + n, j, 0.5);
-  }
-  Eigen::SparseMatrix<double> H(2 * n, 2 * n);
-  H.setFromTriplets(trip.begin(), trip.end());
-  const auto [p, q] = far_pair(V, loop);
-  Eigen::VectorXd fixed = Eigen::VectorXd::Constant(2 * n, std::numeric_limits<double>::quiet_NaN());
-  fixed[p] = 0.0;
-  fixed[p + n] = 0.0;
-  fixed[q] = (V.row(p) - V.row(q)).norm();
-  fixed[q + n] = 0.0;
-  const Eigen::VectorXd x = solve_with_fixed(H, fixed);
-  Eigen::MatrixXd UV(n, 2);
-  UV.col(0) = x.head(n);
-  UV.col(1) = x.tail(n);
-  return UV;
-}
-
-// Tutte's embedding (uniform weights) with the boundary on a circle spaced by
-// 3D arc length: flip-free for any disk (Floater 2003), used when LSCM flips.
-Eigen::MatrixXd tutte(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<int>& loop) {
-  const int n = static_cast<int>(V.rows());
-  double perimeter = 0.0;
-  std::vector<double> s(loop.size(), 0.0);
-  for (size_t k = 0; k < loop.size(); ++k) {
-    s[k] = perimeter;
-    perimeter += (V.row(loop[(k + 1) % loop.size()]) - V.row(loop[k])).norm();
-  }
-  const double radius = perimeter / (2.0 * M_PI);
-  Eigen::VectorXd fixed = Eigen::VectorXd::Constant(2 * n, std::numeric_limits<double>::quiet_NaN());
-  for (size_t k = 0; k < loop.size(); ++k) {
-    const double angle = 2.0 * M_PI * s[k] / perimeter;
-    fixed[loop[k]] = radius * gp::math::cos(angle);
-    fixed[loop[k] + n] = radius * gp::math::sin(angle);
-  }
-  const auto neighbors = vertex_neighbors(F, n);
-  std::vector<Triplet> trip;
-  for (int i = 0; i < n; ++i)
-    for (int j : neighbors[static_cast<size_t>(i)]) {
-      trip.emplace_back(i, i, 1.0);
-      trip.emplace_back(i, j, -1.0);
-      trip.emplace_back(i + n, i + n, 1.0);
-      trip.emplace_back(i + n, j + n, -1.0);
-    }
-  Eigen::SparseMatrix<double> H(2 * n, 2 * n);
-  H.setFromTriplets(trip.begin(), trip.end());
-  const Eigen::VectorXd x = solve_with_fixed(H, fixed);
-  Eigen::MatrixXd UV(n, 2);
-  UV.col(0) = x.head(n);
-  UV.col(1) = x.tail(n);
-  return UV;
-}
-
 int count_flips(const Eigen::MatrixXd& UV, const Eigen::MatrixXi& F) {
   int flips = 0;
   for (int f = 0; f < F.rows(); ++f)
@@ -251,6 +230,63 @@ double max_flip_free_step(const Eigen::MatrixXd& UV, const Eigen::MatrixXd& dUV,
   return t_max;
 }
 
+// Untangles the few flipped triangles a plain flattening can leave (at a
+// sharp concave corner of the outline, or thin triangles along a cut): the
+// vertices within `rings` rings of a flipped triangle are smoothed towards
+// the mean of their neighbours (Jacobi, a few passes; outline vertices
+// towards the mean of their two outline neighbours), the region growing by
+// a ring when that does not suffice. Whether no flip is left.
+bool repair_flips(const Eigen::MatrixXi& F, const std::vector<std::vector<int>>& neighbors,
+                  const std::vector<int>& loop, Eigen::MatrixXd& UV) {
+  const int n = static_cast<int>(UV.rows());
+  std::vector<std::array<int, 2>> outline(static_cast<size_t>(n), {-1, -1});
+  for (size_t k = 0; k < loop.size(); ++k)
+    outline[static_cast<size_t>(loop[k])] = {loop[(k + loop.size() - 1) % loop.size()], loop[(k + 1) % loop.size()]};
+  const Eigen::MatrixXd start = UV;
+  for (int rings = 0; rings <= 6; ++rings) {
+    UV = start;
+    for (int round = 0; round < 4; ++round) {
+      std::vector<char> move(static_cast<size_t>(n), 0);
+      std::vector<int> frontier;
+      for (int f = 0; f < F.rows(); ++f)
+        if (!(signed_area_2d(UV, F.row(f)) > 0.0))
+          for (int k = 0; k < 3; ++k)
+            if (!move[static_cast<size_t>(F(f, k))]) {
+              move[static_cast<size_t>(F(f, k))] = 1;
+              frontier.push_back(F(f, k));
+            }
+      if (frontier.empty()) return true;
+      for (int r = 0; r < rings; ++r) {
+        std::vector<int> next;
+        for (int v : frontier)
+          for (int w : neighbors[static_cast<size_t>(v)])
+            if (!move[static_cast<size_t>(w)]) {
+              move[static_cast<size_t>(w)] = 1;
+              next.push_back(w);
+            }
+        frontier = next;
+      }
+      for (int pass = 0; pass < 10 * (rings + 1); ++pass) {
+        const Eigen::MatrixXd before = UV;
+        for (int v = 0; v < n; ++v) {
+          if (!move[static_cast<size_t>(v)]) continue;
+          const auto& o = outline[static_cast<size_t>(v)];
+          if (o[0] >= 0) {
+            UV.row(v) = 0.5 * (before.row(o[0]) + before.row(o[1]));
+          } else if (!neighbors[static_cast<size_t>(v)].empty()) {
+            Eigen::RowVector2d mean = Eigen::RowVector2d::Zero();
+            for (int w : neighbors[static_cast<size_t>(v)]) mean += before.row(w);
+            UV.row(v) = mean / static_cast<double>(neighbors[static_cast<size_t>(v)].size());
+          }
+        }
+      }
+    }
+    if (count_flips(UV, F) == 0) return true;
+  }
+  UV = start;
+  return false;
+}
+
 }  // namespace
 
 Eigen::MatrixXd principal_stretches(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
@@ -267,7 +303,7 @@ Eigen::MatrixXd principal_stretches(const Eigen::MatrixXd& V, const Eigen::Matri
     // Closed-form singular values of a 2x2 matrix.
     const double e = 0.5 * (J(0, 0) + J(1, 1)), ff = 0.5 * (J(0, 0) - J(1, 1));
     const double g = 0.5 * (J(1, 0) + J(0, 1)), h = 0.5 * (J(1, 0) - J(0, 1));
-    const double q = std::hypot(e, h), r = std::hypot(ff, g);
+    const double q = std::sqrt(e * e + h * h), r = std::sqrt(ff * ff + g * g);
     S.row(f) << q + r, std::abs(q - r);
   }
   return S;
@@ -275,32 +311,38 @@ Eigen::MatrixXd principal_stretches(const Eigen::MatrixXd& V, const Eigen::Matri
 
 DistortionStats distortion_stats(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                  const Eigen::MatrixXd& UV) {
-  DistortionStats st;
   const std::vector<LocalTriangle> T = local_triangles(V, F);
-  const Eigen::MatrixXd S = principal_stretches(V, F, UV);
-  const int m = static_cast<int>(F.rows());
-  std::vector<double> err(static_cast<size_t>(m)), str(static_cast<size_t>(m)), com(static_cast<size_t>(m)),
-      area(static_cast<size_t>(m));
+  Eigen::VectorXd area(F.rows()), area_2d(F.rows());
+  for (int f = 0; f < F.rows(); ++f) {
+    area[f] = T[static_cast<size_t>(f)].area;
+    area_2d[f] = signed_area_2d(UV, F.row(f));
+  }
+  return distortion_stats(principal_stretches(V, F, UV), area, area_2d);
+}
+
+DistortionStats distortion_stats(const Eigen::MatrixXd& S, const Eigen::VectorXd& area_3d,
+                                 const Eigen::VectorXd& area_2d) {
+  DistortionStats st;
+  const int m = static_cast<int>(S.rows());
+  if (m == 0) return st;
+  std::vector<double> err(static_cast<size_t>(m)), str(static_cast<size_t>(m)), com(static_cast<size_t>(m));
   st.max_error = st.max_stretch = st.max_compression = -std::numeric_limits<double>::infinity();
   double weighted = 0.0;
   for (int f = 0; f < m; ++f) {
     const size_t i = static_cast<size_t>(f);
-    area[i] = T[i].area;
-    st.area_3d += area[i];
-    const double a2 = signed_area_2d(UV, F.row(f));
-    st.area_2d += a2;
-    if (!(a2 > 0.0)) ++st.flipped_triangles;
+    st.area_3d += area_3d[f];
+    st.area_2d += area_2d[f];
+    if (!(area_2d[f] > 0.0)) ++st.flipped_triangles;
     str[i] = S(f, 0) - 1.0;
     com[i] = 1.0 - S(f, 1);
     err[i] = std::max(std::abs(S(f, 0) - 1.0), std::abs(S(f, 1) - 1.0));
     st.max_error = std::max(st.max_error, err[i]);
     st.max_stretch = std::max(st.max_stretch, str[i]);
     st.max_compression = std::max(st.max_compression, com[i]);
-    weighted += area[i] * err[i];
+    weighted += area_3d[f] * err[i];
   }
-  if (m == 0) return DistortionStats{};
   st.mean_error = st.area_3d > 0.0 ? weighted / st.area_3d : 0.0;
-  auto percentile = [&](const std::vector<double>& value) {
+  auto percentile = [&](const std::vector<double>& value, double fraction) {
     std::vector<int> order(static_cast<size_t>(m));
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](int a, int b) {
@@ -309,14 +351,35 @@ DistortionStats distortion_stats(const Eigen::MatrixXd& V, const Eigen::MatrixXi
     });
     double acc = 0.0;
     for (int f : order) {
-      acc += area[static_cast<size_t>(f)];
-      if (acc >= 0.95 * st.area_3d) return value[static_cast<size_t>(f)];
+      acc += area_3d[f];
+      if (acc >= fraction * st.area_3d) return value[static_cast<size_t>(f)];
     }
     return value[static_cast<size_t>(order.back())];
   };
-  st.p95_error = percentile(err);
-  st.p95_stretch = percentile(str);
-  st.p95_compression = percentile(com);
+  // Mean of the values over the worst `fraction` of the area.
+  auto worst_mean = [&](const std::vector<double>& value, double fraction) {
+    std::vector<int> order(static_cast<size_t>(m));
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+      return value[static_cast<size_t>(a)] > value[static_cast<size_t>(b)] ||
+             (value[static_cast<size_t>(a)] == value[static_cast<size_t>(b)] && a < b);
+    });
+    const double want = fraction * st.area_3d;
+    double acc = 0.0, sum = 0.0;
+    for (int f : order) {
+      const double take = std::min(area_3d[f], want - acc);
+      if (take <= 0.0) break;
+      sum += take * value[static_cast<size_t>(f)];
+      acc += take;
+    }
+    return acc > 0.0 ? sum / acc : 0.0;
+  };
+  st.worst1_compression = worst_mean(com, 0.01);
+  st.worst5_ease = worst_mean(str, 0.05);
+  st.p95_error = percentile(err, 0.95);
+  st.p95_stretch = percentile(str, 0.95);
+  st.p95_compression = percentile(com, 0.95);
+  st.p99_compression = percentile(com, 0.99);
   return st;
 }
 
@@ -373,34 +436,131 @@ bool polygon_self_intersects(const Eigen::MatrixXd& P, std::vector<int>* vertex_
   return found;
 }
 
-FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                            const FlattenOptions& options, const Eigen::VectorXi* material_ids) {
+Eigen::MatrixXd lscm_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<int>& loop,
+                             double min_weight_fraction) {
   const int n = static_cast<int>(V.rows());
-  const auto loops = boundary_loops(F);
-  if (loops.size() != 1 || euler_characteristic(F) != 1)
-    throw GeometryError("a piece to flatten must be a disk (one boundary loop, Euler characteristic 1); it has " +
-                        std::to_string(loops.size()) + " boundary loops and Euler characteristic " +
-                        std::to_string(euler_characteristic(F)));
-  if (!V.allFinite()) throw GeometryError("the piece has non-finite vertex coordinates");
-  const std::vector<int>& loop = loops.front();
-  const std::vector<LocalTriangle> T = local_triangles(V, F);
-
-  FlattenResult result;
-  Eigen::MatrixXd UV_lscm;
-  bool lscm_solved = false;
-  try {
-    UV_lscm = lscm(V, F, T, loop);
-    double total = 0.0;
-    for (int f = 0; f < F.rows(); ++f) total += signed_area_2d(UV_lscm, F.row(f));
-    if (total < 0.0) UV_lscm.col(0) *= -1.0;
-    lscm_solved = UV_lscm.allFinite();
-  } catch (const NumericalError&) {
-    lscm_solved = false;
+  const std::vector<LocalTriangle> T = weighted_triangles(V, F, min_weight_fraction);
+  // Per triangle, w/2 |D u - R D v|^2 with R the quarter turn (u_x = v_y,
+  // u_y = -v_x): the Cauchy-Riemann residual, whose area-weighted sum is the
+  // conformal energy of Levy et al. 2002 (Mullen et al. 2008, eq. 4: the
+  // Dirichlet energy minus the flat area). Assembled per triangle so that a
+  // thin triangle can weigh more than its area.
+  std::vector<Triplet> trip;
+  for (int f = 0; f < F.rows(); ++f) {
+    const LocalTriangle& t = T[static_cast<size_t>(f)];
+    if (t.degenerate) continue;
+    Eigen::Matrix<double, 2, 6> M;
+    M.leftCols<3>() = t.D;
+    M.rightCols<3>().row(0) = -t.D.row(1);
+    M.rightCols<3>().row(1) = t.D.row(0);
+    const Eigen::Matrix<double, 6, 6> K = t.area * M.transpose() * M;
+    int idx[6];
+    for (int k = 0; k < 3; ++k) idx[k] = F(f, k), idx[k + 3] = F(f, k) + n;
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j < 6; ++j) trip.emplace_back(idx[i], idx[j], K(i, j));
   }
+  Eigen::SparseMatrix<double> H(2 * n, 2 * n);
+  H.setFromTriplets(trip.begin(), trip.end());
+  const auto [p, q] = far_pair(V, loop);
+  Eigen::VectorXd fixed = Eigen::VectorXd::Constant(2 * n, std::numeric_limits<double>::quiet_NaN());
+  fixed[p] = 0.0;
+  fixed[p + n] = 0.0;
+  fixed[q] = (V.row(p) - V.row(q)).norm();
+  fixed[q + n] = 0.0;
+  const Eigen::VectorXd x = solve_with_fixed(H, fixed);
+  Eigen::MatrixXd UV(n, 2);
+  UV.col(0) = x.head(n);
+  UV.col(1) = x.tail(n);
+  double total = 0.0;
+  for (int f = 0; f < F.rows(); ++f) total += signed_area_2d(UV, F.row(f));
+  if (total < 0.0) UV.col(0) *= -1.0;
+  return UV;
+}
 
+Eigen::MatrixXd tutte_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<int>& loop) {
+  const int n = static_cast<int>(V.rows());
+  double perimeter = 0.0;
+  std::vector<double> s(loop.size(), 0.0);
+  for (size_t k = 0; k < loop.size(); ++k) {
+    s[k] = perimeter;
+    perimeter += (V.row(loop[(k + 1) % loop.size()]) - V.row(loop[k])).norm();
+  }
+  const double radius = perimeter / (2.0 * M_PI);
+  Eigen::VectorXd fixed = Eigen::VectorXd::Constant(2 * n, std::numeric_limits<double>::quiet_NaN());
+  for (size_t k = 0; k < loop.size(); ++k) {
+    const double angle = 2.0 * M_PI * s[k] / perimeter;
+    fixed[loop[k]] = radius * gp::math::cos(angle);
+    fixed[loop[k] + n] = radius * gp::math::sin(angle);
+  }
+  const auto neighbors = vertex_neighbors(F, n);
+  std::vector<Triplet> trip;
+  for (int i = 0; i < n; ++i)
+    for (int j : neighbors[static_cast<size_t>(i)]) {
+      trip.emplace_back(i, i, 1.0);
+      trip.emplace_back(i, j, -1.0);
+      trip.emplace_back(i + n, i + n, 1.0);
+      trip.emplace_back(i + n, j + n, -1.0);
+    }
+  Eigen::SparseMatrix<double> H(2 * n, 2 * n);
+  H.setFromTriplets(trip.begin(), trip.end());
+  const Eigen::VectorXd x = solve_with_fixed(H, fixed);
+  Eigen::MatrixXd UV(n, 2);
+  UV.col(0) = x.head(n);
+  UV.col(1) = x.tail(n);
+  return UV;
+}
+
+double flattening_energy(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& UV,
+                         const FlattenOptions& options, Eigen::MatrixXd* gradient) {
+  const std::vector<LocalTriangle> T = weighted_triangles(V, F, options.min_weight_fraction);
+  const std::vector<LocalTriangle> T0 = local_triangles(V, F);
+  const double ease_weight = std::clamp(options.ease_weight, 0.0, 1.0);
+  if (gradient) gradient->setZero(UV.rows(), 2);
+  double energy = 0.0;
+  for (int f = 0; f < F.rows(); ++f) {
+    const LocalTriangle& t = T[static_cast<size_t>(f)];
+    if (t.degenerate) continue;
+    const Eigen::Matrix2d J = jacobian(t, UV, F.row(f));
+    double e = 0.0;
+    const Eigen::Matrix2d target = local_target(J, ease_weight, e);
+    energy += t.area * e;
+    if (gradient) {
+      // dE/dJ = 2 w (J - T); J = (D U)^T, so dE/dU = D^T (dE/dJ)^T.
+      const Eigen::Matrix<double, 3, 2> g = 2.0 * t.area * t.D.transpose() * (J - target).transpose();
+      for (int k = 0; k < 3; ++k) gradient->row(F(f, k)) += g.row(k);
+    }
+  }
+  if (options.boundary_weight > 0.0) {
+    const Eigen::MatrixXi TT = triangle_adjacency(F);
+    for (int f = 0; f < F.rows(); ++f)
+      for (int k = 0; k < 3; ++k)
+        if (TT(f, k) < 0 && !T0[static_cast<size_t>(f)].degenerate) {
+          const int i = F(f, k), j = F(f, (k + 1) % 3);
+          const double l = (V.row(i) - V.row(j)).norm();
+          if (!(l > 0.0)) continue;
+          const double w = options.boundary_weight * T0[static_cast<size_t>(f)].area / (l * l);
+          const Eigen::RowVector2d x = UV.row(i) - UV.row(j);
+          const double len = x.norm();
+          energy += w * (len - l) * (len - l);
+          if (gradient && len > 0.0) {
+            const Eigen::RowVector2d g = 2.0 * w * (len - l) * x / len;
+            gradient->row(i) += g;
+            gradient->row(j) -= g;
+          }
+        }
+  }
+  return energy;
+}
+
+ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::MatrixXd& UV,
+                     const FlattenOptions& options, bool injective) {
+  const int n = static_cast<int>(V.rows());
+  if (UV.rows() != n || UV.cols() != 2) throw GeometryError("arap_flatten: the start has the wrong size");
+  const std::vector<LocalTriangle> T = weighted_triangles(V, F, options.min_weight_fraction);
+  const double ease_weight = std::clamp(options.ease_weight, 0.0, 1.0);
   // Boundary edges (i -> j, 3D length l, weight w): the term
   // w |u_i - u_j - l d|^2 with d the current unit direction of the flat edge
-  // joins ARAP's local step (d) and global step (a constant matrix), like the
+  // joins the local step (d) and the global step (a constant matrix), like the
   // edge springs of a local/global solver (Liu et al. 2008; Bouaziz et al.
   // 2014, projective dynamics).
   struct BoundaryEdge {
@@ -409,16 +569,19 @@ FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
   };
   std::vector<BoundaryEdge> edges;
   if (options.boundary_weight > 0.0) {
+    // Relative to the edge's own triangle at its true area: a thin triangle's
+    // raised weight (above) must not make its short edge a hard constraint.
+    const std::vector<LocalTriangle> T0 = local_triangles(V, F);
     const Eigen::MatrixXi TT = triangle_adjacency(F);
     for (int f = 0; f < F.rows(); ++f)
       for (int k = 0; k < 3; ++k)
         if (TT(f, k) < 0 && !T[static_cast<size_t>(f)].degenerate) {
           const int i = F(f, k), j = F(f, (k + 1) % 3);
           const double l = (V.row(i) - V.row(j)).norm();
-          if (l > 0.0) edges.push_back({i, j, l, options.boundary_weight * T[static_cast<size_t>(f)].area / (l * l)});
+          if (l > 0.0) edges.push_back({i, j, l, options.boundary_weight * T0[static_cast<size_t>(f)].area / (l * l)});
         }
   }
-  // ARAP: one pinned vertex removes the translation; L is factorized once.
+  // One pinned vertex removes the translation; L is factorized once.
   Eigen::SparseMatrix<double> L = dirichlet_matrix(T, F, n);
   if (!edges.empty()) {
     std::vector<Triplet> extra;
@@ -432,7 +595,8 @@ FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     E.setFromTriplets(extra.begin(), extra.end());
     L += E;
   }
-  const int pin = loop.front();
+  const auto loops = boundary_loops(F);
+  const int pin = loops.empty() ? 0 : loops.front().front();
   std::vector<int> free_index(static_cast<size_t>(n), -1);
   int m = 0;
   for (int i = 0; i < n; ++i)
@@ -443,6 +607,14 @@ FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
       const int fr = free_index[static_cast<size_t>(it.row())], fc = free_index[static_cast<size_t>(c)];
       if (fr >= 0 && fc >= 0) trip.emplace_back(fr, fc, it.value());
     }
+  // A vertex whose triangles are all degenerate carries no energy: a tiny
+  // proximal term eps |u - u_current|^2 keeps the system definite without
+  // moving the fixed point (its right-hand side is added in the global step).
+  double diagonal = 0.0;
+  for (const auto& t : trip)
+    if (t.row() == t.col()) diagonal += t.value();
+  const double proximal = 1e-10 * diagonal / std::max(1, m);
+  for (int i = 0; i < m; ++i) trip.emplace_back(i, i, proximal);
   CholmodSolver solver{kFlattenSolver};
   if (m > 0) {
     Eigen::SparseMatrix<double> A(m, m);
@@ -450,22 +622,23 @@ FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     solver.compute(A);
   }
 
-  auto energy_and_rhs = [&](const Eigen::MatrixXd& UV, Eigen::MatrixXd* rhs) {
+  auto energy_and_rhs = [&](const Eigen::MatrixXd& X, Eigen::MatrixXd* rhs) {
     double energy = 0.0;
     if (rhs) rhs->setZero(n, 2);
     for (int f = 0; f < F.rows(); ++f) {
       const LocalTriangle& t = T[static_cast<size_t>(f)];
       if (t.degenerate) continue;
-      const Eigen::Matrix2d J = jacobian(t, UV, F.row(f));
-      const Eigen::Matrix2d R = closest_rotation(J);
-      energy += t.area * (J - R).squaredNorm();
+      const Eigen::Matrix2d J = jacobian(t, X, F.row(f));
+      double e = 0.0;
+      const Eigen::Matrix2d R = local_target(J, ease_weight, e);
+      energy += t.area * e;
       if (rhs) {
         const Eigen::Matrix<double, 3, 2> b = t.area * t.D.transpose() * R.transpose();
         for (int k = 0; k < 3; ++k) rhs->row(F(f, k)) += b.row(k);
       }
     }
     for (const auto& e : edges) {
-      const Eigen::RowVector2d x = UV.row(e.i) - UV.row(e.j);
+      const Eigen::RowVector2d x = X.row(e.i) - X.row(e.j);
       const double len = x.norm();
       const Eigen::RowVector2d target = len > 0.0 ? Eigen::RowVector2d(e.length * x / len) : Eigen::RowVector2d(e.length, 0.0);
       energy += e.weight * (x - target).squaredNorm();
@@ -479,71 +652,190 @@ FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
   const double area_scale = std::max(1e-300, std::accumulate(T.begin(), T.end(), 0.0,
                                                              [](double s, const LocalTriangle& t) { return s + t.area; }));
 
-  // Local/global iterations from UV. With `injective`, every global step is
-  // shortened to keep all triangles positive (UV must start flip-free) and
-  // the iteration only stops on a small decrease after a full step.
-  auto arap = [&](Eigen::MatrixXd& UV, bool injective, int& iterations) {
-    Eigen::MatrixXd rhs;
-    double energy = energy_and_rhs(UV, &rhs);
-    Eigen::MatrixXd B(m, 2), X;
-    iterations = 0;
-    for (int it = 0; it < options.max_iterations && m > 0; ++it) {
-      // Global step (Liu et al. 2008, eq. 7) with the rotations of the local step.
-      for (int i = 0; i < n; ++i) {
-        const int fi = free_index[static_cast<size_t>(i)];
-        if (fi >= 0) B.row(fi) = rhs.row(i);
+  ArapRun run;
+  Eigen::MatrixXd rhs;
+  run.energy = energy_and_rhs(UV, &rhs);
+  Eigen::MatrixXd B(m, 2), X;
+  // The global step G(UV): the minimizer for the local step's targets.
+  auto global_step = [&](const Eigen::MatrixXd& from, const Eigen::MatrixXd& targets_rhs) {
+    for (int i = 0; i < n; ++i) {
+      const int fi = free_index[static_cast<size_t>(i)];
+      if (fi >= 0) B.row(fi) = targets_rhs.row(i) + proximal * from.row(i);
+    }
+    for (Eigen::SparseMatrix<double>::InnerIterator e(L, pin); e; ++e) {
+      const int fr = free_index[static_cast<size_t>(e.row())];
+      if (fr >= 0) B.row(fr) -= e.value() * from.row(pin);
+    }
+    solver.solve(B, X);
+    Eigen::MatrixXd target = from;
+    for (int i = 0; i < n; ++i) {
+      const int fi = free_index[static_cast<size_t>(i)];
+      if (fi >= 0) target.row(i) = X.row(fi);
+    }
+    return target;
+  };
+  // Anderson acceleration of the fixed-point map UV -> G(UV) (Peng et al.
+  // 2018, "Anderson acceleration for geometry optimization and physics
+  // simulation"): the next iterate mixes the last `window` global steps; it
+  // is kept only where it lowers the energy, else the plain step is taken
+  // and the history restarts. Local/global alone needs hundreds of
+  // iterations on a whole shirt panel.
+  const int window = std::max(0, options.anderson_window);
+  std::vector<Eigen::VectorXd> dG, dF;
+  Eigen::VectorXd g_prev, f_prev;
+  bool have_prev = false;
+  auto flat = [](const Eigen::MatrixXd& M) { return Eigen::Map<const Eigen::VectorXd>(M.data(), M.size()); };
+  for (int it = 0; it < options.max_iterations && m > 0; ++it) {
+    const Eigen::MatrixXd target = global_step(UV, rhs);
+    const Eigen::VectorXd g = flat(target), f = g - flat(UV);
+    if (have_prev) {
+      dG.push_back(g - g_prev);
+      dF.push_back(f - f_prev);
+      if (static_cast<int>(dG.size()) > window) {
+        dG.erase(dG.begin());
+        dF.erase(dF.begin());
       }
-      for (int c = 0; c < L.outerSize(); ++c)
-        for (Eigen::SparseMatrix<double>::InnerIterator e(L, c); e; ++e) {
-          const int fr = free_index[static_cast<size_t>(e.row())];
-          if (fr >= 0 && c == pin) B.row(fr) -= e.value() * UV.row(pin);
-        }
-      solver.solve(B, X);
-      Eigen::MatrixXd target = UV;
-      for (int i = 0; i < n; ++i) {
-        const int fi = free_index[static_cast<size_t>(i)];
-        if (fi >= 0) target.row(i) = X.row(fi);
+    }
+    g_prev = g;
+    f_prev = f;
+    have_prev = true;
+    Eigen::MatrixXd next = target;
+    bool accelerated = false;
+    if (!dF.empty() && window > 0) {
+      const int k = static_cast<int>(dF.size());
+      Eigen::MatrixXd A(f.size(), k);
+      for (int j = 0; j < k; ++j) A.col(j) = dF[static_cast<size_t>(j)];
+      Eigen::MatrixXd AtA = A.transpose() * A;
+      AtA.diagonal().array() += 1e-10 * (AtA.diagonal().maxCoeff() + 1e-300);
+      const Eigen::VectorXd theta = AtA.ldlt().solve(A.transpose() * f);
+      if (theta.allFinite()) {
+        Eigen::VectorXd x = g;
+        for (int j = 0; j < k; ++j) x -= theta[j] * dG[static_cast<size_t>(j)];
+        next = Eigen::Map<const Eigen::MatrixXd>(x.data(), n, 2);
+        accelerated = true;
       }
-      const Eigen::MatrixXd dUV = target - UV;
-      double step = 1.0;
+    }
+    double step = 1.0;
+    auto advance = [&](const Eigen::MatrixXd& to) {
+      const Eigen::MatrixXd dUV = to - UV;
+      step = 1.0;
       if (injective) {
         const double t_root = max_flip_free_step(UV, dUV, F, 1.0 / options.line_search_margin);
         step = std::min(1.0, options.line_search_margin * t_root);
       }
-      UV += step * dUV;
-      const double next_energy = energy_and_rhs(UV, &rhs);
-      iterations = it + 1;
-      const double decrease = energy - next_energy;
-      energy = next_energy;
-      if (energy <= 1e-24 * area_scale) break;
-      if (decrease <= options.tolerance * energy && step == 1.0) break;
+      return Eigen::MatrixXd(UV + step * dUV);
+    };
+    Eigen::MatrixXd candidate = advance(next);
+    Eigen::MatrixXd candidate_rhs;
+    double next_energy = energy_and_rhs(candidate, &candidate_rhs);
+    // Where a flat triangle is almost degenerate the flip-free step can be
+    // so short that rounding still flips it: such a step is refused.
+    const bool flips = injective && count_flips(candidate, F) > 0;
+    if (accelerated && (flips || !(next_energy < run.energy))) {
+      // The mixed iterate does not descend: the plain step, history cleared.
+      dG.clear();
+      dF.clear();
+      candidate = advance(target);
+      next_energy = energy_and_rhs(candidate, &candidate_rhs);
     }
-    return energy;
-  };
+    if (injective && count_flips(candidate, F) > 0) break;
+    UV = candidate;
+    rhs = candidate_rhs;
+    run.iterations = it + 1;
+    const double decrease = run.energy - next_energy;
+    run.energy = next_energy;
+    if (run.energy <= 1e-24 * area_scale) break;
+    if (decrease <= options.tolerance * run.energy && step == 1.0) break;
+  }
+  return run;
+}
 
-  // Unconstrained ARAP from LSCM first (fastest to converge); if it leaves
-  // flipped triangles, injective ARAP from a flip-free start (LSCM when it has
-  // no flips, else Tutte's embedding) guarantees a flip-free result.
+FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                            const FlattenOptions& options, const Eigen::VectorXi* material_ids) {
+  const auto loops = boundary_loops(F);
+  if (loops.size() != 1 || euler_characteristic(F) != 1)
+    throw GeometryError("a piece to flatten must be a disk (one boundary loop, Euler characteristic 1); it has " +
+                        std::to_string(loops.size()) + " boundary loops and Euler characteristic " +
+                        std::to_string(euler_characteristic(F)));
+  if (!V.allFinite()) throw GeometryError("the piece has non-finite vertex coordinates");
+  const std::vector<int>& loop = loops.front();
+
+  FlattenResult result;
+  Eigen::MatrixXd UV_lscm;
+  bool lscm_solved = false;
+  try {
+    UV_lscm = lscm_flatten(V, F, loop, options.min_weight_fraction);
+    lscm_solved = UV_lscm.allFinite();
+  } catch (const NumericalError&) {
+    lscm_solved = false;
+  }
+  // Plain iterations from LSCM first (fastest to converge). Flipped
+  // triangles they leave are untangled locally and the iterations resumed
+  // injectively from there; if that fails, injective iterations from a
+  // flip-free start (LSCM when it has no flips, else Tutte's embedding)
+  // guarantee a flip-free result.
   bool done = false;
   if (lscm_solved) {
     result.UV = UV_lscm;
     result.initialization = "lscm";
-    result.energy = arap(result.UV, false, result.iterations);
+    const ArapRun run = arap_flatten(V, F, result.UV, options, false);
+    result.iterations = run.iterations;
+    result.energy = run.energy;
     done = result.UV.allFinite() && (count_flips(result.UV, F) == 0 || !options.injective_fallback);
+    if (!done && result.UV.allFinite()) {
+      Eigen::MatrixXd repaired = result.UV;
+      if (repair_flips(F, vertex_neighbors(F, static_cast<int>(V.rows())), loop, repaired)) {
+        // Plain iterations again from the untangled map (they often settle
+        // without the flips now); injective ones where they do not.
+        Eigen::MatrixXd again = repaired;
+        const ArapRun plain = arap_flatten(V, F, again, options, false);
+        result.iterations += plain.iterations;
+        if (again.allFinite() && count_flips(again, F) == 0) {
+          result.UV = again;
+          result.initialization = "lscm, untangled";
+          result.energy = plain.energy;
+          done = true;
+        } else {
+          result.UV = repaired;
+          result.initialization = "lscm, untangled, injective";
+          FlattenOptions longer = options;
+          longer.max_iterations = 4 * options.max_iterations;
+          const ArapRun more = arap_flatten(V, F, result.UV, longer, true);
+          result.iterations += more.iterations;
+          result.energy = more.energy;
+          done = count_flips(result.UV, F) == 0;
+        }
+      }
+    }
   }
   if (!done) {
+    const FlattenResult plain = result;
+    bool start = true;
     if (lscm_solved && count_flips(UV_lscm, F) == 0) {
       result.UV = UV_lscm;
       result.initialization = "lscm, injective";
     } else {
-      result.UV = tutte(V, F, loop);
+      result.UV = tutte_flatten(V, F, loop);
       result.initialization = "tutte, injective";
-      if (count_flips(result.UV, F) != 0)
-        throw NumericalError("Tutte's embedding of the piece has flipped triangles (the piece is not 3-connected)");
+      // A piece that is not 3-connected (a vertex whose neighbours all lie
+      // on the outline) can fold even in Tutte's embedding.
+      start = count_flips(result.UV, F) == 0;
     }
-    int more = 0;
-    result.energy = arap(result.UV, true, more);
-    result.iterations += more;
+    if (start) {
+      const ArapRun run = arap_flatten(V, F, result.UV, options, true);
+      result.iterations += run.iterations;
+      result.energy = run.energy;
+    } else if (plain.UV.size() > 0 && plain.UV.allFinite()) {
+      // No flip-free start: the plain flattening with its flips (reported).
+      result = plain;
+      result.initialization += ", flips kept";
+    } else {
+      // Nor a plain one (LSCM failed): plain iterations from Tutte's folded embedding.
+      const ArapRun run = arap_flatten(V, F, result.UV, options, false);
+      result.initialization = "tutte, flips kept";
+      result.iterations = run.iterations;
+      result.energy = run.energy;
+    }
   }
   if (!result.UV.allFinite()) throw NumericalError("the flattening produced non-finite coordinates");
   result.stats = distortion_stats(V, F, result.UV);

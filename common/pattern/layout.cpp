@@ -89,7 +89,36 @@ Polygon2 bridged_outline(const std::vector<int>& loop, const Eigen::VectorXi& re
   return out;
 }
 
+bool overlaps(const Box2& a, const Box2& b) {
+  return a.lo.x() < b.hi.x() && b.lo.x() < a.hi.x() && a.lo.y() < b.hi.y() && b.lo.y() < a.hi.y();
+}
+
 }  // namespace
+
+PieceLabel piece_label(const LaidOutPiece& piece, const std::string& title, const std::string& name) {
+  PieceLabel l;
+  l.line1 = title + " " + name;
+  l.line2 = std::string("cut 1, right side up, grain ") + (piece.grain_from_body_vertical ? "vertical" : "along the piece");
+  const double room = 2.0 * 0.8 * piece.label_room;  // usable width across the disc
+  const double w1 = 0.6 * static_cast<double>(l.line1.size()), w2 = 0.6 * static_cast<double>(l.line2.size());
+  l.size1 = std::max(0.001, std::min({0.01, piece.label_room / 4.0, room / w1}));
+  l.size2 = std::max(0.0008, std::min(0.6 * l.size1, room / w2));
+  l.line1_at = piece.label_at + Eigen::Vector2d(0.0, 0.2 * l.size1);
+  l.line2_at = piece.label_at - Eigen::Vector2d(0.0, 1.2 * l.size2);
+  const double half = 0.5 * std::max(w1 * l.size1, w2 * l.size2);
+  l.box.lo = piece.label_at + Eigen::Vector2d(-half, -1.5 * l.size2);
+  l.box.hi = piece.label_at + Eigen::Vector2d(half, 1.1 * l.size1);
+  return l;
+}
+
+Box2 seam_label_box(const Eigen::Vector2d& at, size_t characters) {
+  // 3 mm text centred on `at`.
+  const double width = 0.6 * 0.003 * static_cast<double>(characters);
+  Box2 b;
+  b.lo = at - Eigen::Vector2d(0.5 * width, 0.0005);
+  b.hi = at + Eigen::Vector2d(0.5 * width, 0.003);
+  return b;
+}
 
 Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options) {
   Layout layout;
@@ -108,7 +137,7 @@ Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options) {
     for (int v : p.boundary) out.outline.push_back(out.UV.row(v).transpose());
     const std::string what = "piece " + p.name;
     if (options.seam_allowance > 0.0)
-      out.allowance = offset_polygon(bridged_outline(p.boundary, p.rest_vertex_ids, out.UV), options.seam_allowance,
+      out.allowance = offset_polygon(bridged_outline(p.boundary, p.mesh_vertex_ids, out.UV), options.seam_allowance,
                                      options.simplify_tolerance, what);
     lo[i] = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
     hi[i] = -lo[i];
@@ -117,17 +146,46 @@ Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options) {
       for (const auto& q : poly) lo[i] = lo[i].cwiseMin(q), hi[i] = hi[i].cwiseMax(q);
   }
 
-  // Shelf packing, tallest pieces first (ties by piece order).
-  std::vector<size_t> order(count);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    return (hi[a].y() - lo[a].y()) > (hi[b].y() - lo[b].y());
-  });
+  // Shelf packing, tallest groups first (ties by piece order), where a
+  // group is a piece or a mirrored pair ("left X" and "right X"), laid side
+  // by side: the body's right first, as a tailor sees the garment from the front.
+  std::vector<std::vector<size_t>> groups;
+  std::vector<char> grouped(count, 0);
+  for (size_t i = 0; i < count; ++i) {
+    if (grouped[i]) continue;
+    grouped[i] = 1;
+    std::vector<size_t> g{i};
+    const std::string& name = pattern.pieces[i].name;
+    for (const auto& [from, to] : {std::pair<std::string, std::string>{"left ", "right "}, {"right ", "left "}})
+      if (name.rfind(from, 0) == 0)
+        for (size_t j = 0; j < count; ++j)
+          if (!grouped[j] && pattern.pieces[j].name == to + name.substr(from.size())) {
+            grouped[j] = 1;
+            g.push_back(j);
+            break;
+          }
+    if (g.size() == 2 && pattern.pieces[g[0]].name.rfind("left ", 0) == 0) std::swap(g[0], g[1]);
+    groups.push_back(g);
+  }
+  auto height = [&](const std::vector<size_t>& g) {
+    double h = 0.0;
+    for (size_t i : g) h = std::max(h, hi[i].y() - lo[i].y());
+    return h;
+  };
+  std::stable_sort(groups.begin(), groups.end(),
+                   [&](const std::vector<size_t>& a, const std::vector<size_t>& b) { return height(a) > height(b); });
+  std::vector<size_t> order;
+  for (const auto& g : groups) order.insert(order.end(), g.begin(), g.end());
   double x = options.margin, y = options.margin, row_height = 0.0, width = 0.0;
   std::vector<Eigen::Vector2d> shift(count);
-  for (size_t i : order) {
-    const Eigen::Vector2d size = hi[i] - lo[i];
-    if (x > options.margin && x + size.x() > options.sheet_width - options.margin) {
+  for (size_t k = 0; k < order.size(); ++k) {
+    const size_t i = order[k];
+    Eigen::Vector2d size = hi[i] - lo[i];
+    // A pair starts a new shelf when both do not fit on this one.
+    double need = size.x();
+    for (const auto& g : groups)
+      if (g.size() == 2 && g[0] == i) need += options.gap + (hi[g[1]] - lo[g[1]]).x();
+    if (x > options.margin && x + need > options.sheet_width - options.margin) {
       x = options.margin;
       y += row_height + options.gap;
       row_height = 0.0;
@@ -174,13 +232,25 @@ Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options) {
   std::vector<double> seam_start(pattern.seams.size(), std::numeric_limits<double>::infinity());
   for (const CutEdge& e : pattern.cut.edges)
     seam_start[static_cast<size_t>(e.seam)] = std::min(seam_start[static_cast<size_t>(e.seam)], e.arc_start);
+  // Seam labels are placed at the middle of their seam, else at a third or
+  // two thirds of it, wherever their text box overlaps no other label
+  // (nor the piece's own label); a seam whose label fits nowhere has none.
+  std::vector<Box2> taken;
+  for (size_t i = 0; i < count; ++i) taken.push_back(piece_label(layout.pieces[i], options.title, pattern.pieces[i].name).box);
   for (size_t s = 0; s < pattern.seams.size(); ++s) {
     const double start = seam_start[s], end = seam_length[s];
     if (!(end > start)) continue;
+    const bool dart = pattern.seams[s].kind == "dart";
     std::vector<double> at;
-    for (double a = start; a < end - 0.25 * options.notch_spacing; a += options.notch_spacing) at.push_back(a);
-    at.push_back(end);
-    const double middle = 0.5 * (start + end);
+    if (dart) {
+      at.push_back(start);  // a dart is notched at its mouth only; its tip gets a drill hole
+    } else {
+      for (double a = start; a < end - 0.25 * options.notch_spacing; a += options.notch_spacing) at.push_back(a);
+      at.push_back(end);
+    }
+    std::vector<SeamLabel> candidates[3];
+    const double label_at[3] = {0.5, 1.0 / 3.0, 2.0 / 3.0};
+    DartMark mark;
     for (const CutEdge& e : pattern.cut.edges) {
       if (e.seam != static_cast<int>(s)) continue;
       for (int side = 0; side < 2; ++side) {
@@ -203,12 +273,41 @@ Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options) {
           const Eigen::Vector2d q = pa + t * (pb - pa);
           layout.notches.push_back({static_cast<int>(s), piece, q, outward, q + options.notch_length * outward, s_at, side});
         }
-        if (middle >= e0 && middle < e1) {
-          const double t = e.length > 0.0 ? (middle - e0) / e.length : 0.0;
-          layout.seam_labels.push_back({static_cast<int>(s), piece, side, pa + t * (pb - pa) - 0.008 * outward});
+        for (int c = 0; c < 3; ++c) {
+          const double m = start + label_at[c] * (end - start);
+          if (m >= e0 && m < e1) {
+            const double t = e.length > 0.0 ? (m - e0) / e.length : 0.0;
+            candidates[c].push_back({static_cast<int>(s), piece, side, pa + t * (pb - pa) - 0.008 * outward});
+          }
+        }
+        if (dart) {
+          mark.seam = static_cast<int>(s);
+          mark.piece = piece;
+          if (e.arc_start == start) (side == 0 ? mark.mouth_left : mark.mouth_right) = pa;
+          if (e1 >= end) mark.tip = pb;
         }
       }
     }
+    if (dart && mark.piece >= 0) {
+      // The drill hole: a centimetre short of the tip, on the fold line.
+      const Eigen::Vector2d mouth = 0.5 * (mark.mouth_left + mark.mouth_right);
+      const Eigen::Vector2d along = mark.tip - mouth;
+      const double length = along.norm();
+      mark.drill = length > 0.02 ? Eigen::Vector2d(mark.tip - 0.01 * along / length) : Eigen::Vector2d(mark.tip);
+      layout.darts.push_back(mark);
+    }
+    // One label per side of the seam, each at the first place that is free.
+    for (int side = 0; side < 2; ++side)
+      for (int c = 0; c < 3; ++c) {
+        const auto it = std::find_if(candidates[c].begin(), candidates[c].end(),
+                                     [&](const SeamLabel& l) { return l.side == side; });
+        if (it == candidates[c].end()) continue;
+        const Box2 box = seam_label_box(it->at, pattern.seams[s].name.size());
+        if (std::any_of(taken.begin(), taken.end(), [&](const Box2& o) { return overlaps(box, o); })) continue;
+        taken.push_back(box);
+        layout.seam_labels.push_back(*it);
+        break;
+      }
   }
   return layout;
 }

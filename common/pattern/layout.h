@@ -13,12 +13,13 @@
 #include <vector>
 #include <Eigen/Core>
 
-#include "pattern/auto_cut.h"
+#include "pattern/pattern.h"
 #include "pattern/seam_allowance.h"
 
 namespace gp {
 
 struct LayoutOptions {
+  std::string title = "pattern";  // the garment's name, on every piece's label
   double seam_allowance = 0.01;  // metres; 0 for none
   double gap = 0.01;             // metres between the cutting lines of neighbouring pieces
   double sheet_width = 1.5;      // metres: width of the fabric / paper roll
@@ -45,6 +46,17 @@ struct SeamLabel {
   Eigen::Vector2d at = Eigen::Vector2d::Zero();  // inside the piece, near the middle of its side
 };
 
+// A dart as drawn: its legs meet the outline at mouth_left / mouth_right
+// (notched there), its fold line runs from their midpoint to the tip, and a
+// drill hole marks a centimetre short of the tip.
+struct DartMark {
+  int seam = -1;
+  int piece = -1;
+  Eigen::Vector2d mouth_left = Eigen::Vector2d::Zero(), mouth_right = Eigen::Vector2d::Zero();
+  Eigen::Vector2d tip = Eigen::Vector2d::Zero();
+  Eigen::Vector2d drill = Eigen::Vector2d::Zero();
+};
+
 struct LaidOutPiece {
   Eigen::MatrixXd UV;             // #Vp by 2, sheet positions (metres)
   Polygon2 outline;               // sewing line, counter-clockwise (the piece's boundary loop)
@@ -59,10 +71,32 @@ struct LaidOutPiece {
 struct Layout {
   std::vector<LaidOutPiece> pieces;
   std::vector<Notch> notches;
-  std::vector<SeamLabel> seam_labels;
+  std::vector<SeamLabel> seam_labels;  // none overlaps another label
+  std::vector<DartMark> darts;
   double width = 0.0, height = 0.0;  // sheet size, metres
 };
 
+// Lays the pieces out: mirrored pairs ("left X", "right X") side by side,
+// seam labels where they overlap no other label.
 Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options);
+
+// Axis-aligned box on the sheet (metres).
+struct Box2 {
+  Eigen::Vector2d lo = Eigen::Vector2d::Zero(), hi = Eigen::Vector2d::Zero();
+};
+// A piece's label as the writers set it: two lines centred on label_at
+// (line 1 "<title> <piece name>", line 2 how to cut it), their font sizes
+// (metres) as large as 10 mm but small enough for both lines to fit the
+// disc of radius label_room; `box` bounds both (widths estimated at 0.6 of
+// the font size per character).
+struct PieceLabel {
+  std::string line1, line2;
+  Eigen::Vector2d line1_at = Eigen::Vector2d::Zero(), line2_at = Eigen::Vector2d::Zero();  // baseline centres
+  double size1 = 0.0, size2 = 0.0;
+  Box2 box;
+};
+PieceLabel piece_label(const LaidOutPiece& piece, const std::string& title, const std::string& name);
+// The box a seam's name (`characters` long, 3 mm text centred on `at`) takes.
+Box2 seam_label_box(const Eigen::Vector2d& at, size_t characters);
 
 }  // namespace gp

@@ -61,25 +61,73 @@ StretchFigures stretch_figures(const Eigen::MatrixXd& X, const Eigen::MatrixXi& 
 }  // namespace
 
 std::vector<cloth::TriangleRest> sewn_rest_triangles(const Pattern& pattern, const Layout& layout, int face_count) {
+  const PatternMesh& mesh = pattern.mesh;
+  if (face_count != mesh.rest_F.rows()) throw GeometryError("the pattern was not made from this rest shape");
+  // Sheet position of pattern-mesh face g's corner k, turned by -90 degrees
+  // to (y, -x): the grain (+y) becomes the warp (+u).
+  std::vector<int> index_in_piece(static_cast<size_t>(mesh.F.rows()), -1);
+  for (const PatternPiece& p : pattern.pieces)
+    for (size_t i = 0; i < p.face_ids.size(); ++i) index_in_piece[static_cast<size_t>(p.face_ids[i])] = static_cast<int>(i);
+  auto sheet = [&](int g, int k) {
+    const int c = pattern.piece_of_face[static_cast<size_t>(g)];
+    const PatternPiece& p = pattern.pieces[static_cast<size_t>(c)];
+    const Eigen::RowVector2d x = layout.pieces[static_cast<size_t>(c)].UV.row(p.F(index_in_piece[static_cast<size_t>(g)], k));
+    return Eigen::Vector2d(x.y(), -x.x());
+  };
+  std::vector<std::vector<int>> parts(static_cast<size_t>(face_count));
+  for (int g = 0; g < mesh.F.rows(); ++g) parts[static_cast<size_t>(mesh.rest_face[static_cast<size_t>(g)])].push_back(g);
   std::vector<cloth::TriangleRest> rest(static_cast<size_t>(face_count));
-  std::vector<char> done(static_cast<size_t>(face_count), 0);
-  for (size_t c = 0; c < pattern.pieces.size(); ++c) {
-    const PatternPiece& p = pattern.pieces[c];
-    const Eigen::MatrixXd& UV = layout.pieces[c].UV;
-    for (size_t i = 0; i < p.face_ids.size(); ++i) {
+  for (int f = 0; f < face_count; ++f) {
+    const auto& gs = parts[static_cast<size_t>(f)];
+    if (gs.empty()) throw GeometryError("the pattern does not cover every rest face");
+    if (gs.size() == 1) {
+      // An uncut rest face: its triangle as laid out.
       Eigen::Matrix<double, 2, 3> P;
-      for (int k = 0; k < 3; ++k) {
-        // Sheet (x, y) turned by -90 degrees to (y, -x): the grain (+y) becomes the warp (+u).
-        const Eigen::RowVector2d x = UV.row(p.F(static_cast<int>(i), k));
-        P.col(k) << x.y(), -x.x();
-      }
-      const int f = p.face_ids[i];
+      for (int k = 0; k < 3; ++k) P.col(k) = sheet(gs.front(), k);
       rest[static_cast<size_t>(f)] = cloth::triangle_rest_flat(P);
-      done[static_cast<size_t>(f)] = 1;
+      continue;
     }
+    // A rest face that a cut crosses is cloth from two pieces (or a piece
+    // and a dart): its rest metric is the area-weighted mean of its parts'
+    // metrics A^T A, A the affine map of a part from the face's plane to the
+    // sheet; the warp is that of its largest part.
+    const Eigen::Vector3d r0 = mesh.rest_V.row(mesh.rest_F(f, 0)), r1 = mesh.rest_V.row(mesh.rest_F(f, 1)),
+                          r2 = mesh.rest_V.row(mesh.rest_F(f, 2));
+    const Eigen::Vector3d x = (r1 - r0).normalized(), y = (r1 - r0).cross(r2 - r0).normalized().cross(x);
+    auto plane = [&](const Eigen::Vector3d& X) { return Eigen::Vector2d((X - r0).dot(x), (X - r0).dot(y)); };
+    Eigen::Matrix2d G = Eigen::Matrix2d::Zero(), R = Eigen::Matrix2d::Identity();
+    double total = 0.0, largest = -1.0;
+    for (int g : gs) {
+      Eigen::Matrix2d Q, S;
+      const Eigen::Vector2d q0 = plane(mesh.V.row(mesh.F(g, 0)).transpose());
+      const Eigen::Vector2d s0 = sheet(g, 0);
+      for (int k = 1; k < 3; ++k) {
+        Q.col(k - 1) = plane(mesh.V.row(mesh.F(g, k)).transpose()) - q0;
+        S.col(k - 1) = sheet(g, k) - s0;
+      }
+      const double area = 0.5 * std::abs(Q.determinant());
+      if (!(area > 0.0)) continue;
+      const Eigen::Matrix2d A = S * Q.inverse();
+      G += area * A.transpose() * A;
+      total += area;
+      if (area > largest) {
+        largest = area;
+        const Eigen::JacobiSVD<Eigen::Matrix2d> svd(A, Eigen::ComputeFullU | Eigen::ComputeFullV);
+        R = svd.matrixU() * svd.matrixV().transpose();
+      }
+    }
+    if (!(total > 0.0)) throw GeometryError("rest face " + std::to_string(f) + " has no area in the pattern");
+    G /= total;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(G);
+    const Eigen::Matrix2d root =
+        eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * eig.eigenvectors().transpose();
+    const Eigen::Matrix2d M = R * root;
+    Eigen::Matrix<double, 2, 3> P;
+    P.col(0).setZero();
+    P.col(1) = M * plane(r1);
+    P.col(2) = M * plane(r2);
+    rest[static_cast<size_t>(f)] = cloth::triangle_rest_flat(P);
   }
-  if (std::find(done.begin(), done.end(), 0) != done.end())
-    throw GeometryError("the pattern does not cover every rest face");
   return rest;
 }
 

@@ -14,7 +14,7 @@
 
 #include "cloth/cloth_energy.h"
 #include "garment/garment_file.h"
-#include "pattern/auto_cut.h"
+#include "pattern/pattern.h"
 #include "pattern/layout.h"
 #include "pose/pose_set.h"
 
@@ -38,6 +38,9 @@ struct RoundTripOptions {
 // corners in its laid-out piece (sheet metres), turned so that the sheet's
 // y axis (the grain line, the body's vertical) is the warp (the u axis of
 // cloth::triangle_rest_flat), as the rest shape's own triangles have +y as warp.
+// A rest face that a cut runs through holds cloth of two pieces: its
+// triangle has the area-weighted mean metric of its parts (and the warp of
+// the largest), the simulation's resolution being the rest shape's.
 std::vector<cloth::TriangleRest> sewn_rest_triangles(const Pattern& pattern, const Layout& layout, int face_count);
 
 struct DrapeRun {

@@ -219,6 +219,7 @@ std::vector<SeamPath> resolve_seams(const Eigen::MatrixXd& V_rest, const Eigen::
     path.name = s.name;
     path.closed = s.closed;
     path.where = s.where;
+    path.click_ids = clicks;
     const size_t legs = s.closed ? clicks.size() : clicks.size() - 1;
     for (size_t i = 0; i < legs; ++i) {
       const int a = clicks[i], b = clicks[(i + 1) % clicks.size()];

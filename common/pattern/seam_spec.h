@@ -86,6 +86,7 @@ struct SeamPath {
   std::vector<int> vertex_ids;  // rest-shape vertex ids along the path (closed: first not repeated)
   bool closed = false;
   std::string where;            // spec location, for messages
+  std::vector<int> click_ids;   // the rest vertices the seam's points snapped to, in order
 };
 
 // Resolves every seam of `spec` on the rest shape (V_rest #V by 3, F #F by 3).

@@ -28,33 +28,43 @@ void write_svg(std::ostream& out, const Pattern& pattern, const Layout& layout, 
          ".sew{fill:#f4f1ea;stroke:#000;stroke-width:0.3;stroke-dasharray:3,1.5}\n"
          ".notch{stroke:#000;stroke-width:0.5}\n"
          ".grain{stroke:#000;stroke-width:0.4}\n"
+         ".fold{stroke:#000;stroke-width:0.3;stroke-dasharray:1,1}\n"
+         ".drill{fill:none;stroke:#000;stroke-width:0.4}\n"
          "text{font-family:sans-serif;fill:#000}\n"
          "</style>\n";
   for (size_t i = 0; i < pattern.pieces.size(); ++i) {
     const PatternPiece& p = pattern.pieces[i];
     const LaidOutPiece& lp = layout.pieces[i];
-    out << "<g id=\"" << escape_xml(p.name) << "\">\n";
+    std::string id = p.name;
+    std::replace(id.begin(), id.end(), ' ', '-');
+    out << "<g id=\"" << escape_xml(id) << "\">\n";
     for (const auto& poly : lp.allowance) out << "<path class=\"cut\" d=\"" << path(poly) << "\"/>\n";
     out << "<path class=\"sew\" d=\"" << path(lp.outline) << "\"/>\n";
     for (const Notch& n : layout.notches)
       if (n.piece == static_cast<int>(i))
         out << line(n.at, n.tip, "notch") << "\n";
-    // Grain line with an arrow head at both ends.
+    // The label, centred in the piece, and the grain line through it with an
+    // arrow head at both ends, interrupted where the label is.
+    const PieceLabel label = piece_label(lp, options.title, p.name);
     const Eigen::Vector2d a = lp.grain_from, b = lp.grain_to;
     const double head = std::min(0.01, 0.25 * (b - a).norm());
-    out << line(a, b, "grain") << "\n";
+    if (a.y() < label.box.lo.y()) out << line(a, Eigen::Vector2d(a.x(), label.box.lo.y() - 0.002), "grain") << "\n";
+    if (b.y() > label.box.hi.y()) out << line(Eigen::Vector2d(b.x(), label.box.hi.y() + 0.002), b, "grain") << "\n";
     for (const auto& [tip, dir] : {std::pair{b, 1.0}, std::pair{a, -1.0}}) {
       out << line(tip, tip + Eigen::Vector2d(-0.4 * head, -dir * head), "grain") << "\n";
       out << line(tip, tip + Eigen::Vector2d(0.4 * head, -dir * head), "grain") << "\n";
     }
-    const double size = std::clamp(1000.0 * lp.label_room / 4.0, 2.0, 10.0);
-    const Eigen::Vector2d t = lp.label_at + Eigen::Vector2d(0.002, 0.0);
-    out << "<text x=\"" << X(t) << "\" y=\"" << Y(t) << "\" font-size=\"" << format_fixed(size, 1) << "\">"
-        << escape_xml(options.title + " " + p.name) << "</text>\n";
-    const Eigen::Vector2d t2 = t - Eigen::Vector2d(0.0, 0.0012 * size);
-    out << "<text x=\"" << X(t2) << "\" y=\"" << Y(t2) << "\" font-size=\"" << format_fixed(0.6 * size, 1)
-        << "\">cut 1, right side up, grain " << (lp.grain_from_body_vertical ? "vertical" : "along the piece")
-        << "</text>\n";
+    out << "<text x=\"" << X(label.line1_at) << "\" y=\"" << Y(label.line1_at) << "\" font-size=\""
+        << format_fixed(1000.0 * label.size1, 1) << "\" text-anchor=\"middle\">" << escape_xml(label.line1) << "</text>\n";
+    out << "<text x=\"" << X(label.line2_at) << "\" y=\"" << Y(label.line2_at) << "\" font-size=\""
+        << format_fixed(1000.0 * label.size2, 1) << "\" text-anchor=\"middle\">" << escape_xml(label.line2) << "</text>\n";
+    // Darts: the fold line from the middle of the mouth to the tip, and the
+    // drill hole a centimetre short of the tip.
+    for (const DartMark& d : layout.darts)
+      if (d.piece == static_cast<int>(i)) {
+        out << line(0.5 * (d.mouth_left + d.mouth_right), d.tip, "fold") << "\n";
+        out << "<circle class=\"drill\" cx=\"" << X(d.drill) << "\" cy=\"" << Y(d.drill) << "\" r=\"1.5\"/>\n";
+      }
     for (const SeamLabel& s : layout.seam_labels)
       if (s.piece == static_cast<int>(i))
         out << "<text x=\"" << X(s.at) << "\" y=\"" << Y(s.at) << "\" font-size=\"3\" text-anchor=\"middle\">"

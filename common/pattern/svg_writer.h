@@ -8,7 +8,7 @@
 #include <string>
 
 #include "core/text_format.h"  // format_fixed: deterministic text for coordinates
-#include "pattern/auto_cut.h"
+#include "pattern/pattern.h"
 #include "pattern/layout.h"
 
 namespace gp {

@@ -113,12 +113,22 @@ std::vector<Check> fit_checks(const FitRun& run, const FitThresholds& t) {
     add(CheckLevel::fail, "verification", "", "The verification of the fit (the final rest shape simulated afresh) fails.");
 
   const Json& summary = *lookup(run.pattern, "/summary");
-  if (!summary["meets_distortion_limit"].get<bool>())
-    add(CheckLevel::fail, "pattern_distortion", "", "The pattern pieces are distorted beyond the limit: worst p95 " +
-                              format_fixed(100.0 * summary["worst_p95_error"].get<double>(), 2) + " % (limit " +
-                              format_fixed(100.0 * summary["limit"]["p95_error"].get<double>(), 2) + " %), worst " +
-                              format_fixed(100.0 * summary["worst_max_error"].get<double>(), 2) + " % (limit " +
-                              format_fixed(100.0 * summary["limit"]["max_error"].get<double>(), 2) + " %).");
+  if (!summary["meets_distortion_limit"].get<bool>()) {
+    const Json& bound = summary["limit"];
+    if (bound.value("kind", "symmetric") == "one-sided")
+      add(CheckLevel::fail, "pattern_distortion", "", "The pattern pieces are distorted beyond the limit: worst compression " +
+                                format_fixed(100.0 * summary["worst_compression"].get<double>(), 2) +
+                                " % over a piece's worst 1 % (limit " +
+                                format_fixed(100.0 * bound["compression_worst1"].get<double>(), 2) + " %), worst ease " +
+                                format_fixed(100.0 * summary["worst_ease"].get<double>(), 2) + " % over its worst 5 % (limit " +
+                                format_fixed(100.0 * bound["ease_worst5"].get<double>(), 2) + " %).");
+    else
+      add(CheckLevel::fail, "pattern_distortion", "", "The pattern pieces are distorted beyond the limit: worst p95 " +
+                                format_fixed(100.0 * summary["worst_p95_error"].get<double>(), 2) + " % (limit " +
+                                format_fixed(100.0 * bound["p95_error"].get<double>(), 2) + " %), worst " +
+                                format_fixed(100.0 * summary["worst_max_error"].get<double>(), 2) + " % (limit " +
+                                format_fixed(100.0 * bound["max_error"].get<double>(), 2) + " %).");
+  }
   if (const Json* j = lookup(run.pattern, "/summary/overlapping_pieces"); j && j->is_number() && j->get<double>() > 0)
     add(CheckLevel::fail, "pattern_overlaps", "", std::to_string(j->get<long long>()) + " pattern pieces overlap themselves when laid flat.");
   if (const Json* j = lookup(run.pattern, "/summary/flipped_triangles"); j && j->is_number() && j->get<double>() > 0)

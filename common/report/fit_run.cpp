@@ -122,9 +122,17 @@ FitRun read_fit_run(const fs::path& dir) {
   run.keys = read_keys(run.fit, dir / "fit");
   for (const char* p : {"/counts/garment_vertices", "/counts/garment_faces"}) require(run.fit, p, "integer");
   for (const char* p : {"/summary/pieces", "/summary/seams"}) require(run.pattern, p, "integer");
-  for (const char* p : {"/summary/total_seam_length", "/summary/worst_p95_error", "/summary/worst_max_error",
-                        "/summary/limit/p95_error", "/summary/limit/max_error"})
-    require(run.pattern, p, "number");
+  // The pattern's distortion limit: one-sided (compression and ease) or symmetric.
+  const Json* kind = lookup(run.pattern, "/summary/limit/kind");
+  if (kind && kind->is_string() && kind->get<std::string>() == "one-sided") {
+    for (const char* p : {"/summary/total_seam_length", "/summary/worst_compression", "/summary/worst_ease",
+                          "/summary/limit/compression_worst1", "/summary/limit/ease_worst5"})
+      require(run.pattern, p, "number");
+  } else {
+    for (const char* p : {"/summary/total_seam_length", "/summary/worst_p95_error", "/summary/worst_max_error",
+                          "/summary/limit/p95_error", "/summary/limit/max_error"})
+      require(run.pattern, p, "number");
+  }
   require(run.pattern, "/summary/meets_distortion_limit", "boolean");
   require(run.pattern, "/rest_shape", "object");
   require(run.pattern, "/round_trip/checked", "boolean");

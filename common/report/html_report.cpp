@@ -216,10 +216,20 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
   h += "<tr><th>seams</th><td>" + figure(pattern, "/summary/seams", "integer") + "</td></tr>\n";
   h += "<tr><th>cuts added for distortion</th><td>" + optional_figure(pattern, "/summary/added_cuts", "integer") + "</td></tr>\n";
   h += "<tr><th>seam length</th><td>" + figure(pattern, "/summary/total_seam_length", "metres2") + "</td></tr>\n";
-  h += "<tr><th>worst p95 distortion (limit)</th><td>" + figure(pattern, "/summary/worst_p95_error", "percent2") + " (" +
-       figure(pattern, "/summary/limit/p95_error", "percent2") + ")</td></tr>\n";
-  h += "<tr><th>worst distortion (limit)</th><td>" + figure(pattern, "/summary/worst_max_error", "percent2") + " (" +
-       figure(pattern, "/summary/limit/max_error", "percent2") + ")</td></tr>\n";
+  const Json* limit_kind = lookup(pattern, "/summary/limit/kind");
+  if (limit_kind && limit_kind->is_string() && limit_kind->get<std::string>() == "one-sided") {
+    h += "<tr><th>darts</th><td>" + optional_figure(pattern, "/summary/darts", "integer") + "</td></tr>\n";
+    h += "<tr><th>worst compression over a piece's worst 1 % (limit)</th><td>" +
+         figure(pattern, "/summary/worst_compression", "percent2") + " (" +
+         figure(pattern, "/summary/limit/compression_worst1", "percent2") + ")</td></tr>\n";
+    h += "<tr><th>worst ease over a piece's worst 5 % (limit)</th><td>" + figure(pattern, "/summary/worst_ease", "percent2") +
+         " (" + figure(pattern, "/summary/limit/ease_worst5", "percent2") + ")</td></tr>\n";
+  } else {
+    h += "<tr><th>worst p95 distortion (limit)</th><td>" + figure(pattern, "/summary/worst_p95_error", "percent2") + " (" +
+         figure(pattern, "/summary/limit/p95_error", "percent2") + ")</td></tr>\n";
+    h += "<tr><th>worst distortion (limit)</th><td>" + figure(pattern, "/summary/worst_max_error", "percent2") + " (" +
+         figure(pattern, "/summary/limit/max_error", "percent2") + ")</td></tr>\n";
+  }
   h += "<tr><th>within the limit</th><td>" + figure(pattern, "/summary/meets_distortion_limit", "yesno") + "</td></tr>\n";
   h += "<tr><th>sheet</th><td>" + optional_figure(pattern, "/summary/sheet_width", "metres2") + " &times; " +
        optional_figure(pattern, "/summary/sheet_height", "metres2") + "</td></tr>\n";

@@ -1,0 +1,18 @@
+#pragma once
+// Geodesic distance from a set of vertices by the heat method (Crane,
+// Weischedel and Wardetzky 2013, "Geodesics in heat"): heat diffused for a
+// short time t = h^2 (h the mean edge length), its normalized negative
+// gradient integrated back by a Poisson solve. Smooth in the vertex
+// positions, unlike graph (Dijkstra) distances whose level sets follow edges.
+#include <vector>
+#include <Eigen/Core>
+
+namespace gp {
+
+// Distance (metres) of every vertex of V (#V by 3), F (#F by 3) from the
+// vertices `sources` (distance 0); vertices not connected to a source get
+// +infinity. Throws NumericalError when a solve fails.
+Eigen::VectorXd heat_geodesic_distance(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                       const std::vector<int>& sources);
+
+}  // namespace gp

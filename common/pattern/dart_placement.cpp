@@ -1,0 +1,383 @@
+#include "pattern/dart_placement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+
+#include "core/math.h"
+#include "mesh/laplacian.h"
+#include "mesh/topology.h"
+#include "pattern/flatten.h"
+
+namespace gp {
+namespace {
+
+// A smooth, compactly supported kernel: (1 - (d/r)^2)^2 for d < r.
+double kernel(double d, double r) {
+  const double s = d / r;
+  return s < 1.0 ? (1.0 - s * s) * (1.0 - s * s) : 0.0;
+}
+
+double orient(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+}
+
+// Angle defect 2 pi - sum of corner angles per vertex, 0 on the boundary.
+std::vector<double> angle_defects(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  std::vector<double> defect(static_cast<size_t>(V.rows()), 2.0 * M_PI);
+  for (int f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d a = V.row(F(f, (k + 1) % 3)) - V.row(F(f, k));
+      const Eigen::Vector3d b = V.row(F(f, (k + 2) % 3)) - V.row(F(f, k));
+      defect[static_cast<size_t>(F(f, k))] -= gp::math::atan2(a.cross(b).norm(), a.dot(b));
+    }
+  for (const auto& loop : boundary_loops(F))
+    for (int v : loop) defect[static_cast<size_t>(v)] = 0.0;
+  return defect;
+}
+
+// Closest point of segment ab to q.
+Eigen::Vector3d closest_on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& q) {
+  const Eigen::Vector3d ab = b - a;
+  const double l2 = ab.squaredNorm();
+  const double t = l2 > 0.0 ? std::clamp((q - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+  return a + t * ab;
+}
+
+double distance_to_outline(const PatternPiece& p, const Eigen::Vector3d& q) {
+  double d = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < p.boundary.size(); ++k) {
+    const Eigen::Vector3d a = p.V.row(p.boundary[k]), b = p.V.row(p.boundary[(k + 1) % p.boundary.size()]);
+    d = std::min(d, (closest_on_segment(a, b, q) - q).norm());
+  }
+  return d;
+}
+
+// The point of the piece closest to x, as a piece-local face point.
+CurvePoint closest_point(const PatternPiece& p, const Eigen::Vector3d& x, Eigen::Vector3d& on) {
+  double best = std::numeric_limits<double>::infinity();
+  CurvePoint at;
+  for (int f = 0; f < p.F.rows(); ++f) {
+    const Eigen::Vector3d a = p.V.row(p.F(f, 0)), b = p.V.row(p.F(f, 1)), c = p.V.row(p.F(f, 2));
+    // Closest point of the triangle (Ericson, Real-Time Collision Detection, 5.1.5).
+    const Eigen::Vector3d ab = b - a, ac = c - a, ap = x - a;
+    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+    Eigen::Vector3d w;
+    if (d1 <= 0 && d2 <= 0) w = {1, 0, 0};
+    else {
+      const Eigen::Vector3d bp = x - b;
+      const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+      const Eigen::Vector3d cp = x - c;
+      const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+      const double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
+      if (d3 >= 0 && d4 <= d3) w = {0, 1, 0};
+      else if (d6 >= 0 && d5 <= d6) w = {0, 0, 1};
+      else if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        const double v = d1 / (d1 - d3);
+        w = {1 - v, v, 0};
+      } else if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        const double v = d2 / (d2 - d6);
+        w = {1 - v, 0, v};
+      } else if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        const double v = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        w = {0, 1 - v, v};
+      } else {
+        const double den = va + vb + vc;
+        w = den != 0.0 ? Eigen::Vector3d(va / den, vb / den, vc / den) : Eigen::Vector3d(1.0 / 3, 1.0 / 3, 1.0 / 3);
+      }
+    }
+    const Eigen::Vector3d y = w[0] * a + w[1] * b + w[2] * c;
+    const double d = (y - x).squaredNorm();
+    if (d < best) {
+      best = d;
+      at = CurvePoint::in_face(f, w);
+      on = y;
+    }
+  }
+  return at;
+}
+
+// Mode of sum_i w_i kernel(|x - X_i|) by mean shift from x.
+Eigen::Vector3d mean_shift(const std::vector<Eigen::Vector3d>& X, const std::vector<double>& w, Eigen::Vector3d x,
+                           double r) {
+  for (int it = 0; it < 200; ++it) {
+    Eigen::Vector3d num = Eigen::Vector3d::Zero();
+    double den = 0.0;
+    for (size_t i = 0; i < X.size(); ++i) {
+      if (w[i] <= 0.0) continue;
+      const double k = w[i] * kernel((X[i] - x).norm(), r);
+      num += k * X[i];
+      den += k;
+    }
+    if (!(den > 0.0)) break;
+    const Eigen::Vector3d next = num / den;
+    const double step = (next - x).norm();
+    x = next;
+    if (step < 1e-10 * r) break;
+  }
+  return x;
+}
+
+// Log conformal factor u of the flattening keeping the boundary's length:
+// L u = -K inside, u = 0 on the boundary (cotan Laplacian L).
+std::vector<double> log_conformal_factor(const PatternPiece& p, const std::vector<double>& K) {
+  const int n = static_cast<int>(p.V.rows());
+  std::vector<char> boundary(static_cast<size_t>(n), 0);
+  for (int v : p.boundary) boundary[static_cast<size_t>(v)] = 1;
+  std::vector<int> index(static_cast<size_t>(n), -1);
+  int m = 0;
+  for (int v = 0; v < n; ++v)
+    if (!boundary[static_cast<size_t>(v)]) index[static_cast<size_t>(v)] = m++;
+  std::vector<double> u(static_cast<size_t>(n), 0.0);
+  if (m == 0) return u;
+  const Eigen::SparseMatrix<double> L = cotan_laplacian(p.V, p.F);
+  std::vector<Eigen::Triplet<double>> trip;
+  for (int c = 0; c < L.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(L, c); it; ++it) {
+      const int i = index[static_cast<size_t>(it.row())], j = index[static_cast<size_t>(c)];
+      if (i >= 0 && j >= 0) trip.emplace_back(i, j, it.value());
+    }
+  Eigen::SparseMatrix<double> A(m, m);
+  A.setFromTriplets(trip.begin(), trip.end());
+  Eigen::VectorXd b(m);
+  for (int v = 0; v < n; ++v)
+    if (index[static_cast<size_t>(v)] >= 0) b[index[static_cast<size_t>(v)]] = -K[static_cast<size_t>(v)];
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+  if (solver.info() != Eigen::Success) return u;
+  const Eigen::VectorXd x = solver.solve(b);
+  for (int v = 0; v < n; ++v)
+    if (index[static_cast<size_t>(v)] >= 0) u[static_cast<size_t>(v)] = x[index[static_cast<size_t>(v)]];
+  return u;
+}
+
+Eigen::Vector2d chart_position(const PatternPiece& p, const Eigen::MatrixXd& chart, const CurvePoint& q) {
+  return curve_point_position(chart, p.F, q);
+}
+
+// Area of the polygon loop[i0..i1] (cyclic, inclusive) in the chart.
+double sub_polygon_area(const Eigen::MatrixXd& UV, const std::vector<int>& loop, size_t i0, size_t i1) {
+  const size_t n = loop.size();
+  std::vector<int> ids;
+  for (size_t i = i0;; i = (i + 1) % n) {
+    ids.push_back(loop[i]);
+    if (i == i1) break;
+  }
+  double a = 0.0;
+  for (size_t k = 0; k < ids.size(); ++k) {
+    const Eigen::Vector2d p = UV.row(ids[k]), q = UV.row(ids[(k + 1) % ids.size()]);
+    a += 0.5 * (p.x() * q.y() - p.y() * q.x());
+  }
+  return std::abs(a);
+}
+
+// The point at t along outline edge k (boundary[k] -> boundary[k+1]) of the
+// piece, kept min_edge_fraction away from its ends (or snapped to an end
+// within snap_fraction), as a curve point.
+CurvePoint outline_point(const PatternPiece& p, size_t k, double t, const PatternOptions& options) {
+  const int a = p.boundary[k], b = p.boundary[(k + 1) % p.boundary.size()];
+  const double f = options.smoothing.trace.min_edge_fraction;
+  return snap_to_vertices({CurvePoint::on_edge(a, b, std::clamp(t, f, 1.0 - f))}, options.smoothing.trace.snap_fraction)
+      .front();
+}
+
+}  // namespace
+
+Eigen::MatrixXd conformal_chart(const PatternPiece& piece) {
+  return lscm_flatten(piece.V, piece.F, piece.boundary, FlattenOptions{}.min_weight_fraction);
+}
+
+std::vector<DartTip> dart_tips(const Pattern& pattern, size_t c, const PatternOptions& options, int count) {
+  const PatternPiece& p = pattern.pieces[c];
+  const int n = static_cast<int>(p.V.rows());
+  const double r = options.kernel_radius;
+  std::vector<char> boundary(static_cast<size_t>(n), 0);
+  for (int v : p.boundary) boundary[static_cast<size_t>(v)] = 1;
+  // The piece's angle defects: the rest shape's at its own vertices, zero at
+  // points a cut added on an edge or in a face (their angles sum to 2 pi).
+  const std::vector<double> K = angle_defects(p.V, p.F);
+  std::vector<Eigen::Vector3d> X;
+  std::vector<double> value;
+  if (options.dart_placement == PatternOptions::DartPlacement::conformal) {
+    const std::vector<double> u = log_conformal_factor(p, K);
+    const Eigen::VectorXd mass = lumped_mass(p.V, p.F);
+    for (int v = 0; v < n; ++v)
+      if (!boundary[static_cast<size_t>(v)]) {
+        X.push_back(p.V.row(v).transpose());
+        // -u (compression of the conformal flattening) integrated over the
+        // vertex's area, per unit of a mean kernel's area: radians-like.
+        value.push_back(-u[static_cast<size_t>(v)] * mass[v] / (M_PI * r * r / 3.0));
+      }
+  } else {
+    for (int v = 0; v < n; ++v)
+      if (!boundary[static_cast<size_t>(v)] && p.mesh_vertex_ids[v] < pattern.mesh.rest_vertex_count) {
+        X.push_back(p.V.row(v).transpose());
+        value.push_back(K[static_cast<size_t>(v)]);
+      }
+  }
+  const size_t m = X.size();
+  // Kernel density of the signed values at every sample, and its positive
+  // part as the weights of the mean shift.
+  std::vector<double> density(m, 0.0);
+  for (size_t i = 0; i < m; ++i)
+    for (size_t j = 0; j < m; ++j) density[i] += value[j] * kernel((X[j] - X[i]).norm(), r);
+  std::vector<double> weight(m);
+  for (size_t i = 0; i < m; ++i) weight[i] = std::max(0.0, density[i]);
+  std::vector<DartTip> tips;
+  std::vector<Eigen::Vector3d> taken;
+  for (const int d : p.dart_seams) {
+    const auto& ids = pattern.seams[static_cast<size_t>(d)].vertex_ids;
+    if (!ids.empty()) taken.push_back(pattern.mesh.V.row(ids.back()).transpose());
+  }
+  for (int attempt = 0; attempt < 4 && static_cast<int>(tips.size()) < count; ++attempt) {
+    size_t best = m;
+    for (size_t i = 0; i < m; ++i) {
+      bool near = false;
+      for (const auto& t : taken) near = near || (X[i] - t).norm() < 2.0 * r;
+      if (near) continue;
+      if (best == m || density[i] > density[best]) best = i;
+    }
+    if (best == m || !(density[best] > 0.0)) break;
+    const Eigen::Vector3d mode = mean_shift(X, weight, X[best], r);
+    taken.push_back(mode);
+    DartTip tip;
+    tip.at = closest_point(p, mode, tip.point);
+    for (size_t i = 0; i < m; ++i)
+      tip.curvature += (options.dart_placement == PatternOptions::DartPlacement::conformal ? value[i] : value[i]) *
+                       kernel((X[i] - tip.point).norm(), r);
+    if (tip.curvature < options.min_dart_angle) break;  // weaker modes follow
+    if (distance_to_outline(p, tip.point) < options.tip_margin) continue;
+    tips.push_back(tip);
+  }
+  // Named in a fixed order (left to right, then top down) rather than by
+  // strength, which may swap between two about equal tips.
+  std::sort(tips.begin(), tips.end(), [](const DartTip& a, const DartTip& b) {
+    return a.point.x() > b.point.x() || (a.point.x() == b.point.x() && a.point.y() > b.point.y());
+  });
+  return tips;
+}
+
+std::optional<SurfaceCurve> dart_curve(const PatternPiece& p, const Eigen::MatrixXd& chart, const DartTip& tip,
+                                       const PatternOptions& options) {
+  // The mouth: the outline's point nearest to the tip (continuous in the
+  // shape, unlike the nearest outline vertex).
+  const size_t nb = p.boundary.size();
+  size_t best_k = 0;
+  double best_t = 0.0, best_d = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < nb; ++k) {
+    const Eigen::Vector3d a = p.V.row(p.boundary[k]), b = p.V.row(p.boundary[(k + 1) % nb]);
+    const Eigen::Vector3d q = closest_on_segment(a, b, tip.point);
+    const double d = (q - tip.point).norm();
+    if (d < best_d) {
+      best_d = d;
+      best_k = k;
+      best_t = (b - a).squaredNorm() > 0.0 ? (q - a).dot(b - a) / (b - a).squaredNorm() : 0.0;
+    }
+  }
+  if (best_d < options.min_dart_length) return std::nullopt;
+  const CurvePoint mouth = outline_point(p, best_k, best_t, options);
+  Eigen::MatrixXd P(2, 2);
+  P.row(0) = curve_point_position(chart, p.F, mouth).transpose();
+  P.row(1) = chart_position(p, chart, tip.at).transpose();
+  const SurfaceCurve c = trace_polyline(chart, p.F, mouth, tip.at, P, {}, options.smoothing.trace);
+  if (c.size() < 2) return std::nullopt;
+  return c;
+}
+
+std::optional<SurfaceCurve> panel_curve(const Pattern& pattern, size_t c, const Eigen::MatrixXd& chart,
+                                        const PatternOptions& options, std::string* where) {
+  const PatternPiece& p = pattern.pieces[c];
+  // The centroid of the one-sided energy of the piece's conformal
+  // flattening that keeps its boundary's length (log conformal factor u:
+  // L u = -K, u = 0 on the boundary; energy u^2 where u < 0, ease_weight u^2
+  // where u > 0, per unit area). A linear solve, so that the seam moves
+  // continuously with the shape; and a centroid, not the highest mode, which
+  // would jump between two about equal blobs (a left and a right one).
+  const std::vector<double> K = angle_defects(p.V, p.F);
+  const std::vector<double> u = log_conformal_factor(p, K);
+  const Eigen::VectorXd mass = lumped_mass(p.V, p.F);
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  double total = 0.0;
+  for (int v = 0; v < static_cast<int>(p.V.rows()); ++v) {
+    const double x = u[static_cast<size_t>(v)];
+    const double e = mass[v] * (x < 0.0 || options.symmetric ? x * x : options.flatten.ease_weight * x * x);
+    centroid += e * p.V.row(v).transpose();
+    total += e;
+  }
+  if (!(total > 0.0)) return std::nullopt;
+  Eigen::Vector3d on;
+  const CurvePoint mode = closest_point(p, centroid / total, on);
+  const Eigen::Vector2d x = chart_position(p, chart, mode);
+  // The grain in the chart: the area-weighted gradient of the rest height.
+  Eigen::Vector2d up = Eigen::Vector2d::Zero();
+  for (int f = 0; f < p.F.rows(); ++f) {
+    Eigen::Matrix2d E;
+    E.col(0) = (chart.row(p.F(f, 1)) - chart.row(p.F(f, 0))).transpose();
+    E.col(1) = (chart.row(p.F(f, 2)) - chart.row(p.F(f, 0))).transpose();
+    const double det = E.determinant();
+    if (!(det > 0.0)) continue;
+    const Eigen::Vector2d dh(p.V(p.F(f, 1), 1) - p.V(p.F(f, 0), 1), p.V(p.F(f, 2), 1) - p.V(p.F(f, 0), 1));
+    up += 0.5 * det * E.transpose().inverse() * dh;
+  }
+  if (!(up.norm() > 0.0)) up = Eigen::Vector2d(0.0, 1.0);
+  up.normalize();
+  // Along the grain: the princess line of a tailor's fitted panels. (Cuts
+  // across the grain were tried: chosen by the principal axis of the energy's
+  // spread, they sliced garments whose sleeves stayed on into horizontal strips.)
+  const Eigen::Vector2d dir = up;
+  const size_t nb = p.boundary.size();
+  std::vector<char> on_dart(static_cast<size_t>(p.V.rows()), 0);
+  {
+    std::vector<char> dart_vertex(static_cast<size_t>(pattern.mesh.V.rows()), 0);
+    for (int d : p.dart_seams)
+      for (int v : pattern.seams[static_cast<size_t>(d)].vertex_ids) dart_vertex[static_cast<size_t>(v)] = 1;
+    for (int v = 0; v < p.V.rows(); ++v) on_dart[static_cast<size_t>(v)] = dart_vertex[static_cast<size_t>(p.mesh_vertex_ids[v])];
+  }
+  // Nearest outline crossings of the line x + s dir on either side.
+  // The chord ends where it meets the outline, not at the nearest outline
+  // vertex (which would jump from one vertex to the next).
+  double s_plus = std::numeric_limits<double>::infinity(), s_minus = -s_plus;
+  size_t k_plus = 0, k_minus = 0;
+  double t_plus = 0.0, t_minus = 0.0;
+  for (size_t k = 0; k < nb; ++k) {
+    // A dart's legs are outline too, but a seam ending on one would part
+    // the dart's sides.
+    if (on_dart[static_cast<size_t>(p.boundary[k])] && on_dart[static_cast<size_t>(p.boundary[(k + 1) % nb])]) continue;
+    const Eigen::Vector2d q0 = chart.row(p.boundary[k]), q1 = chart.row(p.boundary[(k + 1) % nb]);
+    const Eigen::Vector2d e = q1 - q0;
+    const double det = -dir.x() * e.y() + dir.y() * e.x();
+    if (std::abs(det) < 1e-15) continue;
+    const Eigen::Vector2d rhs = q0 - x;
+    const double s = (-rhs.x() * e.y() + rhs.y() * e.x()) / det;
+    const double t = (dir.x() * rhs.y() - dir.y() * rhs.x()) / det;
+    if (t < 0.0 || t > 1.0) continue;
+    if (s > 0.0 && s < s_plus) s_plus = s, k_plus = k, t_plus = t;
+    if (s < 0.0 && s > s_minus) s_minus = s, k_minus = k, t_minus = t;
+  }
+  if (!std::isfinite(s_plus) || !std::isfinite(s_minus) || k_plus == k_minus) return std::nullopt;
+  // Chart areas are conformal, not true: the parts are compared with the
+  // piece's own chart area scaled to its 3D area.
+  double chart_area = 0.0, area = 0.0;
+  for (int f = 0; f < p.F.rows(); ++f) {
+    const Eigen::Vector3d q0 = p.V.row(p.F(f, 0)), q1 = p.V.row(p.F(f, 1)), q2 = p.V.row(p.F(f, 2));
+    area += 0.5 * (q1 - q0).cross(q2 - q0).norm();
+    chart_area += 0.5 * orient(chart.row(p.F(f, 0)).transpose(), chart.row(p.F(f, 1)).transpose(),
+                               chart.row(p.F(f, 2)).transpose());
+  }
+  const double scale = chart_area > 0.0 ? area / chart_area : 1.0;
+  const double part = scale * std::min(sub_polygon_area(chart, p.boundary, (k_minus + 1) % nb, k_plus),
+                                       sub_polygon_area(chart, p.boundary, (k_plus + 1) % nb, k_minus));
+  if (part < options.min_piece_area) return std::nullopt;
+  const CurvePoint from = outline_point(p, k_minus, t_minus, options), to = outline_point(p, k_plus, t_plus, options);
+  Eigen::MatrixXd P(2, 2);
+  P.row(0) = curve_point_position(chart, p.F, from).transpose();
+  P.row(1) = curve_point_position(chart, p.F, to).transpose();
+  const SurfaceCurve cut = trace_polyline(chart, p.F, from, to, P, {}, options.smoothing.trace);
+  if (cut.size() < 2) return std::nullopt;
+  if (where) *where = "panel seam along the grain through the centroid of its conformal distortion energy";
+  return cut;
+}
+
+}  // namespace gp

@@ -1,0 +1,649 @@
+#include "pattern/make_pattern.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <queue>
+#include <set>
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include "core/error.h"
+#include "mesh/heat_geodesics.h"
+#include "mesh/measures.h"
+#include "mesh/topology.h"
+#include "pattern/dart_placement.h"
+
+namespace gp {
+namespace {
+
+std::string percent(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.2f %%", 100.0 * x);
+  return buf;
+}
+
+std::string metres(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.3f m", x);
+  return buf;
+}
+
+// Multi-source Dijkstra over the edges with lengths `cost(v, w)`; ties
+// broken by vertex id through the (distance, id) order of the queue.
+void dijkstra(const std::vector<std::vector<int>>& neighbors, const std::vector<int>& sources,
+              const std::function<double(int, int)>& cost, std::vector<double>& dist, std::vector<int>& parent,
+              const std::function<bool(int)>& stop = {}) {
+  const size_t n = neighbors.size();
+  dist.assign(n, std::numeric_limits<double>::infinity());
+  parent.assign(n, -1);
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  for (int s : sources) {
+    dist[static_cast<size_t>(s)] = 0.0;
+    queue.push({0.0, s});
+  }
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > dist[static_cast<size_t>(v)]) continue;
+    if (stop && stop(v)) return;
+    for (int w : neighbors[static_cast<size_t>(v)]) {
+      const double nd = d + cost(v, w);
+      if (nd < dist[static_cast<size_t>(w)]) {
+        dist[static_cast<size_t>(w)] = nd;
+        parent[static_cast<size_t>(w)] = v;
+        queue.push({nd, w});
+      }
+    }
+  }
+}
+
+std::vector<int> trace_parents(const std::vector<int>& parent, int to) {
+  std::vector<int> path;
+  for (int v = to; v != -1; v = parent[static_cast<size_t>(v)]) path.push_back(v);
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
+// The curve of a piece (local ids) on the pattern mesh.
+SurfaceCurve piece_to_mesh(const PatternPiece& p, const SurfaceCurve& c) {
+  SurfaceCurve out;
+  for (const CurvePoint& q : c) {
+    if (q.is_vertex()) out.push_back(CurvePoint::at_vertex(p.mesh_vertex_ids[q.vertex]));
+    else if (q.is_edge()) out.push_back(CurvePoint::on_edge(p.mesh_vertex_ids[q.a], p.mesh_vertex_ids[q.b], q.t));
+    else out.push_back(CurvePoint::in_face(p.face_ids[static_cast<size_t>(q.face)], q.bary));
+  }
+  return out;
+}
+
+// Cache key of a piece: its triangles as sorted triples of pattern-mesh
+// vertex ids (unchanged by insertions elsewhere), then its slits.
+std::vector<int> piece_key(const Pattern& pattern, size_t c) {
+  const PatternPiece& p = pattern.pieces[c];
+  std::vector<std::array<int, 3>> tri;
+  for (int f = 0; f < p.F.rows(); ++f) {
+    std::array<int, 3> t{p.mesh_vertex_ids[p.F(f, 0)], p.mesh_vertex_ids[p.F(f, 1)], p.mesh_vertex_ids[p.F(f, 2)]};
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    tri.push_back(t);
+  }
+  std::sort(tri.begin(), tri.end());
+  std::vector<int> key;
+  for (const auto& t : tri) key.insert(key.end(), t.begin(), t.end());
+  key.push_back(-1);
+  for (const CutEdge& e : pattern.cut.edges)
+    if (pattern.piece_of_face[static_cast<size_t>(e.left_face)] == static_cast<int>(c) &&
+        pattern.piece_of_face[static_cast<size_t>(e.right_face)] == static_cast<int>(c)) {
+      key.push_back(std::min(e.a, e.b));
+      key.push_back(std::max(e.a, e.b));
+    }
+  return key;
+}
+
+// Whether the two flat sides of every seam have the same length within the
+// tolerance; fills the pieces on seams that do not.
+bool seam_sides_match(const Pattern& pattern, const PatternOptions& options, double margin, std::set<int>* mismatched) {
+  std::vector<double> left(pattern.seams.size(), 0.0), right(pattern.seams.size(), 0.0),
+      length(pattern.seams.size(), 0.0);
+  for (const CutEdge& e : pattern.cut.edges) {
+    length[static_cast<size_t>(e.seam)] += e.length;
+    for (int side = 0; side < 2; ++side) {
+      const auto& q = pattern.pieces[static_cast<size_t>(pattern.piece_of_face[static_cast<size_t>(side == 0 ? e.left_face : e.right_face)])];
+      const int a = pattern.local_vertex[static_cast<size_t>(side == 0 ? e.left_a : e.right_a)];
+      const int b = pattern.local_vertex[static_cast<size_t>(side == 0 ? e.left_b : e.right_b)];
+      (side == 0 ? left : right)[static_cast<size_t>(e.seam)] += (q.flat.UV.row(a) - q.flat.UV.row(b)).norm();
+    }
+  }
+  bool ok = true;
+  for (const CutEdge& e : pattern.cut.edges) {
+    const size_t i = static_cast<size_t>(e.seam);
+    if (std::abs(left[i] - right[i]) <= margin * std::max(options.seam_tolerance, options.seam_tolerance_relative * length[i]))
+      continue;
+    ok = false;
+    if (!mismatched) return false;
+    mismatched->insert(pattern.piece_of_face[static_cast<size_t>(e.left_face)]);
+    mismatched->insert(pattern.piece_of_face[static_cast<size_t>(e.right_face)]);
+  }
+  return ok;
+}
+
+std::vector<char> boundary_flags(const PatternPiece& p) {
+  std::vector<char> b(static_cast<size_t>(p.V.rows()), 0);
+  for (const auto& loop : boundary_loops(p.F))
+    for (int v : loop) b[static_cast<size_t>(v)] = 1;
+  return b;
+}
+
+}  // namespace
+
+bool meets_limit(const PatternPiece& piece, const PatternOptions& options) {
+  if (piece.flat.stats.flipped_triangles > 0 || piece.flat.boundary_overlaps) return false;
+  const DistortionStats& s = piece.stats;
+  if (options.symmetric) return s.p95_error <= options.p95_limit && s.max_error <= options.max_limit;
+  return s.worst1_compression <= options.compression_worst1 && s.worst5_ease <= options.ease_worst5;
+}
+
+Pattern cut_user_seams(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SeamPath>& seams,
+                       const PatternOptions& options) {
+  Pattern pattern;
+  pattern.mesh = pattern_mesh_of_rest(V, F);
+  // Fixed points of every seam: its clicks, its ends, the vertices it shares
+  // with another seam and those on the boundary.
+  std::vector<int> uses(static_cast<size_t>(V.rows()), 0);
+  for (const auto& s : seams)
+    for (int v : s.vertex_ids) ++uses[static_cast<size_t>(v)];
+  std::vector<char> on_boundary(static_cast<size_t>(V.rows()), 0);
+  for (const auto& loop : boundary_loops(F))
+    for (int v : loop) on_boundary[static_cast<size_t>(v)] = 1;
+  std::vector<PatternSeam> added;
+  std::vector<SurfaceCurve> curves;
+  for (const auto& s : seams) {
+    std::vector<int> fixed = s.click_ids;
+    for (int v : s.vertex_ids)
+      if (uses[static_cast<size_t>(v)] > 1 || on_boundary[static_cast<size_t>(v)]) fixed.push_back(v);
+    PatternSeam seam{s.name, "user", "", {}, s.closed, false};
+    SurfaceCurve c;
+    if (options.smooth) {
+      c = smooth_edge_path(V, F, s.vertex_ids, fixed, s.closed, options.smoothing, &seam.smoothed);
+    } else {
+      for (int v : s.vertex_ids) c.push_back(CurvePoint::at_vertex(v));
+      if (s.closed) c.push_back(CurvePoint::at_vertex(s.vertex_ids.front()));
+    }
+    added.push_back(seam);
+    curves.push_back(c);
+  }
+  try {
+    insert_cuts(pattern, added, curves);
+  } catch (const GeometryError& e) {
+    // Smoothed seams that cross each other: cut along the edge paths instead.
+    if (!options.smooth) throw;
+    pattern = Pattern{};
+    pattern.mesh = pattern_mesh_of_rest(V, F);
+    for (size_t i = 0; i < seams.size(); ++i) {
+      added[i].smoothed = false;
+      curves[i].clear();
+      for (int v : seams[i].vertex_ids) curves[i].push_back(CurvePoint::at_vertex(v));
+      if (seams[i].closed) curves[i].push_back(CurvePoint::at_vertex(seams[i].vertex_ids.front()));
+    }
+    insert_cuts(pattern, added, curves);
+    pattern.notes.push_back(std::string("the smoothed user seams could not be cut together (") + e.what() +
+                            "): they are cut along the rest shape's edges");
+  }
+  return pattern;
+}
+
+namespace {
+
+// Length of the level set {d = t} of the piecewise-linear d (#V).
+double level_set_length(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::VectorXd& d, double t) {
+  double length = 0.0;
+  for (int f = 0; f < F.rows(); ++f) {
+    Eigen::Vector3d points[2];
+    int count = 0;
+    for (int k = 0; k < 3 && count < 2; ++k) {
+      const int a = F(f, k), b = F(f, (k + 1) % 3);
+      const bool above_a = d[a] >= t, above_b = d[b] >= t;
+      if (above_a == above_b || !std::isfinite(d[a]) || !std::isfinite(d[b])) continue;
+      const double s = (t - d[a]) / (d[b] - d[a]);
+      points[count++] = (1.0 - s) * V.row(a).transpose() + s * V.row(b).transpose();
+    }
+    if (count == 2) length += (points[1] - points[0]).norm();
+  }
+  return length;
+}
+
+// The level set {d = t} as closed curves of edge points (each closed curve
+// ends with its first point again); open chains (reaching the boundary) are
+// dropped.
+std::vector<SurfaceCurve> closed_level_sets(const Eigen::MatrixXi& F, const Eigen::VectorXd& d, double t,
+                                            double snap_fraction, double edge_fraction) {
+  std::map<std::pair<int, int>, std::vector<int>> faces_of;  // crossed edge -> faces
+  for (int f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(f, k), b = F(f, (k + 1) % 3);
+      if ((d[a] >= t) != (d[b] >= t)) faces_of[{std::min(a, b), std::max(a, b)}].push_back(f);
+    }
+  std::map<int, std::vector<std::pair<int, int>>> edges_of;  // face -> its crossed edges
+  for (const auto& [e, fs] : faces_of)
+    for (int f : fs) edges_of[f].push_back(e);
+  std::set<std::pair<int, int>> used;
+  std::vector<SurfaceCurve> out;
+  for (const auto& [start, fs] : faces_of) {
+    if (used.count(start) || fs.size() != 2) continue;
+    SurfaceCurve c;
+    std::pair<int, int> e = start;
+    int face = fs[0];
+    bool closed = false;
+    for (;;) {
+      used.insert(e);
+      const double s = std::clamp((t - d[e.first]) / (d[e.second] - d[e.first]), edge_fraction, 1.0 - edge_fraction);
+      c.push_back(CurvePoint::on_edge(e.first, e.second, s));
+      const auto& es = edges_of[face];
+      if (es.size() != 2) break;
+      const std::pair<int, int> next = es[0] == e ? es[1] : es[0];
+      if (next == start) {
+        closed = true;
+        break;
+      }
+      if (used.count(next)) break;
+      const auto& nf = faces_of[next];
+      if (nf.size() != 2) break;
+      face = nf[0] == face ? nf[1] : nf[0];
+      e = next;
+    }
+    if (closed && c.size() >= 3) {
+      c.push_back(c.front());
+      c = snap_to_vertices(c, snap_fraction);
+      if (c.size() >= 4) out.push_back(c);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void cut_armholes(Pattern& pattern, const PatternOptions& options, const PatternContext& context) {
+  const PatternMesh& mesh = pattern.mesh;
+  std::vector<PatternSeam> seams;
+  std::vector<SurfaceCurve> curves;
+  double h = 0.0;
+  int edges = 0;
+  for (int f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k, ++edges) h += (mesh.V.row(mesh.F(f, k)) - mesh.V.row(mesh.F(f, (k + 1) % 3))).norm();
+  h /= std::max(1, edges);
+  // The body's vertical axis: through the area centroid of the garment.
+  Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+  {
+    double total = 0.0;
+    for (int f = 0; f < mesh.rest_F.rows(); ++f) {
+      const Eigen::Vector3d a = mesh.rest_V.row(mesh.rest_F(f, 0)), b = mesh.rest_V.row(mesh.rest_F(f, 1)),
+                            c = mesh.rest_V.row(mesh.rest_F(f, 2));
+      const double area = 0.5 * (b - a).cross(c - a).norm();
+      axis += area * (a + b + c) / 3.0;
+      total += area;
+    }
+    if (total > 0.0) axis /= total;
+  }
+  // The distance and its cross-sections are taken on the rest shape, whose
+  // triangles do not depend on where earlier cuts ran; the level set is cut
+  // on the pattern mesh from the same piecewise-linear distance.
+  for (const auto& loop : boundary_loops(mesh.rest_F)) {
+    std::string name = "through rest vertex " + std::to_string(loop.front());
+    for (int v : loop)
+      if (context.boundary_names.count(v)) {
+        name = "'" + context.boundary_names.at(v) + "'";
+        break;
+      }
+    const Eigen::VectorXd d = heat_geodesic_distance(mesh.rest_V, mesh.rest_F, loop);
+    double reach = 0.0;
+    for (int v = 0; v < d.size(); ++v)
+      if (std::isfinite(d[v])) reach = std::max(reach, d[v]);
+    // Cross-section length along the tube: a sleeve keeps about its girth,
+    // and where it meets the body the level set runs down the body's side
+    // and its length grows fast.
+    // L(t) on a fixed grid; its slope by least squares over a window, so
+    // that the chord noise of single level sets does not decide; the
+    // crossing of the threshold interpolated between grid points, so that
+    // it moves continuously with the shape.
+    const double step = 0.5 * h;
+    std::vector<double> ts, ls;
+    for (double t = step; t < reach; t += step) {
+      ts.push_back(t);
+      ls.push_back(level_set_length(mesh.rest_V, mesh.rest_F, d, t));
+    }
+    std::vector<double> slope(ts.size(), 0.0);
+    for (size_t k = 0; k < ts.size(); ++k) {
+      double st = 0.0, sl = 0.0, stt = 0.0, stl = 0.0;
+      int count = 0;
+      for (size_t j = 0; j < ts.size(); ++j)
+        if (std::abs(ts[j] - ts[k]) <= options.slope_window) {
+          st += ts[j], sl += ls[j], stt += ts[j] * ts[j], stl += ts[j] * ls[j];
+          ++count;
+        }
+      const double den = count * stt - st * st;
+      slope[k] = den > 0.0 ? (count * stl - st * sl) / den : 0.0;
+    }
+    double found = -1.0;
+    for (size_t k = 1; k < ts.size(); ++k)
+      if (slope[k] >= options.armhole_slope && slope[k - 1] < options.armhole_slope) {
+        found = ts[k - 1] + (options.armhole_slope - slope[k - 1]) / (slope[k] - slope[k - 1]) * step;
+        break;
+      }
+    // No tube (a neckline or an armhole opening) grows at once.
+    if (found < options.min_sleeve_length) continue;
+    if (found < 0.0) continue;
+    Eigen::VectorXd dm(mesh.V.rows());
+    for (int v = 0; v < mesh.V.rows(); ++v) {
+      const SurfacePoint& q = mesh.rest_point[static_cast<size_t>(v)];
+      dm[v] = q.face < 0 ? 0.0 : q.bary[0] * d[mesh.rest_F(q.face, 0)] + q.bary[1] * d[mesh.rest_F(q.face, 1)] +
+                                     q.bary[2] * d[mesh.rest_F(q.face, 2)];
+    }
+    auto sets = closed_level_sets(mesh.F, dm, found, options.smoothing.trace.snap_fraction, options.smoothing.trace.min_edge_fraction);
+    if (sets.size() != 1) continue;
+    // A limb's opening lies away from the body's vertical axis (+y through
+    // the garment's centroid): a sleeve's hem does, the torso's hem and the
+    // neckline do not (the torso is a tube too, and its base would be a yoke).
+    Eigen::Vector3d from = Eigen::Vector3d::Zero();
+    for (int v : loop) from += mesh.rest_V.row(v).transpose();
+    from /= static_cast<double>(loop.size());
+    if (Eigen::Vector2d(from.x() - axis.x(), from.z() - axis.z()).norm() < options.limb_offset) continue;
+    // The limb: the rest faces on the loop's side of the level set.
+    if (pattern.limb_of_rest_face.empty()) pattern.limb_of_rest_face.assign(static_cast<size_t>(mesh.rest_F.rows()), -1);
+    for (int f = 0; f < mesh.rest_F.rows(); ++f)
+      if (pattern.limb_of_rest_face[static_cast<size_t>(f)] < 0 &&
+          (d[mesh.rest_F(f, 0)] + d[mesh.rest_F(f, 1)] + d[mesh.rest_F(f, 2)]) / 3.0 < found)
+        pattern.limb_of_rest_face[static_cast<size_t>(f)] = static_cast<int>(pattern.limbs.size());
+    pattern.limbs.push_back({name, from.x() > axis.x()});
+    PatternSeam seam{"armhole" + std::to_string(seams.size() + 1), "armhole", "", {}, true, true};
+    seam.reason = "the tube ending at the boundary " + name + " (a sleeve) meets the body " + metres(found) +
+                  " from it, where its cross-section starts to grow fast: a seam around it there (" +
+                  metres(curve_length(mesh.V, mesh.F, sets.front())) + ")";
+    seams.push_back(seam);
+    curves.push_back(sets.front());
+  }
+  if (!seams.empty()) insert_cuts(pattern, seams, curves);
+}
+
+void cut_to_disks(Pattern& pattern, const PatternOptions& options, const PatternContext& context) {
+  int count = 0;
+  for (int round = 0; round < 1000; ++round) {
+    std::vector<PatternSeam> seams;
+    std::vector<SurfaceCurve> curves;
+    for (const PatternPiece& p : pattern.pieces) {
+      const auto loops = boundary_loops(p.F);
+      const int euler = euler_characteristic(p.F);
+      if (loops.size() == 1 && euler == 1) continue;
+      const int genus2 = 2 - euler - static_cast<int>(loops.size());
+      if (genus2 != 0)
+        throw GeometryError("piece " + p.name + " has genus " + std::to_string(genus2 / 2) +
+                            " (a handle); add seams that cut through its handles");
+      const int n = static_cast<int>(p.V.rows());
+      const auto neighbors = vertex_neighbors(p.F, n);
+      const Eigen::MatrixXd N = vertex_normals(p.V, p.F);
+      // A tailor's cut runs down the side or under the arm: length on a
+      // surface facing front or back (|n_z| near 1) costs more.
+      auto cost = [&](int a, int b) {
+        const Eigen::Vector3d nm = (N.row(a) + N.row(b)).normalized();
+        const double nz = std::isfinite(nm.z()) ? nm.z() : 0.0;
+        return (p.V.row(a) - p.V.row(b)).norm() * (1.0 + options.front_back_cost * nz * nz);
+      };
+      std::vector<double> dist;
+      std::vector<int> parent, path;
+      std::string reason;
+      auto loop_name = [&](const std::vector<int>& loop) {
+        for (int v : loop) {
+          const int m = p.mesh_vertex_ids[v];
+          if (m < pattern.mesh.rest_vertex_count) {
+            const auto it = context.boundary_names.find(m);
+            if (it != context.boundary_names.end()) return "'" + it->second + "'";
+          }
+        }
+        return std::string("through pattern vertex ") + std::to_string(p.mesh_vertex_ids[loop.front()]);
+      };
+      if (loops.empty()) {
+        dijkstra(neighbors, {0}, cost, dist, parent);
+        int far = 0;
+        for (int v = 0; v < n; ++v)
+          if (dist[static_cast<size_t>(v)] > dist[static_cast<size_t>(far)]) far = v;
+        dijkstra(neighbors, {far}, cost, dist, parent);
+        int other = far;
+        for (int v = 0; v < n; ++v)
+          if (dist[static_cast<size_t>(v)] > dist[static_cast<size_t>(other)]) other = v;
+        path = trace_parents(parent, other);
+        reason = "piece " + p.name + " is closed: opened between its two farthest points";
+      } else {
+        std::vector<int> loop_of(static_cast<size_t>(n), -1);
+        for (size_t l = 0; l < loops.size(); ++l)
+          for (int v : loops[l]) loop_of[static_cast<size_t>(v)] = static_cast<int>(l);
+        int reached = -1;
+        dijkstra(neighbors, loops.front(), cost, dist, parent, [&](int v) {
+          if (loop_of[static_cast<size_t>(v)] > 0) {
+            reached = v;
+            return true;
+          }
+          return false;
+        });
+        if (reached < 0) throw GeometryError("piece " + p.name + " has boundary loops that no path joins");
+        path = trace_parents(parent, reached);
+        reason = "piece " + p.name + " has " + std::to_string(loops.size()) +
+                 " boundary loops and must be a disk to be flattened: joins the boundary " + loop_name(loops.front()) +
+                 " to the boundary " + loop_name(loops[static_cast<size_t>(loop_of[static_cast<size_t>(reached)])]) +
+                 " along the shortest path that keeps off the front and back";
+      }
+      PatternSeam seam{"join" + std::to_string(++count), "topology", reason, {}, false, false};
+      SurfaceCurve c;
+      if (options.smooth && path.size() > 2) {
+        // Smoothed in the piece itself, so that it cannot cross into another.
+        std::vector<int> fixed{path.front(), path.back()};
+        const auto flags = boundary_flags(p);
+        for (int v : path)
+          if (flags[static_cast<size_t>(v)]) fixed.push_back(v);
+        c = smooth_edge_path(p.V, p.F, path, fixed, false, options.smoothing, &seam.smoothed);
+      } else {
+        for (int v : path) c.push_back(CurvePoint::at_vertex(v));
+      }
+      curves.push_back(piece_to_mesh(p, c));
+      seam.reason += ", " + metres(curve_length(p.V, p.F, c)) + " long";
+      seams.push_back(seam);
+    }
+    if (seams.empty()) return;
+    insert_cuts(pattern, seams, curves);
+  }
+  throw GeometryError("cutting the pieces into disks did not finish");
+}
+
+void flatten_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache, bool injective) {
+  for (size_t c = 0; c < pattern.pieces.size(); ++c) {
+    PatternPiece& p = pattern.pieces[c];
+    p.boundary = boundary_loops(p.F).front();
+    const std::vector<int> key = piece_key(pattern, c);
+    auto it = cache.results.find(key);
+    // A plain flattening without flips is what the injective one returns too.
+    if (it == cache.results.end() || (injective && it->second.stats.flipped_triangles > 0)) {
+      FlattenOptions flatten = options.flatten;
+      flatten.injective_fallback = injective;
+      const auto w = cache.boundary_weight.find(key);
+      if (w != cache.boundary_weight.end()) flatten.boundary_weight = w->second;
+      cache.results[key] = flatten_piece(p.V, p.F, flatten, &p.mesh_vertex_ids);
+      it = cache.results.find(key);
+      ++pattern.flattenings;
+    }
+    p.flat = it->second;
+    p.stats = material_distortion(pattern, c);
+    p.meets_limit = meets_limit(p, options);
+  }
+  pattern.meets_limit = std::all_of(pattern.pieces.begin(), pattern.pieces.end(),
+                                    [](const PatternPiece& p) { return p.meets_limit; });
+}
+
+bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
+  std::set<int> within;
+  pattern.seams_within_tolerance = seam_sides_match(pattern, options, 1.0, nullptr);
+  // A safety net: the boundary weight keeps seam sides within the tolerance
+  // on the example garments; only a mismatch beyond match_margin times the
+  // tolerance (a decision taken with a margin, so that a small change of the
+  // shape does not flip it) gets its pieces flattened again, with 4 times
+  // the weight up to max_boundary_weight.
+  std::set<int> mismatched;
+  seam_sides_match(pattern, options, options.match_margin, &mismatched);
+  bool again = false;
+  for (int c : mismatched) {
+    const std::vector<int> key = piece_key(pattern, static_cast<size_t>(c));
+    auto w = cache.boundary_weight.emplace(key, options.flatten.boundary_weight).first;
+    if (w->second <= 0.0 || w->second * 4.0 > options.max_boundary_weight) continue;
+    w->second *= 4.0;
+    cache.results.erase(key);
+    again = true;
+  }
+  return again;
+}
+
+int place_darts_and_panels(Pattern& pattern, const PatternOptions& options) {
+  std::vector<PatternSeam> seams;
+  std::vector<SurfaceCurve> curves;
+  int darts = 0, panels = 0;
+  for (const auto& s : pattern.seams) {
+    if (s.kind == "dart") ++darts;
+    if (s.kind == "panel") ++panels;
+  }
+  // Failing pieces, the largest first: the piece budget goes where the most
+  // cloth is.
+  std::vector<size_t> order;
+  for (size_t c = 0; c < pattern.pieces.size(); ++c)
+    if (!pattern.pieces[c].meets_limit) order.push_back(c);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return pattern.pieces[a].stats.area_3d > pattern.pieces[b].stats.area_3d;
+  });
+  int pieces = static_cast<int>(pattern.pieces.size());
+  for (size_t c : order) {
+    const PatternPiece& p = pattern.pieces[c];
+    const std::string over = "piece " + p.name + " exceeds the limit (compression " +
+                             percent(p.stats.worst1_compression) + " over its worst 1 %, ease " +
+                             percent(p.stats.worst5_ease) + " over its worst 5 %): ";
+    Eigen::MatrixXd chart;
+    try {
+      chart = conformal_chart(p);
+    } catch (const NumericalError&) {
+      pattern.notes.push_back("piece " + p.name + ": no conformal chart to place a dart or seam in");
+      continue;
+    }
+    bool placed = false;
+    // Darts first (a tailor darts before adding a seam): every tip strong
+    // enough at once, up to the piece's budget.
+    const int left = options.max_darts - static_cast<int>(p.dart_seams.size());
+    if (left > 0)
+      for (const DartTip& tip : dart_tips(pattern, c, options, left)) {
+        const auto curve = dart_curve(p, chart, tip, options);
+        if (!curve) continue;
+        char deg[32];
+        std::snprintf(deg, sizeof(deg), "%.1f", tip.curvature * 180.0 / M_PI);
+        PatternSeam seam{"dart" + std::to_string(++darts), "dart", "", {}, false, true};
+        seam.reason = over + "dart to the mode of its " +
+                      (options.dart_placement == PatternOptions::DartPlacement::conformal ? "log conformal factor"
+                                                                                           : "Gaussian curvature") +
+                      " (" + deg + " degrees within " + metres(options.kernel_radius) + "), " +
+                      metres(curve_length(p.V, p.F, *curve)) + " long";
+        seams.push_back(seam);
+        curves.push_back(piece_to_mesh(p, *curve));
+        placed = true;
+      }
+    if (!placed && pieces < options.max_pieces) {
+      std::string where;
+      const auto curve = panel_curve(pattern, c, chart, options, &where);
+      if (curve) {
+        PatternSeam seam{"panel" + std::to_string(++panels), "panel", "", {}, false, true};
+        seam.reason = over + where + ", " + metres(curve_length(p.V, p.F, *curve)) + " long";
+        seams.push_back(seam);
+        curves.push_back(piece_to_mesh(p, *curve));
+        ++pieces;
+        placed = true;
+      }
+    }
+    if (!placed)
+      pattern.notes.push_back(over + "no further dart or panel seam fits" +
+                              (pieces >= options.max_pieces ? " (the pattern has its most pieces)" : ""));
+  }
+  if (seams.empty()) return 0;
+  insert_cuts(pattern, seams, curves);
+  return static_cast<int>(seams.size());
+}
+
+void merge_small_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
+  std::set<std::string> tried;
+  for (;;) {
+    // The smallest piece below the area bordering an added cut.
+    size_t best_seam = pattern.seams.size();
+    double best_area = options.min_piece_area;
+    for (const CutEdge& e : pattern.cut.edges) {
+      const PatternSeam& s = pattern.seams[static_cast<size_t>(e.seam)];
+      // User seams and armholes are structure, darts lie inside one piece.
+      if (s.kind == "user" || s.kind == "armhole" || s.kind == "dart" || tried.count(s.name)) continue;
+      const int l = pattern.piece_of_face[static_cast<size_t>(e.left_face)];
+      const int r = pattern.piece_of_face[static_cast<size_t>(e.right_face)];
+      if (l == r) continue;
+      const double a = std::min(pattern.pieces[static_cast<size_t>(l)].stats.area_3d,
+                                pattern.pieces[static_cast<size_t>(r)].stats.area_3d);
+      if (a < best_area || (a == best_area && static_cast<size_t>(e.seam) < best_seam))
+        best_area = a, best_seam = static_cast<size_t>(e.seam);
+    }
+    if (best_seam >= pattern.seams.size()) return;
+    tried.insert(pattern.seams[best_seam].name);
+    Pattern trial = pattern;
+    trial.seams.erase(trial.seams.begin() + static_cast<long>(best_seam));
+    assemble_pieces(trial);
+    if (!std::all_of(trial.pieces.begin(), trial.pieces.end(), [](const PatternPiece& p) { return is_disk(p); }))
+      continue;
+    flatten_pieces(trial, options, cache, true);
+    trial.merged_cuts.push_back(pattern.seams[best_seam].name);
+    pattern = std::move(trial);
+  }
+}
+
+Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SeamPath>& seams,
+                     const PatternOptions& options, const PatternContext& context) {
+  using Clock = std::chrono::steady_clock;
+  auto last = Clock::now();
+  std::map<std::string, double> seconds;
+  auto lap = [&](const std::string& phase) {
+    const auto now = Clock::now();
+    seconds[phase] += std::chrono::duration<double>(now - last).count();
+    last = now;
+  };
+  Pattern pattern = cut_user_seams(V, F, seams, options);
+  lap("user_seams");
+  if (options.armholes) cut_armholes(pattern, options, context);
+  lap("armholes");
+  cut_to_disks(pattern, options, context);
+  lap("disks");
+  FlattenCache cache;
+  for (int round = 0; round < options.max_rounds; ++round) {
+    ++pattern.rounds;
+    flatten_pieces(pattern, options, cache, true);
+    while (match_seams(pattern, options, cache)) flatten_pieces(pattern, options, cache, true);
+    lap("flatten");
+    if (pattern.meets_limit) break;
+    const int added = place_darts_and_panels(pattern, options);
+    lap("darts_and_panels");
+    if (added == 0) break;
+  }
+  flatten_pieces(pattern, options, cache, true);
+  lap("flatten");
+  merge_small_pieces(pattern, options, cache);
+  // The output has no flipped triangle: pieces left with flips are
+  // flattened injectively.
+  flatten_pieces(pattern, options, cache, true);
+  pattern.seams_within_tolerance = seam_sides_match(pattern, options, 1.0, nullptr);
+  lap("merge");
+  pattern.seconds = seconds;
+  return pattern;
+}
+
+}  // namespace gp

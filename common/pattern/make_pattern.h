@@ -1,0 +1,168 @@
+#pragma once
+// From a rest shape and the user's seams to the pieces of a sewing pattern a
+// tailor would sew, in phases (each a function below):
+//   1. user seams: the seam spec's edge paths smoothed into curves through
+//      the rest shape's triangles and cut (surface_curve.h, curve_insertion.h);
+//   2. cut to disks: every piece with several boundary loops (or none) is
+//      opened along the shortest path between two of its loops, measured in a
+//      metric that makes the body's front and back dear and its sides and
+//      underarms cheap (a tailor's side seam), smoothed like a user seam;
+//   3. flatten: every piece (flatten.h) with a one-sided target, the flat
+//      piece as large as the rest shape or up to `ease` larger;
+//   4. match seams: pieces whose seam sides differ beyond the tolerance are
+//      flattened again with a stronger boundary-length term;
+//   5. darts and panels: a piece over the limit gets a dart, a straight wedge
+//      in its flattening from its nearest edge to a tip placed at the
+//      concentration of Gaussian curvature (or of the log conformal factor,
+//      as cone points are placed in boundary-first flattening, Sawhney and
+//      Crane 2017), at most `max_darts` per piece; a piece still over the
+//      limit with its darts is split by a panel seam along or across the
+//      grain through the concentration of its compression;
+//   6. merge: an added cut that leaves a piece smaller than `min_piece_area`
+//      is removed again.
+// Phases 3-5 repeat until every piece meets the limit or nothing more can be
+// placed. Every decision is taken on smooth quantities (kernel-weighted
+// curvature, mode of a smooth density, chart positions) with ties broken by
+// ids, so that a small change of the rest shape moves cuts a little and
+// changes no count.
+#include <map>
+#include <string>
+#include <vector>
+#include <Eigen/Core>
+
+#include "pattern/flatten.h"
+#include "pattern/pattern.h"
+#include "pattern/seam_spec.h"
+#include "pattern/surface_curve.h"
+
+namespace gp {
+
+struct PatternOptions {
+  // The limit, one-sided: a flat piece smaller than its rest triangle (s2 < 1)
+  // must be stretched when sewn, so compression 1 - s2 is bounded tightly; a
+  // larger one (s1 > 1) is ease, bounded loosely so that the garment keeps
+  // its shape. Fractions; means over the worst part of the area (flatten.h:
+  // continuous, unlike percentiles, so that a small change of the shape does
+  // not flip the verdict). No bound applies to single triangles: a dart's
+  // tip, where its wedge closes, always has a few triangles far off, and they
+  // do not change how the garment fits.
+  double compression_worst1 = 0.03;  // mean 1 - s2 over the worst 1 % of the area
+  double ease_worst5 = 0.10;         // mean s1 - 1 over the worst 5 % of the area
+  // The symmetric limit instead (max(|s1-1|, |s2-1|), as before ease was
+  // allowed): p95 and max.
+  bool symmetric = false;
+  double p95_limit = 0.02;
+  double max_limit = 0.05;
+
+  enum class DartPlacement {
+    curvature,  // mode of the kernel-smoothed angle defect (integrated Gaussian curvature)
+    conformal,  // minimum of the log conformal factor u (L u = -K, u = 0 on the boundary)
+  };
+  DartPlacement dart_placement = DartPlacement::curvature;
+  int max_darts = 2;                // per piece
+  double kernel_radius = 0.06;      // metres: radius of the curvature / density kernel
+  double min_dart_angle = 0.25;     // radians of Gaussian curvature within the kernel below which no dart is placed
+  double tip_margin = 0.05;         // metres: a dart's tip lies at least this far inside its piece
+  double min_dart_length = 0.05;    // metres
+  int max_pieces = 12;              // panel seams stop at this many pieces
+
+  double min_piece_area = 0.01;     // m^2: added cuts leave no piece smaller than this
+  int max_rounds = 16;              // flatten / place rounds
+
+  // Armholes: a boundary loop that ends a limb's tube (a sleeve: a loop whose
+  // centroid lies at least limb_offset from the body's vertical axis through
+  // the garment's centroid) gets a seam around the tube where it meets the
+  // body: the level set of the geodesic distance from the loop at which the
+  // level set's length first grows faster than armhole_slope (metres per
+  // metre, a slope fitted over +-slope_window), at least min_sleeve_length
+  // from the loop (an armhole opening without sleeve grows at once).
+  bool armholes = true;
+  double min_sleeve_length = 0.04;  // metres
+  double armhole_slope = 2.0;
+  double slope_window = 0.03;       // metres
+  double limb_offset = 0.12;        // metres
+
+  // Topology cuts: cost of a unit of length on a surface whose normal faces
+  // front or back (|n_z| = 1) relative to one facing sideways or down.
+  double front_back_cost = 4.0;
+
+  bool smooth = true;               // cuts through triangles along smooth curves (false: along rest edges)
+  EdgePathSmoothing smoothing;
+
+  // Seam tolerance: the two flat sides of a seam may differ by
+  // max(seam_tolerance, seam_tolerance_relative * 3D length). Pieces on a
+  // seam beyond match_margin times that are flattened again with 4 times the
+  // boundary weight, up to max_boundary_weight.
+  double seam_tolerance = 0.002;           // metres
+  double seam_tolerance_relative = 0.005;  // fraction
+  double match_margin = 1.5;
+  double max_boundary_weight = 640.0;
+  FlattenOptions flatten = default_flatten();
+
+  // The flattening prices ease at a quarter of compression (curvature that
+  // no cut relieves becomes ease rather than compression) and holds the
+  // pieces' edges at their 3D length with weight 40, which keeps the sides
+  // of every seam of the example garments within the seam tolerance without
+  // flattening pieces again (a decision that a small change of the shape
+  // could flip).
+  static FlattenOptions default_flatten() {
+    FlattenOptions f;
+    f.ease_weight = 0.25;
+    f.boundary_weight = 40.0;
+    return f;
+  }
+};
+
+// Whether a piece meets the limit of `options`: no flipped triangle, no
+// overlap of its outline, and its material distortion (piece.stats) within
+// the limit.
+bool meets_limit(const PatternPiece& piece, const PatternOptions& options);
+
+// What the cutter knows of the garment besides its rest shape: names of the
+// boundary loops (for reasons), for the piece names the body's frame (+y up,
+// +z the body's front, +x its left) is that of the rest shape.
+struct PatternContext {
+  std::map<int, std::string> boundary_names;  // rest vertex -> loop name
+};
+
+// Phase 1: the pattern mesh refined along the user seams (smoothed unless
+// options.smooth is false) and cut into pieces.
+Pattern cut_user_seams(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SeamPath>& seams,
+                       const PatternOptions& options);
+
+// Phase 1b: armholes (see PatternOptions::armholes).
+void cut_armholes(Pattern& pattern, const PatternOptions& options, const PatternContext& context);
+
+// Phase 2: topology cuts until every piece is a disk. Throws GeometryError
+// for a piece of genus > 0 (seams must cut its handles).
+void cut_to_disks(Pattern& pattern, const PatternOptions& options, const PatternContext& context);
+
+// Flattenings of unchanged pieces are reused across rounds: the key is the
+// piece's triangles (pattern-mesh vertex ids) and its slits.
+struct FlattenCache {
+  std::map<std::vector<int>, FlattenResult> results;
+  std::map<std::vector<int>, double> boundary_weight;  // raised where seam sides differ
+};
+
+// Phase 3: flattens every piece (or reuses an unchanged one) and sets
+// meets_limit; `injective` asks for a flip-free result.
+void flatten_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache, bool injective);
+
+// Phase 4: whether the pieces on mismatched seams were flattened again.
+bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
+
+// Phase 5: one dart or panel seam in every piece over the limit that can
+// take one; returns how many cuts were added.
+int place_darts_and_panels(Pattern& pattern, const PatternOptions& options);
+
+// Phase 6: removes added cuts (panel or topology seams whose removal keeps
+// every piece a disk) that border a piece smaller than min_piece_area.
+// Armholes stay: a short sleeve's halves are small because the user's seams
+// halve it.
+void merge_small_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
+
+// All phases.
+Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SeamPath>& seams,
+                     const PatternOptions& options, const PatternContext& context = {});
+
+}  // namespace gp

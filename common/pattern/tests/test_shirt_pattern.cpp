@@ -1,0 +1,196 @@
+// The pattern of a shirt on a generated body (the demo customer: make-avatar,
+// make-garment, the demo's side and shoulder seams), cut by export-rest: a
+// few recognisable pieces, and cuts that noise of 1e-7 m on the rest shape
+// does not change.
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include "io/mesh_io.h"
+#include "spec/json_file.h"
+#include "testing/command.h"
+#include "testing/files.h"
+
+namespace fs = std::filesystem;
+using namespace gp;
+
+namespace {
+
+// make-avatar and make-garment once for all test cases of this file.
+struct Shirt {
+  fs::path dir;
+  fs::path seams;
+  bool ok = false;
+  std::string error;
+  Shirt() {
+    dir = testing::fresh_temp_dir("export-rest-shirt");
+    const fs::path customer = testing::source_dir() / "testdata" / "customers" / "small-shirt";
+    seams = testing::source_dir() / "pipelines" / "customers" / "demo" / "seams.json";
+    auto r = testing::run_command(testing::tool_path("make-avatar") + " " + (customer / "avatar.json").string() +
+                                  " --poses apose,tpose -q --out " + (dir / "body").string());
+    if (r.exit_code != 0) {
+      error = "make-avatar: " + r.err;
+      return;
+    }
+    r = testing::run_command(testing::tool_path("make-garment") + " " + (customer / "garment-spec.json").string() +
+                             " --poses " + (dir / "body" / "poses.json").string() + " -q --out " +
+                             (dir / "garment").string());
+    if (r.exit_code != 0) {
+      error = "make-garment: " + r.err;
+      return;
+    }
+    ok = true;
+  }
+  testing::CommandResult cut(const fs::path& rest, const std::string& out, const std::string& extra = "") const {
+    return testing::run_command(testing::tool_path("export-rest") + " " + rest.string() + " --garment " +
+                                (dir / "garment" / "garment.json").string() + " --seams " + seams.string() +
+                                " --body " + (dir / "body" / "poses.json").string() + " -q --out " +
+                                (dir / out).string() + " " + extra);
+  }
+};
+
+const Shirt& shirt() {
+  static const Shirt s;
+  return s;
+}
+
+// The seams of seams.obj: name -> polyline (#points by 3).
+std::map<std::string, Eigen::MatrixXd> read_seams(const fs::path& path) {
+  std::ifstream in(path);
+  std::map<std::string, std::vector<Eigen::Vector3d>> points;
+  std::string line, name;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string tag;
+    words >> tag;
+    if (tag == "o") words >> name;
+    if (tag == "v") {
+      Eigen::Vector3d x;
+      words >> x.x() >> x.y() >> x.z();
+      points[name].push_back(x);
+    }
+  }
+  std::map<std::string, Eigen::MatrixXd> out;
+  for (const auto& [n, p] : points) {
+    Eigen::MatrixXd P(static_cast<int>(p.size()), 3);
+    for (size_t i = 0; i < p.size(); ++i) P.row(static_cast<int>(i)) = p[i].transpose();
+    out[n] = P;
+  }
+  return out;
+}
+
+// Largest distance from a point of A to the polyline B.
+double one_sided_hausdorff(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
+  double worst = 0.0;
+  for (int i = 0; i < A.rows(); ++i) {
+    double d = std::numeric_limits<double>::infinity();
+    for (int j = 0; j + 1 < B.rows(); ++j) {
+      const Eigen::Vector3d a = B.row(j), b = B.row(j + 1), q = A.row(i);
+      const double l2 = (b - a).squaredNorm();
+      const double t = l2 > 0.0 ? std::clamp((q - a).dot(b - a) / l2, 0.0, 1.0) : 0.0;
+      d = std::min(d, (a + t * (b - a) - q).norm());
+    }
+    if (B.rows() == 1) d = (A.row(i) - B.row(0)).norm();
+    worst = std::max(worst, d);
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("a generated shirt's pattern has a few recognisable pieces", "[cli][shirt]") {
+  const Shirt& s = shirt();
+  INFO(s.error);
+  REQUIRE(s.ok);
+  const auto r = s.cut(s.dir / "garment" / "garment.ply", "pattern");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const Json report = read_json_file(s.dir / "pattern" / "report.json");
+  const Json& sum = report["summary"];
+  INFO(sum.dump());
+  CHECK(sum["pieces"].get<int>() <= 12);
+  CHECK(sum["most_darts_in_a_piece"].get<int>() <= 2);
+  // No piece under 100 cm^2 unless the user's seams make it: the demo's
+  // short sleeves are halved by its shoulder and side seams, so only their
+  // halves (between those seams and the armhole) may be smaller.
+  for (const auto& p : report["pieces"])
+    if (p["area_3d"].get<double>() < 0.01) CHECK(p["name"].get<std::string>().find("sleeve") != std::string::npos);
+  CHECK(sum["flipped_triangles"] == 0);
+  CHECK(sum["seams_within_tolerance"] == true);
+  CHECK(sum["total_seam_length"].get<double>() <=
+        2.0 * (sum["user_seam_length"].get<double>() + sum["boundary_length"].get<double>()));
+  // Named by body region, every name once: a front and a back, and sleeves.
+  std::map<std::string, int> names;
+  bool front = false, back = false, sleeve = false;
+  for (const auto& p : report["pieces"]) {
+    const std::string n = p["name"];
+    ++names[n];
+    front = front || n.find("front") != std::string::npos;
+    back = back || n.find("back") != std::string::npos;
+    sleeve = sleeve || n.find("sleeve") != std::string::npos;
+  }
+  for (const auto& [n, count] : names) CHECK(count == 1);
+  CHECK(front);
+  CHECK(back);
+  CHECK(sleeve);
+  // Every dart is a wedge drawn as one: a fold line and a drill hole per dart.
+  const std::string svg = testing::read_file(s.dir / "pattern" / "pattern.svg");
+  auto count = [&](const std::string& what) {
+    size_t n = 0;
+    for (size_t at = svg.find(what); at != std::string::npos; at = svg.find(what, at + 1)) ++n;
+    return static_cast<int>(n);
+  };
+  CHECK(count("class=\"drill\"") == sum["darts"].get<int>());
+  CHECK(count("class=\"fold\"") == sum["darts"].get<int>());
+}
+
+TEST_CASE("noise of 1e-7 m on the rest shape changes no cut", "[cli][shirt][reproducibility]") {
+  const Shirt& s = shirt();
+  INFO(s.error);
+  REQUIRE(s.ok);
+  const auto base = s.cut(s.dir / "garment" / "garment.ply", "noise0");
+  REQUIRE(base.exit_code == 0);
+  const Json reference = read_json_file(s.dir / "noise0" / "report.json");
+  const auto seams0 = read_seams(s.dir / "noise0" / "seams.obj");
+  const Mesh rest = read_mesh(s.dir / "garment" / "garment.ply").mesh;
+  for (unsigned seed : {1u, 2u, 3u}) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> noise(-1e-7, 1e-7);
+    Mesh moved = rest;
+    for (int i = 0; i < moved.V.size(); ++i) moved.V.data()[i] += noise(rng);
+    const fs::path file = s.dir / ("noisy" + std::to_string(seed) + ".ply");
+    write_mesh(file, moved);
+    const std::string out = "noise" + std::to_string(seed);
+    const auto r = s.cut(file, out);
+    INFO("seed " << seed << ": " << r.err);
+    REQUIRE(r.exit_code == 0);
+    const Json report = read_json_file(s.dir / out / "report.json");
+    // The same pieces...
+    REQUIRE(report["pieces"].size() == reference["pieces"].size());
+    for (size_t i = 0; i < report["pieces"].size(); ++i) {
+      CHECK(report["pieces"][i]["name"] == reference["pieces"][i]["name"]);
+      CHECK(report["pieces"][i]["darts"] == reference["pieces"][i]["darts"]);
+      CHECK(report["pieces"][i]["area_3d"].get<double>() ==
+            Approx(reference["pieces"][i]["area_3d"].get<double>()).margin(1e-6));
+    }
+    // ... the same cuts, running within 0.1 mm of where they ran, their
+    // lengths within 0.1 mm.
+    REQUIRE(report["seams"].size() == reference["seams"].size());
+    const auto seams = read_seams(s.dir / out / "seams.obj");
+    for (size_t i = 0; i < report["seams"].size(); ++i) {
+      const std::string name = reference["seams"][i]["name"];
+      INFO("seed " << seed << ", seam " << name);
+      CHECK(report["seams"][i]["name"] == name);
+      CHECK(report["seams"][i]["kind"] == reference["seams"][i]["kind"]);
+      CHECK(std::abs(report["seams"][i]["length_3d"].get<double>() - reference["seams"][i]["length_3d"].get<double>()) <
+            1e-4);
+      REQUIRE(seams.count(name) == 1);
+      const Eigen::MatrixXd& a = seams.at(name);
+      const Eigen::MatrixXd& b = seams0.at(name);
+      CHECK(std::max(one_sided_hausdorff(a, b), one_sided_hausdorff(b, a)) < 1e-4);
+    }
+  }
+}

@@ -1,0 +1,118 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include <Eigen/Dense>
+
+#include "core/error.h"
+#include "mesh/measures.h"
+#include "mesh/topology.h"
+#include "pattern/curve_insertion.h"
+#include "pattern/mesh_cut.h"
+#include "pattern/surface_curve.h"
+#include "testing/test_meshes.h"
+
+using namespace gp;
+
+namespace {
+
+// The flat grid in the xz-plane as a chart: (x, z).
+Eigen::MatrixXd chart_of(const Mesh& grid) {
+  Eigen::MatrixXd UV(grid.V.rows(), 2);
+  UV.col(0) = grid.V.col(0);
+  UV.col(1) = grid.V.col(2);
+  return UV;
+}
+
+double distance_to_line(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d d = (b - a).normalized();
+  const Eigen::Vector2d q = p - a;
+  return std::abs(q.x() * d.y() - q.y() * d.x());
+}
+
+}  // namespace
+
+TEST_CASE("a straight line traced across a grid crosses its edges on the line", "[curve]") {
+  // make_grid's faces are clockwise seen from +y in the xz-plane; flip them.
+  Mesh grid = testing::make_grid(10, 10, 1.0, 1.0);
+  grid.F.col(1).swap(grid.F.col(2));
+  const Eigen::MatrixXd UV = chart_of(grid);
+  // From vertex (1, 1) to a point inside a face near the far corner.
+  const int start = 1 * 11 + 1;
+  const Eigen::Vector2d a = UV.row(start), b(0.83, 0.71);
+  int face = -1;
+  Eigen::Vector3d bary;
+  for (int f = 0; f < grid.F.rows() && face < 0; ++f) {
+    const Eigen::Vector2d p0 = UV.row(grid.F(f, 0)), p1 = UV.row(grid.F(f, 1)), p2 = UV.row(grid.F(f, 2));
+    Eigen::Matrix2d M;
+    M << p1 - p0, p2 - p0;
+    const Eigen::Vector2d w = M.inverse() * (b - p0);
+    if (w.minCoeff() >= 0.0 && w.sum() <= 1.0) face = f, bary = Eigen::Vector3d(1.0 - w.sum(), w.x(), w.y());
+  }
+  REQUIRE(face >= 0);
+  Eigen::MatrixXd P(2, 2);
+  P.row(0) = a;
+  P.row(1) = b;
+  TraceOptions o;
+  o.min_edge_fraction = 0.0;
+  const SurfaceCurve c = trace_polyline(UV, grid.F, CurvePoint::at_vertex(start), CurvePoint::in_face(face, bary), P, {}, o);
+  REQUIRE(c.size() > 5);
+  CHECK(c.front().is_vertex());
+  CHECK(c.back().is_face());
+  for (size_t i = 1; i + 1 < c.size(); ++i) {
+    CHECK(c[i].is_edge());
+    CHECK(distance_to_line(curve_point_position(UV, grid.F, c[i]), a, b) < 1e-12);
+  }
+  CHECK(curve_length(UV, grid.F, c) == Approx((b - a).norm()).epsilon(1e-12));
+  // Leaving the chart gives no curve.
+  P.row(1) = Eigen::Vector2d(1.5, 0.5);
+  CHECK(trace_polyline(UV, grid.F, CurvePoint::at_vertex(start), CurvePoint::in_face(face, bary), P, {}, o).empty());
+}
+
+TEST_CASE("curves inserted into a mesh become edge paths that cut it in two", "[curve]") {
+  const Mesh cyl = testing::make_open_cylinder(24, 10, 0.1, 0.4);
+  // A seam along a wavy edge path up the cylinder, smoothed through the triangles.
+  std::vector<int> path;
+  for (int j = 0; j <= 10; ++j) path.push_back(j * 24 + (j % 2));
+  bool smoothed = false;
+  const SurfaceCurve c = smooth_edge_path(cyl.V, cyl.F, path, {path.front(), path.back()}, false, EdgePathSmoothing{},
+                                          &smoothed);
+  REQUIRE(smoothed);
+  CHECK(c.front().is_vertex());
+  CHECK(c.back().is_vertex());
+  // Smoother and no longer than the zigzag.
+  double zigzag = 0.0;
+  for (size_t i = 0; i + 1 < path.size(); ++i) zigzag += (cyl.V.row(path[i + 1]) - cyl.V.row(path[i])).norm();
+  CHECK(curve_length(cyl.V, cyl.F, c) < zigzag);
+  const RefinedMesh r = insert_curves(cyl.V, cyl.F, {c});
+  // The same surface: same area, the input's vertices first and unchanged.
+  CHECK(face_areas(r.V, r.F).sum() == Approx(face_areas(cyl.V, cyl.F).sum()).epsilon(1e-12));
+  CHECK((r.V.topRows(cyl.V.rows()) - cyl.V).cwiseAbs().maxCoeff() == 0.0);
+  CHECK(r.parent_face.size() == static_cast<size_t>(r.F.rows()));
+  // The refined mesh is a manifold with the cylinder's topology.
+  CHECK(euler_characteristic(r.F) == 0);
+  CHECK(boundary_loops(r.F).size() == 2);
+  // Cut along the curve's path: one disk.
+  REQUIRE(r.paths.size() == 1);
+  const CutMesh cut = cut_mesh(r.V, r.F, {{0, r.paths[0], false}});
+  CHECK(boundary_loops(cut.F).size() == 1);
+  CHECK(euler_characteristic(cut.F) == 1);
+  // Every new vertex lies where its origin says.
+  for (int v = static_cast<int>(cyl.V.rows()); v < r.V.rows(); ++v) {
+    const SurfacePoint& s = r.origin[static_cast<size_t>(v)];
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) x += s.bary[k] * cyl.V.row(cyl.F(s.face, k)).transpose();
+    CHECK((x - r.V.row(v).transpose()).norm() < 1e-12);
+  }
+}
+
+TEST_CASE("two curves crossing inside a face are refused", "[curve][errors]") {
+  Mesh grid = testing::make_grid(2, 2, 1.0, 1.0);
+  grid.F.col(1).swap(grid.F.col(2));
+  // Face 0's corners, and two chords across it that cross.
+  const int f = 0;
+  const int a = grid.F(f, 0), b = grid.F(f, 1), c = grid.F(f, 2);
+  const SurfaceCurve one{CurvePoint::on_edge(a, b, 0.5), CurvePoint::at_vertex(c)};
+  const SurfaceCurve two{CurvePoint::on_edge(b, c, 0.5), CurvePoint::at_vertex(a)};
+  CHECK_THROWS_AS(insert_curves(grid.V, grid.F, {one, two}), GeometryError);
+}
