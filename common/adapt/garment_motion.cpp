@@ -124,6 +124,11 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   result.culled_body_faces = collider.face_ids().size();
   collider.set_threads(options.threads);
   collider.set_body(V_body);
+  collision::ContinuousContact contact(F_garment, F_body, collider.face_ids(), options.contact);
+  contact.set_pinned(pin_ids);
+  contact.set_body(V_body);
+  result.initial_crossings = collision::find_crossings(V_body, F_body, V_garment, F_garment);
+  result.continuous_contact = options.continuous_contact && result.initial_crossings.intersection_free();
 
   cloth::SimulatorOptions sim_options = options.solver;
   sim_options.dt = options.dt;
@@ -157,6 +162,10 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   };
   sim.set_collision_handler(
       [&collider, &offsets](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider.resolve(X, Vel, offsets); });
+  if (result.continuous_contact) {
+    sim.set_step_end_handler([&contact](const Eigen::MatrixXd& X_start, Eigen::MatrixXd& X_end, double s_start,
+                                        double s_end) { contact.enforce(X_start, X_end, s_start, s_end); });
+  }
   if (options.velocity_contacts) {
     // Contact as a velocity constraint in the solve: the normal velocity follows
     // the body and closes any gap below the offset within the step; never pulls
@@ -321,6 +330,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
         BodyStage stage = await(next_stage);
         result.times.body += stage.seconds;
         collider.set_body(std::move(stage.frame));
+        contact.set_body(stage.V);
         V_body = std::move(stage.V);
         targets = std::move(stage.targets);
         request_next_stage();
@@ -339,6 +349,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
 
     // Key pose: the body stops; settle.
     collider.set_body(V_body);
+    contact.set_body(V_body);
     KeyPoseResult key;
     key.key = frame.key;
     key.pose = motion.keys[static_cast<size_t>(frame.key)].pose;
@@ -406,16 +417,19 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
       hint = q.face;
       key.deepest_penetration = std::max(key.deepest_penetration, -q.signed_distance);
     }
+    key.crossings = collision::find_crossings(V_body, F_body, key.V_draped, F_garment);
     key.rest_area_growth = mesh_area(V_rest, F_garment) / design_area;
     key.steps = result.steps;
     if (progress) {
       char line[256];
       std::snprintf(line, sizeof(line),
                     "key %d/%zu %s: %ld steps, settled %s after %d, max stretch %.3f, p99 %.3f, "
-                    "above %.2f%%, deepest %.2f mm, rest area x%.4f (change %.3f%% over the last %d steps)",
+                    "above %.2f%%, deepest %.2f mm, %ld crossings, rest area x%.4f (change %.3f%% over the last %d "
+                    "steps)",
                     frame.key + 1, motion.keys.size(), key.pose.c_str(), result.steps,
                     key.settled ? "yes" : "no", key.settle_steps, key.max_stretch, key.p99_stretch,
-                    100.0 * key.area_fraction_above, 1e3 * key.deepest_penetration, key.rest_area_growth,
+                    100.0 * key.area_fraction_above, 1e3 * key.deepest_penetration, key.crossings.crossings(),
+                    key.rest_area_growth,
                     100.0 * key.rest_area_change, std::min(key.settle_steps, options.fixed_point_steps));
       progress({line, frame.key, static_cast<int>(motion.keys.size()), i, frames.size(), result.steps,
                 key.settle_steps, true, key.max_stretch});
@@ -441,6 +455,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   result.body_queries_skipped = collider.stats().skipped;
   result.body_queries_reused = collider.stats().reused;
   result.body_queries_local = collider.stats().local;
+  result.contact = contact.stats();
   result.times.total = seconds_since(run_start);
   return result;
 }

@@ -19,6 +19,8 @@
 
 #include "adapt/rest_adapter.h"
 #include "cloth/cloth_simulator.h"
+#include "collision/continuous_contact.h"
+#include "collision/crossings.h"
 #include "garment/garment_file.h"
 #include "interp/motion_spec.h"
 #include "interp/pose_interpolator.h"
@@ -83,6 +85,14 @@ struct MotionRunOptions {
   // offset (or inside it) are pushed out to the offset.
   double initial_push_speed = 0.1;
   double contact_band = 5e-4;
+  // Intersection-free contact in both directions (collision/continuous_contact.h):
+  // body vertices and edges push the cloth out of their way, no body feature
+  // or cloth vertex passes through the other surface within a step. Active
+  // only when the design garment starts free of intersections with the body
+  // (MotionRunResult::initial_crossings), since it keeps every body feature on
+  // the side of the cloth it starts on.
+  bool continuous_contact = true;
+  collision::ContinuousContactOptions contact;
   // When non-empty (one per garment face): rest triangles used instead of those
   // of V_garment, e.g. the flat pieces of the exported pattern sewn back
   // together (export-rest's round trip). Requires adapt == false.
@@ -128,6 +138,7 @@ struct KeyPoseResult {
   bool settled = false;
   double max_speed = 0.0;             // largest instantaneous vertex speed at the end [m/s]
   double max_net_speed = 0.0;         // largest net vertex speed over the last settle check [m/s]
+  collision::CrossingReport crossings;  // the drape against the body at this pose
 };
 
 struct MotionRunTimes {               // wall seconds
@@ -168,6 +179,9 @@ struct MotionRunResult {
   long body_queries_skipped = 0;      // skipped: the vertex provably farther than its offset
   long body_queries_reused = 0;       // answered from the vertex's last query (same point, same body frame)
   long body_queries_local = 0;        // answered from the vertex's candidate faces (body standing still)
+  collision::CrossingReport initial_crossings;  // the design garment against the first body frame
+  bool continuous_contact = false;    // the intersection-free contact was active
+  collision::ContinuousContactStats contact;
   MotionRunTimes times;
 };
 

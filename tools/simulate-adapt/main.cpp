@@ -79,6 +79,15 @@ int main(int argc, char** argv) {
                  "Body contact: velocity (constraints inside the implicit solve, then projection) or "
                  "projection (position projection after the step only)")
       ->capture_default_str()->check(CLI::IsMember({"velocity", "projection"}));
+  std::string continuous = "on";
+  app.add_option("--continuous-contact", continuous,
+                 "Intersection-free contact in both directions: body vertices and edges push the cloth out of "
+                 "their way and nothing passes through the other surface within a step (on; active when the "
+                 "garment starts clear of the body) or cloth vertices against the body only (off)")
+      ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--contact-thickness", options.contact.thickness,
+                 "Separation kept between the cloth and body vertices and edges by the continuous contact [m]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
   // A second thread prepares body frames and adaptations (see --threads),
   // where the machine has a second core.
   tool.common().threads = std::thread::hardware_concurrency() >= 2 ? 2 : 1;
@@ -99,6 +108,7 @@ int main(int argc, char** argv) {
     options.threads = tool.common().threads;
     options.adapt = !no_adapt;
     options.velocity_contacts = contact == "velocity";
+    options.continuous_contact = continuous == "on";
     options.solver.strategy = solver == "pcg" ? gp::cloth::SolverStrategy::pcg_reused_factor
                                               : gp::cloth::SolverStrategy::refactor_every_step;
     const gp::PoseSet poses = gp::load_pose_set(poses_path);
@@ -144,6 +154,22 @@ int main(int argc, char** argv) {
         });
     tool.log().progress_done();
 
+    if (options.continuous_contact && !result.continuous_contact) {
+      const auto& c = result.initial_crossings;
+      tool.log().warning("the garment starts through the body (" + std::to_string(c.crossings()) +
+                         " edge/triangle crossings, " + std::to_string(c.cloth_vertices_inside) +
+                         " vertices inside, " + std::to_string(c.body_vertices_behind) +
+                         " body vertices behind it); the continuous contact, which keeps each body part on the side of the "
+                         "cloth it starts on, is off for this run");
+    }
+    for (const auto& k : result.keys) {
+      if (k.crossings.intersection_free()) continue;
+      tool.log().warning("key pose " + k.pose + ": the cloth passes through the body (" +
+                         std::to_string(k.crossings.crossings()) + " edge/triangle crossings, " +
+                         std::to_string(k.crossings.cloth_vertices_inside) + " cloth vertices inside, " +
+                         std::to_string(k.crossings.body_vertices_behind) + " body vertices behind the cloth)");
+    }
+
     gp::StagedOutputDir out(tool.common().out_dir, tool.common().force);
     gp::Mesh rest;
     rest.V = result.V_rest;
@@ -172,7 +198,8 @@ int main(int argc, char** argv) {
                       {"settle_steps", k.settle_steps},
                       {"settled", k.settled},
                       {"max_speed_m_per_s", k.max_speed},
-                      {"max_net_speed_m_per_s", k.max_net_speed}});
+                      {"max_net_speed_m_per_s", k.max_net_speed},
+                      {"crossings", gp::collision::to_json(k.crossings)}});
     }
     gp::OrderedJson report;
     report["schema"] = gp::schema_tag("simulate-adapt-report", 1);
@@ -197,6 +224,8 @@ int main(int argc, char** argv) {
                          {"reach_m", options.reach},
                          {"contact", contact},
                          {"contact_band_m", options.contact_band},
+                         {"continuous_contact", continuous},
+                         {"contact_thickness_m", options.contact.thickness},
                          {"initial_push_speed_m_per_s", options.initial_push_speed},
                          {"contact_release_fraction", options.solver.contact_release_fraction},
                          {"solver", gp::cloth::solver_strategy_name(options.solver.strategy)},
@@ -223,6 +252,8 @@ int main(int argc, char** argv) {
                      {"pinched_contacts", result.pinched_contacts},
                      {"crease_contacts", result.crease_contacts},
                      {"initial_min_distance_m", result.initial_min_distance},
+                     {"initial_crossings", gp::collision::to_json(result.initial_crossings)},
+                     {"continuous_contact_active", result.continuous_contact},
                      {"adaptations", result.adaptations},
                      {"arap_converged", result.arap_converged},
                      {"all_settled", result.all_settled},
@@ -238,6 +269,7 @@ int main(int argc, char** argv) {
                              {"factorization", t.factorization * per_step},
                              {"solve", t.solve * per_step},
                              {"collisions", t.collisions * per_step},
+                             {"continuous_contact", result.contact.seconds * per_step},
                              {"adaptation", t.adaptation * per_step},
                              {"body", t.body * per_step},
                              {"waiting_for_worker", t.waiting * per_step}};
@@ -254,7 +286,15 @@ int main(int argc, char** argv) {
                       {"body_queries", result.body_queries},
                       {"body_queries_skipped", result.body_queries_skipped},
                       {"body_queries_reused", result.body_queries_reused},
-                      {"body_queries_local", result.body_queries_local}};
+                      {"body_queries_local", result.body_queries_local},
+                      {"contact_rounds", result.contact.rounds},
+                      {"contact_body_vertex", result.contact.body_vertex_contacts},
+                      {"contact_edge", result.contact.edge_contacts},
+                      {"contact_cloth_vertex", result.contact.cloth_vertex_contacts},
+                      {"contact_crossings", result.contact.crossings},
+                      {"contact_fail_safe_calls", result.contact.fail_safe_calls},
+                      {"contact_fail_safe_vertices", result.contact.fail_safe_vertices},
+                      {"contact_unresolved", result.contact.unresolved}};
     timing["threads"] = options.threads;
     timing["setup_s"] = t.setup;
     timing["run_s"] = t.total;
