@@ -181,12 +181,13 @@ BodyClearanceResult clear_body(Eigen::MatrixXd& V, const Eigen::MatrixXi& F, con
   const int orientation = facing >= 0.0 ? 1 : -1;
 
   long best_score = result.before.crossings() + result.before.cloth_vertices_inside;
+  const int rounds = options.improve_clear || best_score > 0 ? options.max_rounds : 0;
   Eigen::MatrixXd V_best = V;
   // Pushes follow the normals of the garment as given, in every round: the
   // garment's own normals turn sideways on the walls of a dent or a bulge
   // made by the first rounds, and a push along them would run along a finger.
   const Eigen::MatrixXd N = vertex_normals(V, F);
-  for (int round = 0; round < options.max_rounds; ++round) {
+  for (int round = 0; round < rounds; ++round) {
     std::vector<Sample> samples;
     Eigen::VectorXd sd(nv);
     int hint = -1;

@@ -49,6 +49,10 @@ struct BodyClearanceOptions {
   int membrane_iterations = 300;  // Jacobi steps of the displacement per round
   double part_radius = 0.06;  // m: places this close along the body are one body part
   int max_rounds = 8;
+  // false: a garment that nothing passes through is returned as it is, even
+  // where vertices lie closer than the offset (make-garment, whose offset
+  // already put every vertex as far out as there is room).
+  bool improve_clear = true;
 };
 
 // One body part the garment met.

@@ -263,6 +263,7 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
   // has the full offset): cleared of the body, bound boundary vertices held.
   BodyClearanceOptions clearance;
   clearance.offset = spec.offset;
+  clearance.improve_clear = false;
   result.clearance = clear_body(V, F, V_body, F_body, on_boundary, clearance);
   result.quality = measure_quality(V, F, result.target_edge_length);
   result.timing["offset"] = seconds_since(t0);
