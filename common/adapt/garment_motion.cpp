@@ -126,6 +126,7 @@ MotionRunResult run_garment_motion(PoseInterpolator& interpolator, const MotionS
   collider.set_body(V_body);
   collision::ContinuousContact contact(F_garment, F_body, collider.face_ids(), options.contact);
   contact.set_pinned(pin_ids);
+  contact.set_threads(options.threads);
   contact.set_body(V_body);
   result.initial_crossings = collision::find_crossings(V_body, F_body, V_garment, F_garment);
   result.continuous_contact = options.continuous_contact && result.initial_crossings.intersection_free();

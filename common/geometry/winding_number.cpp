@@ -4,6 +4,8 @@
 
 #include <Eigen/Geometry>
 
+#include "core/math.h"
+
 namespace gp {
 
 double winding_number(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::Vector3d& p) {
@@ -15,7 +17,7 @@ double winding_number(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const 
     // tan(omega / 2) = a.(b x c) / (|a||b||c| + (a.b)|c| + (a.c)|b| + (b.c)|a|).
     const double numerator = a.dot(b.cross(c));
     const double denominator = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
-    total += 2.0 * std::atan2(numerator, denominator);
+    total += 2.0 * gp::math::atan2(numerator, denominator);
   }
   return total / (4.0 * M_PI);
 }
