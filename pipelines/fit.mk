@@ -74,8 +74,8 @@ $(OUT)/garment/report.json: $(C)/garment-spec.json $(OUT)/poses/report.json $(BI
 
 ifneq ($(wildcard $(C)/extend.json),)
 GARMENT := $(OUT)/extended/garment.json
-$(OUT)/extended/report.json: $(OUT)/garment/report.json $(C)/extend.json $(BIN)/extend-boundary
-	$(call RUN,extend-boundary) $(OUT)/garment/garment.json $(C)/extend.json --out $(@D) --force $(QUIET)
+$(OUT)/extended/report.json: $(OUT)/garment/report.json $(C)/extend.json $(OUT)/poses/report.json $(BIN)/extend-boundary
+	$(call RUN,extend-boundary) $(OUT)/garment/garment.json $(C)/extend.json --body $(OUT)/poses/poses.json --out $(@D) --force $(QUIET)
 GARMENT_REPORT := $(OUT)/extended/report.json
 else
 GARMENT := $(OUT)/garment/garment.json

@@ -32,6 +32,11 @@ std::vector<std::string> check_pose(const KeyPoseResult& k, double delta, const 
                   1e3 * k.deepest_penetration, 1e3 * criteria.max_penetration);
     failures.push_back(line);
   }
+  if (k.crossings.crossings() > criteria.max_crossings) {
+    std::snprintf(line, sizeof(line), "the body passes through the cloth (%ld edge/triangle crossings, at most %ld)",
+                  k.crossings.crossings(), criteria.max_crossings);
+    failures.push_back(line);
+  }
   return failures;
 }
 

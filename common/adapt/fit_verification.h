@@ -20,6 +20,9 @@ struct FitCriteria {
   double max_area_above = 0.01;    // rest-area fraction with max stretch above 1 + delta: fails at or above
   double p99_margin = 0.02;        // fails when the p99 stretch exceeds 1 + delta + p99_margin
   double max_penetration = 0.002;  // m: fails when a cloth vertex lies deeper inside the body
+  // Body edges through cloth triangles plus cloth edges through body
+  // triangles (collision/crossings.h): fails above this count.
+  long max_crossings = 0;
 };
 
 struct PoseCheck {

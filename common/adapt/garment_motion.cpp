@@ -74,6 +74,9 @@ void check_options(const MotionRunOptions& options) {
   if (options.adaptation_lag < 0) {
     throw UsageError("the adaptation lag must be non-negative, got " + std::to_string(options.adaptation_lag));
   }
+  if (!(options.adapt_speed > 0.0) || !std::isfinite(options.adapt_speed)) {
+    throw UsageError("adapt_speed must be finite and positive");
+  }
   if (!(options.settle_damping >= 0.0) || !std::isfinite(options.settle_damping)) {
     throw UsageError("settle_damping must be finite and non-negative");
   }
@@ -125,6 +128,7 @@ struct GarmentMotion::Impl {
 
   Eigen::MatrixXd V_body, targets;  // the current body stage
   std::optional<collision::BodyCollider> collider;
+  std::optional<collision::ContinuousContact> contact;
   std::optional<cloth::ClothSimulator> sim;
   // Per-vertex comfort offsets [m]: a vertex that starts closer to the body
   // than the garment's offset starts at its own distance and grows to the
@@ -137,6 +141,7 @@ struct GarmentMotion::Impl {
   Eigen::MatrixXd V_rest;
   double design_area = 0.0;
   bool settling = false;  // at a key pose, the body standing still
+  bool cloth_slow = false;  // settling, and the cloth has slowed below adapt_speed
 
   // Work beside the stepping thread (MotionRunOptions::threads): the next
   // body stage and the lagging adaptation.
@@ -201,6 +206,12 @@ struct GarmentMotion::Impl {
     result.culled_body_faces = collider->face_ids().size();
     collider->set_threads(options.threads);
     collider->set_body(V_body);
+    contact.emplace(F, F_body, collider->face_ids(), options.contact);
+    contact->set_pinned(pin_ids);
+    contact->set_threads(options.threads);
+    contact->set_body(V_body);
+    result.initial_crossings = collision::find_crossings(V_body, F_body, V_garment, F);
+    result.continuous_contact = options.continuous_contact && result.initial_crossings.intersection_free();
   }
 
   void set_up_cloth(const Eigen::MatrixXd& V_garment) {
@@ -222,6 +233,10 @@ struct GarmentMotion::Impl {
 
     sim->set_collision_handler(
         [this](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider->resolve(X, Vel, offsets); });
+    if (result.continuous_contact) {
+      sim->set_step_end_handler([this](const Eigen::MatrixXd& X_start, Eigen::MatrixXd& X_end, double s_start,
+                                       double s_end) { contact->enforce(X_start, X_end, s_start, s_end); });
+    }
     if (options.velocity_contacts) {
       // Contact as a velocity constraint in the solve: the normal velocity
       // follows the body and closes any gap below the offset within the step;
@@ -320,6 +335,7 @@ struct GarmentMotion::Impl {
     BodyStage stage = await(next_stage);
     result.times.body += stage.seconds;
     collider->set_body(std::move(stage.frame));
+    contact->set_body(stage.V);
     V_body = std::move(stage.V);
     targets = std::move(stage.targets);
     request_next_stage();
@@ -355,6 +371,7 @@ struct GarmentMotion::Impl {
 
   void launch_adaptation() {
     const RestShapeAdapter& a = *adapter;
+
     pending_adaptation = std::async(
         policy,
         [&a](Eigen::MatrixXd X, Eigen::MatrixXd V) {
@@ -383,7 +400,7 @@ struct GarmentMotion::Impl {
     sim->step();
     ++result.steps;
     if (result.steps >= apply_after_step) apply_adaptation();
-    const bool adapting = options.adapt && (settling || options.adapt_during_transitions);
+    const bool adapting = options.adapt && ((settling && cloth_slow) || options.adapt_during_transitions);
     if (adapting && result.steps % options.adapt_every == 0) {
       launch_adaptation();
       if (lag == 0) apply_adaptation();
@@ -422,6 +439,8 @@ struct GarmentMotion::Impl {
     };
     sim->set_damping_scale(options.settle_damping);
     settling = true;
+    cloth_slow = false;
+    int slow_since = 0;  // settle steps when the cloth slowed below adapt_speed
     while (key.settle_steps < options.settle_max_steps) {
       const Eigen::MatrixXd X_check = sim->positions();
       int window = 0;
@@ -430,6 +449,10 @@ struct GarmentMotion::Impl {
         step();
       }
       key.max_net_speed = (sim->positions() - X_check).rowwise().norm().maxCoeff() / (window * options.dt);
+      if (!cloth_slow && key.max_net_speed < options.adapt_speed) {
+        cloth_slow = true;
+        slow_since = key.settle_steps;
+      }
       const double stretch = largest_stretches().maxCoeff();
       const bool slow = key.max_net_speed < options.settle_speed;
       const bool steady = std::abs(stretch - previous_stretch) < options.settle_stretch_change;
@@ -437,7 +460,7 @@ struct GarmentMotion::Impl {
       previous_stretch = stretch;
       area_history.emplace_back(key.settle_steps, mesh_area(V_rest, F));
       key.rest_area_change = area_change_over_window();
-      const bool fixed = !options.adapt || (key.settle_steps >= options.fixed_point_steps &&
+      const bool fixed = !options.adapt || (cloth_slow && key.settle_steps - slow_since >= options.fixed_point_steps &&
                                             key.rest_area_change < options.fixed_point_area_change);
       if (progress && key.settle_steps % 40 == 0) {
         char line[256];
@@ -456,6 +479,7 @@ struct GarmentMotion::Impl {
     }
     sim->set_damping_scale(1.0);
     settling = false;
+    cloth_slow = false;
     if (options.settle_max_steps == 0) key.settled = sim->max_speed() < options.settle_speed;
     key.max_speed = sim->max_speed();
   }
@@ -473,6 +497,7 @@ struct GarmentMotion::Impl {
       hint = q.face;
       key.deepest_penetration = std::max(key.deepest_penetration, -q.signed_distance);
     }
+    key.crossings = collision::find_crossings(V_body, interpolator.faces(), key.V_draped, F);
     key.rest_area_growth = mesh_area(V_rest, F) / design_area;
     key.steps = result.steps;
   }
@@ -498,6 +523,7 @@ struct GarmentMotion::Impl {
       if (frame.key < 0) continue;
 
       collider->set_body(V_body);
+      contact->set_body(V_body);
       KeyPoseResult key;
       key.key = frame.key;
       key.pose = motion.keys[static_cast<size_t>(frame.key)].pose;
@@ -509,10 +535,12 @@ struct GarmentMotion::Impl {
         char line[256];
         std::snprintf(line, sizeof(line),
                       "key %d/%zu %s: %ld steps, settled %s after %d, max stretch %.3f, p99 %.3f, "
-                      "above %.2f%%, deepest %.2f mm, rest area x%.4f (change %.3f%% over the last %d steps)",
+                      "above %.2f%%, deepest %.2f mm, %ld crossings, rest area x%.4f (change %.3f%% over the "
+                      "last %d steps)",
                       frame.key + 1, motion.keys.size(), key.pose.c_str(), result.steps,
                       key.settled ? "yes" : "no", key.settle_steps, key.max_stretch, key.p99_stretch,
-                      100.0 * key.area_fraction_above, 1e3 * key.deepest_penetration, key.rest_area_growth,
+                      100.0 * key.area_fraction_above, 1e3 * key.deepest_penetration, key.crossings.crossings(),
+                      key.rest_area_growth,
                       100.0 * key.rest_area_change, std::min(key.settle_steps, options.fixed_point_steps));
         report(progress, line, frame.key, i, key.settle_steps, true, key.max_stretch);
       }
@@ -527,6 +555,7 @@ struct GarmentMotion::Impl {
     result.times.collisions = pt.collisions + collider->stats().rebuild_seconds;
     result.solver = sim->counters();
     result.collisions = collider->stats();
+    result.contact = contact->stats();
     result.times.total = seconds_since(start);
     return std::move(result);
   }

@@ -101,6 +101,7 @@ struct ClothSimulator::Impl {
 
   CollisionHandler collision_handler;
   ContactHandler contact_handler;
+  StepEndHandler step_end_handler;
   // Active velocity constraints of the current (sub)step over free dofs.
   std::vector<VelocityConstraint> constraints;
   std::vector<int> constraint_free;     // free vertex index per constraint
@@ -688,7 +689,8 @@ struct ClothSimulator::Impl {
   }
 
   // One linearized implicit Euler step of size h; returns "" or the reason of rejection.
-  std::string single_step(double h, const Eigen::MatrixXd& pin_end, bool accept_flips) {
+  // [s_start, s_end]: the part of the step this (sub)step covers.
+  std::string single_step(double h, const Eigen::MatrixXd& pin_end, bool accept_flips, double s_start, double s_end) {
     auto t0 = Clock::now();
     V_prescribed.setZero(X.rows(), 3);
     for (size_t k = 0; k < pinned_ids.size(); ++k) {
@@ -719,10 +721,11 @@ struct ClothSimulator::Impl {
     for (size_t k = 0; k < pinned_ids.size(); ++k) X_new.row(pinned_ids[k]) = pin_end.row(k);
     times.checks += seconds_since(t0);
 
-    if (collision_handler) {
+    if (collision_handler || step_end_handler) {
       t0 = Clock::now();
       const Eigen::MatrixXd X_solved = X_new;
-      collision_handler(X_new, V_new);
+      if (collision_handler) collision_handler(X_new, V_new);
+      if (step_end_handler) step_end_handler(X, X_new, s_start, s_end);
       // A vertex the handler moved gets the velocity of its actual displacement
       // over the step (the velocity update of position-based dynamics, Mueller
       // et al. 2007, "Position based dynamics", sec. 3.1). Keeping the solved
@@ -788,10 +791,11 @@ struct ClothSimulator::Impl {
     return "";
   }
 
-  bool advance(double h, const Eigen::MatrixXd& pin_start, const Eigen::MatrixXd& pin_end, int depth) {
+  bool advance(double h, const Eigen::MatrixXd& pin_start, const Eigen::MatrixXd& pin_end, int depth, double s_start,
+               double s_end) {
     const Eigen::MatrixXd X_saved = X, V_saved = Vel;
-    const std::string failure =
-        single_step(h, pin_end, depth >= std::min(options.max_step_halvings, options.max_fold_halvings));
+    const std::string failure = single_step(
+        h, pin_end, depth >= std::min(options.max_step_halvings, options.max_fold_halvings), s_start, s_end);
     if (failure.empty()) return true;
     ++counters.rejected;
     X = X_saved;
@@ -799,8 +803,9 @@ struct ClothSimulator::Impl {
     last_failure = failure;
     if (depth >= options.max_step_halvings) return false;
     const Eigen::MatrixXd pin_mid = 0.5 * (pin_start + pin_end);
-    return advance(0.5 * h, pin_start, pin_mid, depth + 1) &&
-           advance(0.5 * h, pin_mid, pin_end, depth + 1);
+    const double s_mid = 0.5 * (s_start + s_end);
+    return advance(0.5 * h, pin_start, pin_mid, depth + 1, s_start, s_mid) &&
+           advance(0.5 * h, pin_mid, pin_end, depth + 1, s_mid, s_end);
   }
 };
 
@@ -886,6 +891,10 @@ void ClothSimulator::set_contact_handler(ContactHandler handler) {
   impl_->in_contact.clear();
 }
 
+void ClothSimulator::set_step_end_handler(StepEndHandler handler) {
+  impl_->step_end_handler = std::move(handler);
+}
+
 void ClothSimulator::set_options(const SimulatorOptions& options) {
   if (!(options.dt > 0.0)) throw UsageError("time step must be positive");
   impl_->options = options;
@@ -905,7 +914,7 @@ void ClothSimulator::step() {
   const Eigen::MatrixXd X0 = s.X, V0 = s.Vel;
   Eigen::MatrixXd pin_start(s.pinned_ids.size(), 3);
   for (size_t k = 0; k < s.pinned_ids.size(); ++k) pin_start.row(k) = s.X.row(s.pinned_ids[k]);
-  if (!s.advance(s.options.dt, pin_start, s.pin_targets, 0)) {
+  if (!s.advance(s.options.dt, pin_start, s.pin_targets, 0, 0.0, 1.0)) {
     s.X = X0;
     s.Vel = V0;
     throw NumericalError("cloth step failed after " + std::to_string(s.options.max_step_halvings) +

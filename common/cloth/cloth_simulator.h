@@ -150,6 +150,17 @@ struct SolverCounters {
 // are restored afterwards.
 using CollisionHandler = std::function<void(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel)>;
 
+// Called after the collision handler with the positions X_start at the start
+// of the (sub)step and X_end at its end (#V by 3), and the part [s_start,
+// s_end] of the step the (sub)step covers (fractions of options().dt: 0 and 1
+// unless the step was halved): it may move vertices of X_end (a response
+// that keeps the cloth from passing through the body between X_start and
+// X_end, e.g. collision::ContinuousContact). Moved free vertices get the
+// velocity of their displacement, as after the collision handler; pinned
+// vertices are restored.
+using StepEndHandler =
+    std::function<void(const Eigen::MatrixXd& X_start, Eigen::MatrixXd& X_end, double s_start, double s_end)>;
+
 // A velocity-level contact constraint inside the implicit solve (Baraff & Witkin
 // 1998, sec. 5.3, "constraint filtering"): the solved velocity of `vertex` has
 // normal component n . v' = normal_velocity [m/s] (n unit, pointing away from the
@@ -200,6 +211,7 @@ class ClothSimulator {
   void set_velocities(const Eigen::MatrixXd& Vel);
   void set_collision_handler(CollisionHandler handler);
   void set_contact_handler(ContactHandler handler);
+  void set_step_end_handler(StepEndHandler handler);
   void set_options(const SimulatorOptions& options);
   // Scales every damping coefficient of the material (stretch, shear, bending)
   // from the next step on; 1 restores the material's damping. Used to relax the

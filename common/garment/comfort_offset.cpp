@@ -3,12 +3,21 @@
 #include <algorithm>
 #include <cmath>
 
+#include "collision/body_collider.h"
+
 namespace gp {
 
 ComfortOffsetStats apply_comfort_offset(Eigen::MatrixXd& V, const SurfaceLocator& body,
                                         const Eigen::MatrixXd& N_body,
                                         const ComfortOffsetOptions& options,
                                         const std::vector<char>& fixed) {
+  // Which side of the body a point is on (pseudo-normal signs, see
+  // collision/body_collider.h): a start along the normal field can land inside
+  // another body part (an arm, in an armpit), and the correction must then
+  // lead out of it, not to the offset inside it.
+  collision::BodyCollider sided(body.F());
+  sided.set_body(body.V());
+  int hint = -1;
   for (Eigen::Index v = 0; v < V.rows(); ++v) {
     if (!fixed.empty() && fixed[static_cast<size_t>(v)]) continue;
     const Eigen::Vector3d x0 = V.row(v).transpose();
@@ -18,11 +27,15 @@ ComfortOffsetStats apply_comfort_offset(Eigen::MatrixXd& V, const SurfaceLocator
     if (options.offset > 0) {
       for (int it = 0; it < options.max_iterations; ++it) {
         const SurfaceLocator::Hit hit = body.closest(x);
-        if (std::abs(hit.distance - options.offset) <= options.tolerance) break;
+        const collision::Proximity side = sided.query(x, hint);
+        hint = side.face;
+        const bool inside = side.signed_distance < 0.0;
+        if (!inside && std::abs(hit.distance - options.offset) <= options.tolerance) break;
         // On the surface itself (distance 0) the normal gives the side.
-        const Eigen::Vector3d dir =
+        Eigen::Vector3d dir =
             hit.distance > 1e-12 ? Eigen::Vector3d((x - hit.point) / hit.distance)
                                  : evaluate_normal(N_body, body.F(), hit.at);
+        if (inside && hit.distance > 1e-12) dir = -dir;
         x = hit.point + options.offset * dir;
       }
     }

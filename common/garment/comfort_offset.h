@@ -25,11 +25,13 @@ struct ComfortOffsetStats {
 // Moves each vertex of V (#V by 3, on or near the body) to distance `offset`
 // from the body: first along the body's normal field N_body (#Vb by 3,
 // per-vertex normals, interpolated at the closest body point), then by
-// closest-point corrections x <- c + offset * (x - c) / |x - c| with c the
-// closest body point (CGAL AABB tree in `body`), which converge to the exact
-// distance even in concave places where the normal offset comes too close to
-// another body part. Vertices with fixed[v] != 0 are left alone (their
-// distance is still measured). Returns the distance errors.
+// closest-point corrections x <- c + offset * s (x - c) / |x - c| with c the
+// closest body point (CGAL AABB tree in `body`) and s = -1 for a point inside
+// the body (signed by pseudo-normals, collision/body_collider.h), +1 outside,
+// which converge to the exact distance outside the body even in concave
+// places where the normal offset comes too close to, or into, another body
+// part. Vertices with fixed[v] != 0 are left alone (their distance is still
+// measured). Returns the distance errors.
 ComfortOffsetStats apply_comfort_offset(Eigen::MatrixXd& V, const SurfaceLocator& body,
                                         const Eigen::MatrixXd& N_body,
                                         const ComfortOffsetOptions& options,

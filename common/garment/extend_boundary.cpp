@@ -103,7 +103,8 @@ OrderedJson to_json(const ExtendSpec& s) {
   return j;
 }
 
-ExtendResult extend_boundary(const Mesh& garment, const GarmentFile& file, const ExtendSpec& spec) {
+ExtendResult extend_boundary(const Mesh& garment, const GarmentFile& file, const ExtendSpec& spec,
+                             const DesignBody* body) {
   const int loop_index = file.find_loop(spec.loop);
   if (loop_index < 0) throw SpecError("the garment has no loop called '" + spec.loop + "'", spec.file + ": /loop");
   if (garment.V.rows() != file.vertex_count || garment.F.rows() != file.face_count)
@@ -237,6 +238,23 @@ ExtendResult extend_boundary(const Mesh& garment, const GarmentFile& file, const
   std::vector<int> new_id(static_cast<size_t>(nG + static_cast<Eigen::Index>(added.size())), -1);
   for (size_t i = 0; i < origin.size(); ++i)
     if (origin[i] >= 0) new_id[static_cast<size_t>(origin[i])] = static_cast<int>(i);
+
+  // The band may pass through the body (a skirt cone through the hips or the
+  // hands): pushed clear of it, bound loops held.
+  if (body) {
+    std::vector<char> fixed(static_cast<size_t>(V.rows()), 0);
+    for (size_t k = 0; k < file.loops.size(); ++k) {
+      if (static_cast<int>(k) == loop_index || file.loops[k].binding.empty()) continue;
+      for (int v : file.loops[k].vertex_ids) {
+        const int moved_id = new_id[static_cast<size_t>(v)];
+        if (moved_id >= 0) fixed[static_cast<size_t>(moved_id)] = 1;
+      }
+    }
+    BodyClearanceOptions clearance;
+    clearance.offset = file.offset;
+    result.clearance = clear_body(V, F, body->V, body->F, fixed, clearance);
+    result.body_checked = true;
+  }
 
   // Band faces come after the garment's faces, which keep their order; count
   // those whose normal faces the axis.

@@ -15,6 +15,8 @@
 #include <string>
 #include <Eigen/Core>
 
+#include "garment/body_clearance.h"
+#include "garment/design_body.h"
 #include "garment/garment_file.h"
 #include "io/mesh.h"
 #include "spec/json_file.h"
@@ -47,11 +49,18 @@ struct ExtendResult {
   int band_faces = 0;
   int band_flipped_faces = 0;  // band triangles whose normal faces the axis
   bool unpinned = false;       // the loop was pinned; the new loop is not on the body
+  // With a body: the extended garment pushed clear of it (body_clearance.h),
+  // at the garment's comfort offset where there is room.
+  bool body_checked = false;
+  BodyClearanceResult clearance;
 };
 
-// `garment` is the garment mesh, `file` its garment file. Throws SpecError
+// `garment` is the garment mesh, `file` its garment file; `body`, when given,
+// the body in the design pose, which the extended garment is then cleared of
+// (vertices of loops bound to the body stay where they are). Throws SpecError
 // naming the spec field for an unknown loop, a target behind the loop or a
 // zero scale, GeometryError for a degenerate loop.
-ExtendResult extend_boundary(const Mesh& garment, const GarmentFile& file, const ExtendSpec& spec);
+ExtendResult extend_boundary(const Mesh& garment, const GarmentFile& file, const ExtendSpec& spec,
+                             const DesignBody* body = nullptr);
 
 }  // namespace gp

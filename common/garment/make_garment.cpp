@@ -3,16 +3,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <functional>
 #include <limits>
-#include <queue>
 #include <set>
 
 #include <Eigen/Geometry>
 
+#include "collision/body_collider.h"
 #include "core/error.h"
 #include "garment/surface_path.h"
 #include "garment/surface_point.h"
+#include "mesh/edge_distances.h"
 #include "mesh/measures.h"
 #include "mesh/topology.h"
 
@@ -45,30 +45,6 @@ int resolve_vertex(const SpecPoint& p, const Eigen::MatrixXd& V, const SurfaceLo
   int k = 0;
   hit.at.bary.maxCoeff(&k);
   return body.F()(hit.at.face, k);
-}
-
-// Dijkstra distances along body edges from `source`, up to `limit` (farther
-// vertices stay at infinity): the geodesic disc of paint regions.
-std::vector<double> edge_distances(const Eigen::MatrixXd& V, const std::vector<std::vector<int>>& neighbors,
-                                   int source, double limit) {
-  std::vector<double> dist(neighbors.size(), std::numeric_limits<double>::infinity());
-  using Entry = std::pair<double, int>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-  dist[source] = 0.0;
-  queue.push({0.0, source});
-  while (!queue.empty()) {
-    const auto [d, v] = queue.top();
-    queue.pop();
-    if (d > dist[v] || d > limit) continue;
-    for (int w : neighbors[v]) {
-      const double nd = d + (V.row(v) - V.row(w)).norm();
-      if (nd < dist[w]) {
-        dist[w] = nd;
-        queue.push({nd, w});
-      }
-    }
-  }
-  return dist;
 }
 
 // Closest point of the closed polyline P (#P by 3) to x: segment i from P[i]
@@ -160,10 +136,15 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
   Eigen::MatrixXi F;
   RemeshOptions remesh = spec.remesh;
   const double offset = spec.offset;
+  // Onto the offset surface outside the body (a point inside goes out the
+  // way it is nearest to).
+  collision::BodyCollider sided(F_body);
+  sided.set_body(V_body);
   const PointProjection project_to_offset_surface = [&](const Eigen::Vector3d& x) {
     const SurfaceLocator::Hit hit = body.closest(x);
     if (hit.distance < 1e-12) return Eigen::Vector3d(hit.point + offset * evaluate_normal(N_body, F_body, hit.at));
-    return Eigen::Vector3d(hit.point + offset * (x - hit.point) / hit.distance);
+    const double side = sided.query(x).signed_distance < 0.0 ? -1.0 : 1.0;
+    return Eigen::Vector3d(hit.point + side * offset * (x - hit.point) / hit.distance);
   };
   for (int pass = 0; pass < (spec.edge_length > 0 ? 1 : 2); ++pass) {
     if (pass == 1)
@@ -235,7 +216,10 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
     std::set<long long> vertex_set;
     if (region.is_disc) {
       const int center = resolve_vertex(region.center, V_body, body, spec.snap_tolerance);
-      dist = edge_distances(V_body, neighbors, center, 1.5 * region.radius);
+      // The geodesic disc of the region: distances along body edges.
+      dist.assign(static_cast<size_t>(V_body.rows()), std::numeric_limits<double>::infinity());
+      std::vector<int> reached;
+      edge_distances(V_body, neighbors, {center}, 1.5 * region.radius, dist, reached);
     } else {
       for (long long v : region.vertex_ids) {
         if (v >= V_body.rows())
@@ -274,6 +258,13 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
   for (Eigen::Index v = 0; v < V.rows(); ++v)
     if (on_boundary[static_cast<size_t>(v)])
       result.binding_max_deviation = std::max(result.binding_max_deviation, (V.row(v) - V_rule.row(v)).norm());
+  // The offset keeps every vertex outside the body; triangles between them
+  // can still cut a convex body part or a crease (and in a pinch no position
+  // has the full offset): cleared of the body, bound boundary vertices held.
+  BodyClearanceOptions clearance;
+  clearance.offset = spec.offset;
+  clearance.improve_clear = false;
+  result.clearance = clear_body(V, F, V_body, F_body, on_boundary, clearance);
   result.quality = measure_quality(V, F, result.target_edge_length);
   result.timing["offset"] = seconds_since(t0);
 

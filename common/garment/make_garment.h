@@ -3,6 +3,7 @@
 // garment (tools T1 boundary, T3 paint, T4 comfort offset, T5 pins).
 #include <Eigen/Core>
 
+#include "garment/body_clearance.h"
 #include "garment/comfort_offset.h"
 #include "garment/garment_file.h"
 #include "garment/garment_spec.h"
@@ -29,6 +30,9 @@ struct MakeGarmentResult {
   // Largest distance between a boundary vertex and the position its binding
   // rule gives (garment_file.h); non-zero only in concave places.
   double binding_max_deviation = 0.0;
+  // The garment against the body: found clear, or pushed clear where a
+  // triangle passed through it (body_clearance.h).
+  BodyClearanceResult clearance;
   int boundary_loop_count = 0;
   int euler_characteristic = 0;
   int component_count = 0;

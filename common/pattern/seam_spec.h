@@ -35,6 +35,7 @@
 #include <vector>
 #include <Eigen/Core>
 
+#include "garment/design_body.h"
 #include "garment/garment_file.h"
 #include "io/mesh.h"
 #include "spec/clicked_point.h"
@@ -67,18 +68,8 @@ SeamSpec read_seam_spec(const std::filesystem::path& path);
 SeamSpec parse_seam_spec(const Json& j, const std::string& file);
 OrderedJson to_json(const SeamSpec& spec);
 
-// The body in the design pose, needed only for seams "on": "body".
-struct DesignBody {
-  Eigen::MatrixXd V;  // #Vb by 3, metres
-  Eigen::MatrixXi F;  // #Fb by 3
-};
-
-// Loads the design-pose body named by the garment file: `source` (a pose-set
-// manifest or a mesh) if not empty, else the garment's body.source as given or
-// relative to the garment file's folder. InputError if it cannot be found,
-// GeometryError if its counts differ from the garment file's.
-DesignBody load_design_body(const GarmentFile& garment, const std::filesystem::path& garment_path,
-                            const std::string& source);
+// Seams "on": "body" need the body in the design pose: DesignBody and
+// load_design_body (garment/design_body.h).
 
 // A seam resolved to an edge path on the rest shape.
 struct SeamPath {

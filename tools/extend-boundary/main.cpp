@@ -1,13 +1,15 @@
 // extend-boundary: tool T2. Extends one boundary loop of a garment along its
-// axis (skirts, wide sleeves) and writes the updated garment.ply, garment.json
-// and report.json into --out.
+// axis (skirts, wide sleeves), pushes the extension clear of the body, and
+// writes the updated garment.ply, garment.json and report.json into --out.
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 
 #include "cli/tool.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/sha256.h"
+#include "garment/design_body.h"
 #include "garment/extend_boundary.h"
 #include "io/mesh_io.h"
 #include "spec/json_file.h"
@@ -21,6 +23,10 @@ int main(int argc, char** argv) {
   app.add_option("garment", garment_path, "Garment file (garment.json, garment/1); its mesh is read from beside it")
       ->required();
   app.add_option("spec", spec_path, "Extension spec (JSON, schema extend-spec/1)")->required();
+  std::string body_path;
+  app.add_option("--body", body_path,
+                 "Body in the design pose (poses.json or mesh), which the extension is pushed clear of "
+                 "[default: the garment file's body source]");
   tool.add_common_options();
 
   return tool.run(argc, argv, [&] {
@@ -33,9 +39,28 @@ int main(int argc, char** argv) {
                            mesh_path.string());
     const gp::MeshReadResult read = gp::read_mesh(mesh_path);
 
-    const gp::ExtendResult result = gp::extend_boundary(read.mesh, file, spec);
+    const gp::DesignBody body = gp::load_design_body(file, garment_path, body_path);
+
+    const gp::ExtendResult result = gp::extend_boundary(read.mesh, file, spec, &body);
     if (result.unpinned)
       tool.log().warning("loop '" + spec.loop + "' was pinned; the extended loop is no longer on the body and is unpinned");
+    const gp::BodyClearanceResult& clearance = result.clearance;
+    for (const gp::ClearancePlace& place : clearance.places) {
+      char line[300];
+      std::snprintf(line, sizeof(line),
+                    "the extension met the body near body vertex %d (%.3f, %.3f, %.3f): pushed %s by up to %.1f mm%s",
+                    place.body_vertex, place.center.x(), place.center.y(), place.center.z(),
+                    place.side > 0 ? "along the garment normals" : "against the garment normals",
+                    1e3 * place.largest_push, place.room ? "" : " (no room for the comfort offset there)");
+      tool.log().info(line);
+    }
+    if (!clearance.clear()) {
+      const auto& a = clearance.after;
+      tool.log().warning("the garment still passes through the body: " + std::to_string(a.crossings()) +
+                         " edge/triangle crossings, " + std::to_string(a.cloth_vertices_inside) +
+                         " vertices inside (deepest " + std::to_string(1e3 * a.deepest_cloth_vertex) + " mm at vertex " +
+                         std::to_string(a.deepest_cloth_vertex_id) + ")");
+    }
 
     gp::StagedOutputDir out(tool.common().out_dir, tool.common().force);
     gp::write_mesh(out.file("garment.ply"), result.mesh);
@@ -48,6 +73,7 @@ int main(int argc, char** argv) {
     report["schema"] = gp::schema_tag("extend-boundary-report", 1);
     report["options"] = {{"garment", garment_path},
                          {"spec", spec_path},
+                         {"body", body_path},
                          {"threads", tool.common().threads},
                          {"effective_spec", gp::to_json(spec)}};
     report["inputs"] = {{"garment_sha256", gp::sha256_file_hex(garment_path)},
@@ -61,6 +87,7 @@ int main(int argc, char** argv) {
                            {"old_girth", result.old_girth},
                            {"new_girth", result.new_girth},
                            {"unpinned", result.unpinned}};
+    report["body_clearance"] = gp::to_json(clearance);
     report["counts"] = {{"garment_vertices", result.mesh.V.rows()},
                         {"garment_faces", result.mesh.F.rows()},
                         {"band_faces", result.band_faces},

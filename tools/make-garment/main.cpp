@@ -111,6 +111,12 @@ int main(int argc, char** argv) {
                          {"offset_mean_error", result.offset_error.mean_error},
                          {"binding_max_deviation", result.binding_max_deviation},
                          {"curves", curves}};
+    report["body_clearance"] = gp::to_json(result.clearance);
+    if (!result.clearance.clear()) {
+      const auto& a = result.clearance.after;
+      tool.log().warning("the garment passes through the body: " + std::to_string(a.crossings()) +
+                         " edge/triangle crossings, " + std::to_string(a.cloth_vertices_inside) + " vertices inside");
+    }
     // Timings differ between runs, so they live apart from the report.
     gp::OrderedJson timing;
     timing["schema"] = gp::schema_tag("timing", 1);

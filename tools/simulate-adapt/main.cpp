@@ -57,6 +57,10 @@ int main(int argc, char** argv) {
   app.add_option("--verify-max-penetration", criteria.max_penetration,
                  "Verification: a key pose fails when a cloth vertex lies deeper inside the body [m]")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--verify-max-crossings", criteria.max_crossings,
+                 "Verification: a key pose fails when more body edges pass through cloth triangles and cloth "
+                 "edges through body triangles [count]")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_option("--dt", options.dt, "Simulation time step [s]")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--substeps", options.substeps, "Simulation steps per interpolation frame [count]")
       ->capture_default_str()->check(CLI::Range(1, 1000));
@@ -84,6 +88,10 @@ int main(int argc, char** argv) {
                  "Steps after which an adaptation computed from the current positions is applied, so that it "
                  "runs beside those steps (0: at once; at most --adapt-every minus 1) [count]")
       ->capture_default_str()->check(CLI::Range(0, 99999));
+  app.add_option("--adapt-speed", options.adapt_speed,
+                 "At a key pose, adapt once the cloth's largest net vertex speed over a settle check falls below "
+                 "this [m/s]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--settle-speed", options.settle_speed,
                  "Largest net vertex speed of a settled cloth, over each settle check of --adapt-every steps [m/s]")
       ->capture_default_str()->check(CLI::PositiveNumber);
@@ -109,6 +117,15 @@ int main(int argc, char** argv) {
                  "Body contact: velocity (constraints inside the implicit solve, then projection) or "
                  "projection (position projection after the step only)")
       ->capture_default_str()->check(CLI::IsMember({"velocity", "projection"}));
+  std::string continuous = "on";
+  app.add_option("--continuous-contact", continuous,
+                 "Intersection-free contact in both directions: body vertices and edges push the cloth out of "
+                 "their way and nothing passes through the other surface within a step (on; active when the "
+                 "garment starts clear of the body) or cloth vertices against the body only (off)")
+      ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--contact-thickness", options.contact.thickness,
+                 "Separation kept between the cloth and body vertices and edges by the continuous contact [m]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
   // A second thread prepares body frames and adaptations (see --threads),
   // where the machine has a second core.
   tool.common().threads = std::thread::hardware_concurrency() >= 2 ? 2 : 1;
@@ -130,6 +147,7 @@ int main(int argc, char** argv) {
     options.adapt = !no_adapt;
     fit_options.verify = !no_verify;
     options.velocity_contacts = contact == "velocity";
+    options.continuous_contact = continuous == "on";
     options.solver.strategy = solver == "pcg" ? gp::cloth::SolverStrategy::pcg_reused_factor
                                               : gp::cloth::SolverStrategy::refactor_every_step;
     const gp::PoseSet poses = gp::load_pose_set(poses_path);
@@ -177,6 +195,21 @@ int main(int argc, char** argv) {
     tool.log().progress_done();
     const gp::adapt::MotionRunResult& result = fit.run;
     const std::optional<gp::adapt::FitVerification>& verification = fit.verification;
+    if (options.continuous_contact && !result.continuous_contact) {
+      const auto& c = result.initial_crossings;
+      tool.log().warning("the garment starts through the body (" + std::to_string(c.crossings()) +
+                         " edge/triangle crossings, " + std::to_string(c.cloth_vertices_inside) +
+                         " vertices inside, " + std::to_string(c.body_vertices_behind) +
+                         " body vertices behind it); the continuous contact, which keeps each body part on the "
+                         "side of the cloth it starts on, is off for this run");
+    }
+    for (const auto& k : result.keys) {
+      if (k.crossings.intersection_free()) continue;
+      tool.log().warning("key pose " + k.pose + ": the cloth passes through the body (" +
+                         std::to_string(k.crossings.crossings()) + " edge/triangle crossings, " +
+                         std::to_string(k.crossings.cloth_vertices_inside) + " cloth vertices inside, " +
+                         std::to_string(k.crossings.body_vertices_behind) + " body vertices behind the cloth)");
+    }
 
     gp::StagedOutputDir out(tool.common().out_dir, tool.common().force);
     gp::Mesh rest;
@@ -206,7 +239,8 @@ int main(int argc, char** argv) {
                       {"settle_steps", k.settle_steps},
                       {"settled", k.settled},
                       {"max_speed_m_per_s", k.max_speed},
-                      {"max_net_speed_m_per_s", k.max_net_speed}});
+                      {"max_net_speed_m_per_s", k.max_net_speed},
+                      {"crossings", gp::collision::to_json(k.crossings)}});
     }
     gp::OrderedJson verified = nullptr;
     if (verification) {
@@ -234,6 +268,7 @@ int main(int argc, char** argv) {
                               {"mean_stretch", k.mean_stretch},
                               {"area_fraction_above_limit", k.area_fraction_above},
                               {"deepest_penetration_m", k.deepest_penetration},
+                              {"crossings", gp::collision::to_json(k.crossings)},
                               {"steps", k.steps},
                               {"settle_steps", k.settle_steps},
                               {"settled", k.settled}});
@@ -242,7 +277,8 @@ int main(int argc, char** argv) {
                   {"criteria",
                    {{"max_area_fraction_above_limit", criteria.max_area_above},
                     {"p99_margin", criteria.p99_margin},
-                    {"max_penetration_m", criteria.max_penetration}}},
+                    {"max_penetration_m", criteria.max_penetration},
+                    {"max_crossings", criteria.max_crossings}}},
                   {"steps", verification->steps},
                   {"rejected_steps", verification->rejected_steps},
                   {"key_poses", poses_json}};
@@ -262,6 +298,7 @@ int main(int argc, char** argv) {
                          {"smoothing_length_m", options.adaptation.smoothing_length},
                          {"adapt_rounds", options.adaptation.rounds},
                          {"adapt_during_transitions", options.adapt_during_transitions},
+                         {"adapt_speed_m_per_s", options.adapt_speed},
                          {"verify", fit_options.verify},
                          {"max_cycles", fit_options.max_cycles},
                          {"arap_tolerance", options.adaptation.arap.tolerance},
@@ -275,6 +312,8 @@ int main(int argc, char** argv) {
                          {"reach_m", options.reach},
                          {"contact", contact},
                          {"contact_band_m", options.contact_band},
+                         {"continuous_contact", continuous},
+                         {"contact_thickness_m", options.contact.thickness},
                          {"initial_push_speed_m_per_s", options.initial_push_speed},
                          {"contact_release_fraction", options.solver.contact_release_fraction},
                          {"solver", gp::cloth::solver_strategy_name(options.solver.strategy)},
@@ -310,6 +349,8 @@ int main(int argc, char** argv) {
                      {"pinched_contacts", result.collisions.pinched},
                      {"crease_contacts", result.collisions.creases},
                      {"initial_min_distance_m", result.initial_min_distance},
+                     {"initial_crossings", gp::collision::to_json(result.initial_crossings)},
+                     {"continuous_contact_active", result.continuous_contact},
                      {"adaptations", result.adaptations},
                      {"arap_converged", result.arap.converged},
                      {"all_settled", result.all_settled},
@@ -325,6 +366,7 @@ int main(int argc, char** argv) {
                              {"factorization", t.factorization * per_step},
                              {"solve", t.solve * per_step},
                              {"collisions", t.collisions * per_step},
+                             {"continuous_contact", result.contact.seconds * per_step},
                              {"adaptation", t.adaptation * per_step},
                              {"body", t.body * per_step},
                              {"waiting_for_worker", t.waiting * per_step}};
@@ -341,7 +383,15 @@ int main(int argc, char** argv) {
                       {"body_queries", result.collisions.queries},
                       {"body_queries_skipped", result.collisions.skipped},
                       {"body_queries_reused", result.collisions.reused},
-                      {"body_queries_local", result.collisions.local}};
+                      {"body_queries_local", result.collisions.local},
+                      {"contact_rounds", result.contact.rounds},
+                      {"contact_body_vertex", result.contact.body_vertex_contacts},
+                      {"contact_edge", result.contact.edge_contacts},
+                      {"contact_cloth_vertex", result.contact.cloth_vertex_contacts},
+                      {"contact_crossings", result.contact.crossings},
+                      {"contact_fail_safe_calls", result.contact.fail_safe_calls},
+                      {"contact_fail_safe_vertices", result.contact.fail_safe_vertices},
+                      {"contact_unresolved", result.contact.unresolved}};
     timing["verification_s"] = verification ? verification->seconds : 0.0;
     timing["threads"] = options.threads;
     timing["setup_s"] = t.setup;

@@ -24,10 +24,13 @@ using gp::testing::tool_path;
 
 namespace {
 
+// These cases test the run's robustness with capped settling, and judge the
+// adaptation run's own figures: --no-verify (the verification pass has its
+// own tests in test_simulate_adapt_cli.cpp).
 std::string simulate(const fs::path& poses, const fs::path& motion, const fs::path& garment, const fs::path& out,
                      const std::string& extra = "") {
   return tool_path("simulate-adapt") + " --poses " + poses.string() + " --motion " + motion.string() +
-         " --garment " + garment.string() + " --out " + out.string() + " --quiet " + extra;
+         " --garment " + garment.string() + " --out " + out.string() + " --quiet --no-verify " + extra;
 }
 
 // Largest |a - b| over the vertices of two meshes of the same size [m].
@@ -67,9 +70,12 @@ TEST_CASE("simulate-adapt with a pose change in one frame: a finite drape, or ex
   // one-line numerical error and no output folder (nothing partial).
   // Measured: exit 6, "cloth step failed after 4 halvings of the time step:
   // vertex speed above 20 m/s" at the jump (step 100, after the A-pose's
-  // 100 settling steps). The remedy the user has, --substeps 8 (the body moves in 8
-  // steps within the frame), must then finish untorn (measured: exit 0, one
-  // rejected step, rest area x1.156 at arms-up, deepest penetration 0).
+  // 100 settling steps). The remedy the user has, --substeps 16 (the body
+  // moves in 16 steps within the frame), must then finish untorn (measured:
+  // exit 0, rest area x1.112 at arms-up, no crossing, deepest penetration 0).
+  // With 8 the arms sweep 19 cm a step and the sleeves, which the
+  // continuous contact keeps on them, would move faster than the 20 m/s the
+  // solver accepts.
   const hc::Scene& scene = hc::default_scene();
   const fs::path dir = gp::testing::fresh_temp_dir("hard_cli_jump");
   const fs::path motion = hc::write_motion(dir / "motion.json", {"apose", "armsup"}, 1);
@@ -80,8 +86,8 @@ TEST_CASE("simulate-adapt with a pose change in one frame: a finite drape, or ex
     CHECK(r.err.find("simulate-adapt: error[numerical]") != std::string::npos);
     CHECK_FALSE(fs::exists(dir / "out"));
     const auto sub = run_command(
-        simulate(scene.poses, motion, scene.garment, dir / "substeps", "--settle-max-steps 100 --substeps 8"));
-    INFO("--substeps 8: exit " << sub.exit_code << ": " << sub.err);
+        simulate(scene.poses, motion, scene.garment, dir / "substeps", "--settle-max-steps 100 --substeps 16"));
+    INFO("--substeps 16: exit " << sub.exit_code << ": " << sub.err);
     REQUIRE(sub.exit_code == 0);
     check_outputs_untorn(dir / "substeps", 1.5);
     for (const auto& k : gp::read_json_file(dir / "substeps" / "report.json")["key_poses"]) {

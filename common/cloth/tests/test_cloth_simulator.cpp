@@ -210,6 +210,49 @@ TEST_CASE("a rejected step is retried as two half steps", "[simulator]") {
   CHECK((sim.positions() - m.V).col(1).mean() == Approx(-0.05).epsilon(1e-6));
 }
 
+TEST_CASE("the step-end handler sees each (sub)step's start and its span of the step", "[simulator]") {
+  // The same breaking handler as above forces halves; a step-end handler that
+  // records the spans and moves one vertex by 1 mm gives it the velocity of
+  // that displacement, and pins stay where their targets put them.
+  const gp::Mesh m = hanging_square(8, 0.2);
+  SimulatorOptions options;
+  options.dt = 0.01;
+  ClothParameters params;
+  params.gravity.setZero();
+  ClothSimulator sim(m.V, m.F, params, options);
+  sim.set_pinned({0});
+  sim.set_velocities(Eigen::MatrixXd::Constant(m.V.rows(), 3, 0.0).rowwise() + Eigen::RowVector3d(0.0, -1.0, 0.0));
+  const ClothSimulator* observed = &sim;
+  sim.set_collision_handler([observed](Eigen::MatrixXd& X, Eigen::MatrixXd&) {
+    if ((X - observed->positions()).rowwise().norm().maxCoeff() > 0.007) {
+      X(1, 0) = std::numeric_limits<double>::quiet_NaN();
+    }
+  });
+  std::vector<std::pair<double, double>> spans;
+  bool starts_match = true;
+  Eigen::MatrixXd last_start, last_end;
+  sim.set_step_end_handler([&](const Eigen::MatrixXd& X_start, Eigen::MatrixXd& X_end, double s0, double s1) {
+    spans.emplace_back(s0, s1);
+    starts_match = starts_match && X_start == observed->positions();
+    X_end(5, 2) += 0.001;
+    X_end(0, 2) += 0.5;  // a pinned vertex: restored
+    last_start = X_start;
+    last_end = X_end;
+  });
+  sim.set_pin_targets(m.V.topRows(1));
+  sim.step();
+  CHECK(starts_match);
+  // The full step's attempt (rejected), then its two halves.
+  REQUIRE(spans.size() >= 2);
+  CHECK(spans[spans.size() - 2] == std::make_pair(0.0, 0.5));
+  CHECK(spans.back() == std::make_pair(0.5, 1.0));
+  CHECK(sim.positions().row(0) == m.V.row(0));
+  // Vertex 5, moved by the handler, ends where it put it, with the velocity
+  // of its displacement over the half step.
+  CHECK(sim.positions().row(5) == last_end.row(5));
+  CHECK((sim.velocities().row(5) - (last_end.row(5) - last_start.row(5)) / 0.005).norm() < 1e-9);
+}
+
 TEST_CASE("a new rest shape changes forces but keeps the state", "[simulator]") {
   const gp::Mesh m = hanging_square(6, 0.3);
   ClothParameters params;
