@@ -59,7 +59,21 @@ struct Impact {
   Vector3d body_end = Vector3d::Zero();
   Vector3d direction = Vector3d::Zero();
   bool crossing = false;  // a passage through (else only nearer than the thickness at the end)
+  // Largest push [m]: the thickness plus how far the two points moved
+  // against each other over the step (their start was in order). A sliver
+  // triangle's normal turns fast, and the distance along it at the end can
+  // be far larger than any motion that happened.
+  double max_push = 0.0;
 };
+
+// m.max_push from the cloth point's start and end (X0, X1 at m's weights).
+void bound_push(Impact& m, const Eigen::MatrixXd& X0, const Eigen::MatrixXd& X1, double thickness) {
+  Vector3d moved = Vector3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    if (m.vertex[k] >= 0) moved += m.weight[k] * (X1.row(m.vertex[k]) - X0.row(m.vertex[k])).transpose();
+  }
+  m.max_push = thickness + (moved - (m.body_end - m.body_start)).norm();
+}
 
 // Whether the convex hulls of point sets A and B (each the start and end
 // positions of a moving feature, which hold it throughout the step) are
@@ -359,6 +373,7 @@ struct ContinuousContact::Impl {
           m.direction = gap.normalized();
         }
         ++st.body_vertex_contacts;
+        bound_push(m, X0, X1, thick);
         out.push_back(m);
       });
     }
@@ -401,6 +416,7 @@ struct ContinuousContact::Impl {
         m.body_start = a0 + s * (b0 - a0);
         m.body_end = a1 + s * (b1 - a1);
         ++st.edge_contacts;
+        bound_push(m, X0, X1, thick);
         out.push_back(m);
       });
     }
@@ -434,6 +450,7 @@ struct ContinuousContact::Impl {
         m.crossing = true;
         ++st.cloth_vertex_contacts;
         ++st.crossings;
+        bound_push(m, X0, X1, thick);
         out.push_back(m);
       });
     }
@@ -489,7 +506,7 @@ struct ContinuousContact::Impl {
       c += m.weight[k] * x(X1, m.vertex[k]);
       if (!pinned[m.vertex[k]]) free_weight += m.weight[k] * m.weight[k];
     }
-    const double deficit = options.thickness - (c - m.body_end).dot(m.direction);
+    const double deficit = std::min(options.thickness - (c - m.body_end).dot(m.direction), m.max_push);
     if (!(deficit > 0.0)) return true;
     if (!(free_weight > 1e-12)) return false;
     for (int k = 0; k < 3; ++k) {
