@@ -148,8 +148,8 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
   auto drapes_of = [&](const std::vector<KeyPoseRun>& keys, const Eigen::MatrixXd& V_rest) {
     std::vector<Drape> out;
     for (const KeyPoseRun& k : keys) {
-      Drape d = read_drape(k.mesh, F, V_rest);
-      d.body_pose = poses.index_of(k.pose, k.mesh.string());
+      Drape d = read_drape(k.shown_mesh(), F, V_rest);
+      d.body_pose = poses.index_of(k.pose, k.shown_mesh().string());
       out.push_back(std::move(d));
     }
     return out;
@@ -208,7 +208,7 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
   const std::vector<Views> views = render_views(rows, cameras, options.sheet);
   const std::string limit = format_fixed(1.0 + run.delta, 2);
   auto figures_of = [&](const StageReport& report, const KeyPoseRun& k) {
-    const Json& e = *lookup(report, k.pointer);
+    const Json& e = *lookup(report, k.shown_pointer());
     return "max stretch " + format_fixed(e["max_stretch"].get<double>(), 3) + ", p99 " + format_fixed(e["p99_stretch"].get<double>(), 3) +
            ", area above " + limit + ": " + format_fixed(100.0 * e["area_fraction_above_limit"].get<double>(), 2) + " %";
   };
@@ -221,15 +221,16 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
     pf.sheet = "renders/pose_" + std::string(id) + ".png";
     pf.glb = "models/pose_" + std::string(id) + ".glb";
     const std::string title = "Key pose " + std::to_string(i + 1) + " of " + std::to_string(n) + ": " + k.pose;
-    render::write_png(folder / pf.sheet,
-                      compose_sheet(title + " (" + figures_of(run.fit, k) + ")", {{"adapted", &views[i]}}, stretch, font));
+    const std::string shown = k.verified_pointer.empty() ? "adapted" : "adapted, verified (simulated afresh)";
+    render::write_png(folder / pf.sheet, compose_sheet(title + " (" + figures_of(run.fit, k) + ")",
+                                                       {{shown, &views[i]}}, stretch, font));
     if (!drapes_no_adapt.empty()) {
       pf.before_after = "renders/before_after_" + std::string(id) + ".png";
       render::write_png(folder / pf.before_after,
                         compose_sheet(title + ": the design and the adapted garment",
                                       {{"as designed, not adapted: " + figures_of(*run.fit_no_adapt, run.keys_no_adapt[i]),
                                         &views[n + i]},
-                                       {"adapted: " + figures_of(run.fit, k), &views[i]}},
+                                       {shown + ": " + figures_of(run.fit, k), &views[i]}},
                                       stretch, font));
     }
     files.poses.push_back(pf);

@@ -50,6 +50,13 @@ std::vector<KeyPoseRun> read_keys(const StageReport& fit, const fs::path& folder
     require(fit, p + "/steps", "integer");
     require(fit, p + "/settle_steps", "integer");
     require(fit, p + "/settled", "boolean");
+    const std::string v = "/verification/key_poses/" + std::to_string(i);
+    if (const Json* entry = lookup(fit, v); entry && entry->is_object() && entry->contains("mesh")) {
+      k.verified_pointer = v;
+      k.verified_mesh = require_file(folder / require(fit, v + "/mesh", "string").get<std::string>());
+      for (const char* number : {"max_stretch", "p99_stretch", "area_fraction_above_limit"})
+        require(fit, v + "/" + number, "number");
+    }
     out.push_back(k);
   }
   return out;

@@ -38,6 +38,13 @@ struct KeyPoseRun {
   std::string pose;
   std::filesystem::path mesh;   // the draped garment
   std::string pointer;          // of its entry, e.g. "/key_poses/2"
+  // The verification's drape (the final rest shape simulated afresh) and its
+  // entry, e.g. "/verification/key_poses/2"; empty without a verification.
+  std::filesystem::path verified_mesh;
+  std::string verified_pointer;
+  // The drape that shows the fit honestly: the verified one where it exists.
+  const std::filesystem::path& shown_mesh() const { return verified_mesh.empty() ? mesh : verified_mesh; }
+  const std::string& shown_pointer() const { return verified_pointer.empty() ? pointer : verified_pointer; }
 };
 
 struct FitRun {
