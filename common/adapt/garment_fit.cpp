@@ -11,23 +11,33 @@ FitResult fit_garment(PoseInterpolator& interpolator, const MotionSpec& motion, 
   FitResult fit;
   MotionRunOptions run_options = options.motion;
   for (int cycle = 1;; ++cycle) {
-    fit.run = run_garment_motion(interpolator, motion, V_garment, F, garment, run_options, progress);
-    FitCycle summary;
-    summary.steps = fit.run.steps;
-    summary.adaptations = fit.run.adaptations;
-    summary.rest_area_growth = fit.run.keys.empty() ? 1.0 : fit.run.keys.back().rest_area_growth;
-    if (!options.verify) {
-      fit.cycles.push_back(summary);
+    MotionRunResult run;
+    std::optional<FitVerification> verification;
+    try {
+      run = run_garment_motion(interpolator, motion, V_garment, F, garment, run_options, progress);
+      if (options.verify) {
+        // A run that did not adapt is its own fresh simulation.
+        verification = run_options.adapt ? verify_fit(interpolator, motion, V_garment, F, garment,
+                                                      rest_triangles_of(run.V_rest, F), run_options, options.criteria)
+                                         : judge_run(run, run_options.adaptation.delta, options.criteria);
+      }
+    } catch (const NumericalError& e) {
+      // A further cycle that fails numerically (a runaway growth, a grown
+      // rest shape too far from the design's placement to start from) leaves
+      // the previous cycle's fit and its failed verdict as the result.
+      if (cycle == 1) throw;
+      fit.cycle_error = "cycle " + std::to_string(cycle) + ": " + e.message();
       return fit;
     }
-    // A run that did not adapt is its own fresh simulation.
-    fit.verification = run_options.adapt ? verify_fit(interpolator, motion, V_garment, F, garment,
-                                                      rest_triangles_of(fit.run.V_rest, F), run_options,
-                                                      options.criteria)
-                                         : judge_run(fit.run, run_options.adaptation.delta, options.criteria);
-    summary.verified = fit.verification->passed();
+    FitCycle summary;
+    summary.steps = run.steps;
+    summary.adaptations = run.adaptations;
+    summary.rest_area_growth = run.keys.empty() ? 1.0 : run.keys.back().rest_area_growth;
+    summary.verified = verification && verification->passed();
+    fit.run = std::move(run);
+    fit.verification = std::move(verification);
     fit.cycles.push_back(summary);
-    if (summary.verified || cycle >= options.max_cycles || !run_options.adapt) return fit;
+    if (!options.verify || summary.verified || cycle >= options.max_cycles || !run_options.adapt) return fit;
     run_options.initial_rest = fit.run.V_rest;
   }
 }

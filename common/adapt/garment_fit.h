@@ -12,6 +12,7 @@
 // the poses and on the time step, since every pose is met by the same final
 // rest shape.
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -39,6 +40,7 @@ struct FitResult {
   MotionRunResult run;                        // the last adaptation cycle; run.V_rest is the fit
   std::vector<FitCycle> cycles;               // one per adaptation cycle
   std::optional<FitVerification> verification;  // of run.V_rest, when verified
+  std::string cycle_error;  // a further cycle's numerical failure, after which the previous cycle's fit stands
 };
 
 // V_garment, F: the garment as designed (#V by 3, #F by 3). `progress`

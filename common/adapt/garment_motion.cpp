@@ -74,6 +74,7 @@ void check_options(const MotionRunOptions& options) {
   if (options.adaptation_lag < 0) {
     throw UsageError("the adaptation lag must be non-negative, got " + std::to_string(options.adaptation_lag));
   }
+  if (!(options.max_area_growth > 1.0)) throw UsageError("max_area_growth must be above 1");
   if (!(options.adapt_speed > 0.0) || !std::isfinite(options.adapt_speed)) {
     throw UsageError("adapt_speed must be finite and positive");
   }
@@ -350,6 +351,14 @@ struct GarmentMotion::Impl {
 
   void record_adaptation(const AdaptReport& r) {
     if (!r.changed) return;
+    if (r.area_after > options.max_area_growth * design_area) {
+      char what[200];
+      std::snprintf(what, sizeof(what),
+                    "the rest shape grew to x%.2f the design's area (at most x%.2f): the adaptation runs away where "
+                    "the cloth cannot follow its rest shape",
+                    r.area_after / design_area, options.max_area_growth);
+      throw NumericalError(what, "step " + std::to_string(result.steps));
+    }
     sim->set_rest_shape(V_rest);
     ++result.adaptations;
     result.arap.iterations += r.arap.iterations;

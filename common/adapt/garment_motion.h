@@ -47,6 +47,10 @@ struct MotionRunOptions {
   // after, the rest shape depended on the settling damping (x1.05 against
   // x1.12 with a hundredth of it on the generated shirt).
   double adapt_speed = 0.1;
+  // A run whose rest area exceeds this multiple of the design's fails
+  // (NumericalError): growth that far is a runaway (a snagged cloth whose
+  // stretch the growth cannot relieve), never a fit.
+  double max_area_growth = 3.0;
   AdaptOptions adaptation;            // stretch limit, clipping, stitching
   double settle_speed = 0.05;         // m/s: largest net vertex speed over a settle check (adapt_every steps) of a settled cloth
   double settle_stretch_change = 1e-3;  // largest change of the largest stretch between settle checks

@@ -92,6 +92,9 @@ int main(int argc, char** argv) {
                  "At a key pose, adapt once the cloth's largest net vertex speed over a settle check falls below "
                  "this [m/s]")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--max-area-growth", options.max_area_growth,
+                 "A run fails when the rest area exceeds this multiple of the design's (a runaway adaptation) [1]")
+      ->capture_default_str()->check(CLI::Range(1.0, 1000.0));
   app.add_option("--settle-speed", options.settle_speed,
                  "Largest net vertex speed of a settled cloth, over each settle check of --adapt-every steps [m/s]")
       ->capture_default_str()->check(CLI::PositiveNumber);
@@ -195,6 +198,10 @@ int main(int argc, char** argv) {
     tool.log().progress_done();
     const gp::adapt::MotionRunResult& result = fit.run;
     const std::optional<gp::adapt::FitVerification>& verification = fit.verification;
+    if (!fit.cycle_error.empty()) {
+      tool.log().warning("a further adaptation cycle failed (" + fit.cycle_error +
+                         "); the previous cycle's rest shape and its verification are the result");
+    }
     if (options.continuous_contact && !result.continuous_contact) {
       const auto& c = result.initial_crossings;
       tool.log().warning("the garment starts through the body (" + std::to_string(c.crossings()) +
@@ -299,6 +306,7 @@ int main(int argc, char** argv) {
                          {"adapt_rounds", options.adaptation.rounds},
                          {"adapt_during_transitions", options.adapt_during_transitions},
                          {"adapt_speed_m_per_s", options.adapt_speed},
+                         {"max_area_growth", options.max_area_growth},
                          {"verify", fit_options.verify},
                          {"max_cycles", fit_options.max_cycles},
                          {"arap_tolerance", options.adaptation.arap.tolerance},
@@ -340,6 +348,7 @@ int main(int argc, char** argv) {
                         {"verified", c.verified}});
     }
     report["cycles"] = cycles;
+    report["cycle_error"] = fit.cycle_error.empty() ? gp::OrderedJson(nullptr) : gp::OrderedJson(fit.cycle_error);
     report["verification"] = verified;
     report["run"] = {{"steps", result.steps},
                      {"rejected_steps", result.solver.rejected},

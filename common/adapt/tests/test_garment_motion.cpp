@@ -89,3 +89,27 @@ TEST_CASE("the adaptation lag is cut to the adaptation interval and must not be 
   negative.adaptation_lag = -1;
   CHECK_THROWS_AS(hc::run(l, motion, l.mesh.V, negative), gp::UsageError);
 }
+
+TEST_CASE("a rest shape that grows past the growth cap fails the run instead of running away", "[adapt][body]") {
+  // A-pose to arms up grows the generated shirt's rest shape by a few percent
+  // (x1.03-1.11 measured); a cap of x1.001 must stop the run with a
+  // NumericalError that names the growth, and a cap of x3 must not.
+  const hc::Loaded l = hc::load(hc::default_scene());
+  const gp::MotionSpec motion = hc::motion_of(l.poses, {"apose", "armsup"}, 12);
+  MotionRunOptions tight = hc::run_options(120);
+  tight.max_area_growth = 1.001;
+  try {
+    hc::run(l, motion, l.mesh.V, tight);
+    FAIL("the run went on past the growth cap");
+  } catch (const gp::NumericalError& e) {
+    INFO(e.message());
+    CHECK(e.message().find("the rest shape grew to x") != std::string::npos);
+    CHECK(e.message().find("(at most x1.00)") != std::string::npos);
+  }
+  MotionRunOptions loose = hc::run_options(120);
+  const MotionRunResult r = hc::run(l, motion, l.mesh.V, loose);
+  CHECK(r.keys.back().rest_area_growth > 1.001);
+  CHECK(r.keys.back().rest_area_growth < 3.0);
+  tight.max_area_growth = 1.0;
+  CHECK_THROWS_AS(hc::run(l, motion, l.mesh.V, tight), gp::UsageError);
+}
