@@ -28,6 +28,12 @@ struct AdaptOptions {
   // positions, until no triangle is clipped: the smoothing lets one stitching
   // meet its targets only in part.
   int rounds = 4;
+  // A face's target area is kept within this multiple of its design area.
+  // Where the body holds the cloth (a skirt caught on a hand), no growth
+  // relieves the stretch, and without a bound those faces grow every
+  // adaptation into a balloon (the shared-body dress: x1.92 at its own design
+  // pose). The verification still sees the stretch that remains there.
+  double max_face_growth = 4.0;
   ArapOptions arap;    // stitching tolerance and iteration cap
 };
 
@@ -38,6 +44,7 @@ struct AdaptReport {
   double area_after = 0.0;
   bool changed = false;      // false when the rest shape was left as it was
   int rounds = 0;            // clip-and-stitch rounds done
+  int capped_faces = 0;      // faces whose target was held at max_face_growth (last round)
 };
 
 class RestShapeAdapter {
@@ -60,6 +67,7 @@ class RestShapeAdapter {
   Eigen::MatrixXi F_;
   AdaptOptions options_;
   ArapStitcher stitcher_;
+  Eigen::VectorXd reference_areas_;  // design face areas [m^2]
 };
 
 // Total area of the mesh (V, F) [m^2].

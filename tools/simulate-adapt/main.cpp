@@ -92,6 +92,10 @@ int main(int argc, char** argv) {
                  "At a key pose, adapt once the cloth's largest net vertex speed over a settle check falls below "
                  "this [m/s]")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--max-face-growth", options.adaptation.max_face_growth,
+                 "A face's rest area is kept within this multiple of its design area (where the body holds the "
+                 "cloth, growth cannot relieve the stretch) [1]")
+      ->capture_default_str()->check(CLI::Range(1.0, 1000.0));
   app.add_option("--max-area-growth", options.max_area_growth,
                  "A run fails when the rest area exceeds this multiple of the design's (a runaway adaptation) [1]")
       ->capture_default_str()->check(CLI::Range(1.0, 1000.0));
@@ -307,6 +311,7 @@ int main(int argc, char** argv) {
                          {"adapt_during_transitions", options.adapt_during_transitions},
                          {"adapt_speed_m_per_s", options.adapt_speed},
                          {"max_area_growth", options.max_area_growth},
+                         {"max_face_growth", options.adaptation.max_face_growth},
                          {"verify", fit_options.verify},
                          {"max_cycles", fit_options.max_cycles},
                          {"arap_tolerance", options.adaptation.arap.tolerance},

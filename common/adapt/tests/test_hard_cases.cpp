@@ -266,3 +266,34 @@ TEST_CASE("settling with a hundredth of the damping reaches the same fit", "[ada
     for (const KeyPoseResult& k : r->keys) CHECK(k.settled);
   check_same_fit(a, b, std::numeric_limits<double>::infinity(), 0.025, 0.06);
 }
+
+TEST_CASE("targets are held within the face growth cap where the cloth is stretched far beyond any fit",
+          "[adapt][hard]") {
+  // Every face stretched 10-fold along x (cloth held by the body, a skirt
+  // caught on a hand): without a bound the rest would grow 10 / 1.1 in one
+  // adaptation and again at every next one. With the cap of 4 the patch
+  // grows to at most 4 times its design area, every face counted as capped,
+  // and the rest stays finite and unflipped.
+  const gp::Mesh grid = gp::testing::make_grid(8, 8, 0.2, 0.2);
+  Eigen::MatrixXd V_sim = grid.V;
+  V_sim.col(0) *= 10.0;
+  AdaptOptions options;
+  options.hysteresis = 0.0;
+  options.arap.tolerance = 1e-10;
+  options.max_face_growth = 4.0;
+  RestShapeAdapter adapter(grid.V, grid.F, options);
+  Eigen::MatrixXd V_rest = grid.V;
+  const AdaptReport r = adapter.adapt(V_sim, V_rest);
+  REQUIRE(V_rest.allFinite());
+  INFO("area " << r.area_before << " -> " << r.area_after << ", capped " << r.capped_faces);
+  CHECK(r.capped_faces == grid.F.rows());
+  CHECK(r.area_after / r.area_before == Approx(4.0).epsilon(1e-3));
+  for (int f = 0; f < grid.F.rows(); ++f) {
+    CHECK(face_normal(V_rest, grid.F, f).dot(face_normal(grid.V, grid.F, f)) > 0.0);
+  }
+  // A second adaptation against the same positions grows nothing more.
+  const AdaptReport again = adapter.adapt(V_sim, V_rest);
+  CHECK(again.area_after / r.area_before == Approx(4.0).epsilon(1e-3));
+  options.max_face_growth = 1.0;
+  CHECK_THROWS_AS(RestShapeAdapter(grid.V, grid.F, options), gp::UsageError);
+}
