@@ -58,4 +58,17 @@ Eigen::VectorXd edge_lengths(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E)
   return L;
 }
 
+Eigen::Vector3d area_centroid(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  double total = 0.0;
+  for (int f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    const double area = 0.5 * (b - a).cross(c - a).norm();
+    centroid += area * (a + b + c) / 3.0;
+    total += area;
+  }
+  if (total > 0.0) centroid /= total;
+  return centroid;
+}
+
 }  // namespace gp

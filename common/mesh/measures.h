@@ -18,6 +18,10 @@ Eigen::MatrixXd vertex_normals(const Eigen::MatrixXd& V, const Eigen::MatrixXi& 
 // with outward normals).
 double signed_volume(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
 
+// The area-weighted centroid of the triangles (#V by 3, #F by 3): sum of
+// area * triangle centroid over the total area; zero when the area is zero.
+Eigen::Vector3d area_centroid(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+
 // Length of the bounding box diagonal.
 double bounding_box_diagonal(const Eigen::MatrixXd& V);
 

@@ -280,18 +280,7 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
     for (int k = 0; k < 3; ++k, ++edges) h += (mesh.V.row(mesh.F(f, k)) - mesh.V.row(mesh.F(f, (k + 1) % 3))).norm();
   h /= std::max(1, edges);
   // The body's vertical axis: through the area centroid of the garment.
-  Eigen::Vector3d axis = Eigen::Vector3d::Zero();
-  {
-    double total = 0.0;
-    for (int f = 0; f < mesh.rest_F.rows(); ++f) {
-      const Eigen::Vector3d a = mesh.rest_V.row(mesh.rest_F(f, 0)), b = mesh.rest_V.row(mesh.rest_F(f, 1)),
-                            c = mesh.rest_V.row(mesh.rest_F(f, 2));
-      const double area = 0.5 * (b - a).cross(c - a).norm();
-      axis += area * (a + b + c) / 3.0;
-      total += area;
-    }
-    if (total > 0.0) axis /= total;
-  }
+  const Eigen::Vector3d axis = area_centroid(mesh.rest_V, mesh.rest_F);
   // The distance and its cross-sections are taken on the rest shape, whose
   // triangles do not depend on where earlier cuts ran; the level set is cut
   // on the pattern mesh from the same piecewise-linear distance.

@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 
+#include "mesh/measures.h"
+
 namespace gp {
 namespace {
 
@@ -20,16 +22,7 @@ struct PieceFrame {
 void name_pieces(Pattern& pattern) {
   const PatternMesh& mesh = pattern.mesh;
   // The garment's area centroid: the body's vertical axis runs through it.
-  Eigen::Vector3d axis = Eigen::Vector3d::Zero();
-  double total = 0.0;
-  for (int f = 0; f < mesh.rest_F.rows(); ++f) {
-    const Eigen::Vector3d a = mesh.rest_V.row(mesh.rest_F(f, 0)), b = mesh.rest_V.row(mesh.rest_F(f, 1)),
-                          c = mesh.rest_V.row(mesh.rest_F(f, 2));
-    const double area = 0.5 * (b - a).cross(c - a).norm();
-    axis += area * (a + b + c) / 3.0;
-    total += area;
-  }
-  if (total > 0.0) axis /= total;
+  const Eigen::Vector3d axis = area_centroid(mesh.rest_V, mesh.rest_F);
   std::vector<PieceFrame> frames(pattern.pieces.size());
   for (size_t c = 0; c < pattern.pieces.size(); ++c) {
     const PatternPiece& p = pattern.pieces[c];

@@ -46,3 +46,19 @@ TEST_CASE("measures of a sphere approach the analytic values", "[mesh]") {
   two.F << sphere.F, sphere.F.array() + static_cast<int>(sphere.V.rows());
   CHECK(gp::face_components(two.F, comp) == 2);
 }
+
+TEST_CASE("area centroid weighs each triangle by its area", "[mesh]") {
+  // Two triangles: a unit right triangle at the origin (area 0.5, centroid
+  // (1/3, 1/3, 0)) and one three times as large far away (area 1.5).
+  Eigen::MatrixXd V(6, 3);
+  V << 0, 0, 0, 1, 0, 0, 0, 1, 0, 10, 0, 0, 13, 0, 0, 10, 1, 0;
+  Eigen::MatrixXi F(2, 3);
+  F << 0, 1, 2, 3, 4, 5;
+  const Eigen::Vector3d c = gp::area_centroid(V, F);
+  const Eigen::Vector3d expected = (0.5 * Eigen::Vector3d(1.0 / 3, 1.0 / 3, 0) + 1.5 * Eigen::Vector3d(11, 1.0 / 3, 0)) / 2.0;
+  CHECK((c - expected).norm() < 1e-12);
+  // Degenerate triangles only: no area, the origin.
+  Eigen::MatrixXd flat(3, 3);
+  flat << 0, 0, 0, 1, 1, 1, 2, 2, 2;
+  CHECK(gp::area_centroid(flat, F.topRows(1)).norm() == 0.0);
+}
