@@ -47,12 +47,20 @@ std::vector<cloth::TriangleRest> rest_triangles_of(const Eigen::MatrixXd& V_rest
 FitVerification verify_fit(PoseInterpolator& interpolator, const MotionSpec& motion,
                            const Eigen::MatrixXd& V_start, const Eigen::MatrixXi& F, const GarmentFile& garment,
                            const std::vector<cloth::TriangleRest>& rest_triangles, MotionRunOptions options,
-                           const FitCriteria& criteria) {
+                           const FitCriteria& criteria, const ProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
   options.adapt = false;
   options.rest_triangles = rest_triangles;
   options.initial_rest.resize(0, 0);
-  FitVerification v = judge_run(run_garment_motion(interpolator, motion, V_start, F, garment, options),
+  ProgressCallback labelled;
+  if (progress) {
+    labelled = [&progress](const MotionProgress& p) {
+      MotionProgress q = p;
+      q.message = "verification: " + p.message;
+      progress(q);
+    };
+  }
+  FitVerification v = judge_run(run_garment_motion(interpolator, motion, V_start, F, garment, options, labelled),
                                 options.adaptation.delta, criteria);
   v.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return v;

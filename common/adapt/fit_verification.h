@@ -47,11 +47,12 @@ std::vector<std::string> check_pose(const KeyPoseResult& figures, double delta, 
 // per face of F) and no adaptation, starting at V_start (#V by 3: the garment
 // as designed, at the comfort offset), and checks every key pose. `options`
 // are the fit's (time step, settling, contacts, threads); adapt and
-// rest_triangles are set here. Throws as run_garment_motion.
+// rest_triangles are set here. `progress` receives the run's progress, its
+// lines prefixed with "verification: ". Throws as run_garment_motion.
 FitVerification verify_fit(PoseInterpolator& interpolator, const MotionSpec& motion,
                            const Eigen::MatrixXd& V_start, const Eigen::MatrixXi& F, const GarmentFile& garment,
                            const std::vector<cloth::TriangleRest>& rest_triangles, MotionRunOptions options,
-                           const FitCriteria& criteria = {});
+                           const FitCriteria& criteria = {}, const ProgressCallback& progress = {});
 
 // The checks of a run without adaptation (its key poses are already a fresh
 // simulation of its rest shape); seconds is left 0.

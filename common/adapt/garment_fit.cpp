@@ -18,7 +18,8 @@ FitResult fit_garment(PoseInterpolator& interpolator, const MotionSpec& motion, 
       if (options.verify) {
         // A run that did not adapt is its own fresh simulation.
         verification = run_options.adapt ? verify_fit(interpolator, motion, V_garment, F, garment,
-                                                      rest_triangles_of(run.V_rest, F), run_options, options.criteria)
+                                                      rest_triangles_of(run.V_rest, F), run_options, options.criteria,
+                                                      progress)
                                          : judge_run(run, run_options.adaptation.delta, options.criteria);
       }
     } catch (const NumericalError& e) {

@@ -507,7 +507,8 @@ struct GarmentMotion::Impl {
       key.deepest_penetration = std::max(key.deepest_penetration, -q.signed_distance);
     }
     key.crossings = collision::find_crossings(V_body, interpolator.faces(), key.V_draped, F);
-    key.rest_area_growth = mesh_area(V_rest, F) / design_area;
+    // Given rest triangles (a verification, a sewn pattern) are the rest shape.
+    key.rest_area_growth = (options.rest_triangles.empty() ? mesh_area(V_rest, F) : rest_areas.sum()) / design_area;
     key.steps = result.steps;
   }
 
