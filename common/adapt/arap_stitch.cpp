@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <string>
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
 #include "core/error.h"
+#include "mesh/topology.h"
 
 namespace gp::adapt {
 namespace {
@@ -131,13 +131,9 @@ ArapStitcher::ArapStitcher(const Eigen::MatrixXd& V_reference, const Eigen::Matr
     // Only inner vertices' rows: the Laplacian of an affine displacement
     // (a uniform growth of a flat piece) vanishes there but not on the
     // border, and the border's form is left free (natural boundary).
-    std::map<std::pair<int, int>, int> edge_uses;
-    for (int f = 0; f < F.rows(); ++f) {
-      for (int k = 0; k < 3; ++k) ++edge_uses[std::minmax(F(f, k), F(f, (k + 1) % 3))];
-    }
     std::vector<bool> border(static_cast<size_t>(n_), false);
-    for (const auto& [edge, uses] : edge_uses) {
-      if (uses == 1) border[static_cast<size_t>(edge.first)] = border[static_cast<size_t>(edge.second)] = true;
+    for (const std::vector<int>& loop : boundary_loops(F)) {
+      for (int v : loop) border[static_cast<size_t>(v)] = true;
     }
     Eigen::VectorXd inv_area(n_);
     for (int v = 0; v < n_; ++v) {
