@@ -227,15 +227,19 @@ int main(int argc, char** argv) {
     rest.V = result.V_rest;
     rest.F = read.mesh.F;
     gp::write_mesh(out.file("rest.ply"), rest);
-    gp::OrderedJson keys = gp::OrderedJson::array();
-    for (const auto& k : result.keys) {
-      char name[256];
-      std::snprintf(name, sizeof(name), "draped_%02d_%s.ply", k.key, k.pose.c_str());
+    // A key pose's drape with its largest principal stretch per face.
+    auto write_drape = [&](const char* name, const gp::adapt::KeyPoseResult& k) {
       gp::Mesh draped;
       draped.V = k.V_draped;
       draped.F = read.mesh.F;
       draped.face_fields.push_back({"max_stretch", k.face_max_stretch});
       gp::write_mesh(out.file(name), draped);
+    };
+    gp::OrderedJson keys = gp::OrderedJson::array();
+    for (const auto& k : result.keys) {
+      char name[256];
+      std::snprintf(name, sizeof(name), "draped_%02d_%s.ply", k.key, k.pose.c_str());
+      write_drape(name, k);
       keys.push_back({{"key", k.key},
                       {"pose", k.pose},
                       {"mesh", name},
@@ -262,13 +266,7 @@ int main(int argc, char** argv) {
         // Without adaptation the run's own drapes are the fresh simulation.
         std::snprintf(name, sizeof(name), options.adapt ? "verified_%02d_%s.ply" : "draped_%02d_%s.ply", k.key,
                       k.pose.c_str());
-        if (options.adapt) {
-          gp::Mesh draped;
-          draped.V = k.V_draped;
-          draped.F = read.mesh.F;
-          draped.face_fields.push_back({"max_stretch", k.face_max_stretch});
-          gp::write_mesh(out.file(name), draped);
-        }
+        if (options.adapt) write_drape(name, k);
         poses_json.push_back({{"key", k.key},
                               {"pose", k.pose},
                               {"mesh", name},
