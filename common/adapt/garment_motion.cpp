@@ -128,6 +128,7 @@ struct GarmentMotion::Impl {
   std::vector<SurfacePoint> pin_binding;
 
   Eigen::MatrixXd V_body, targets;  // the current body stage
+  collision::ContactSurface surface;  // the body and its hand hulls, as the cloth meets them
   std::optional<collision::BodyCollider> collider;
   std::optional<collision::ContinuousContact> contact;
   std::optional<cloth::ClothSimulator> sim;
@@ -203,15 +204,24 @@ struct GarmentMotion::Impl {
     targets = pin_targets(V_body);
     result.times.body += seconds_since(t0);
     const Eigen::MatrixXi& F_body = interpolator.faces();
-    collider.emplace(F_body, collision::reachable_body_faces(V_body, F_body, V_garment, options.reach));
+    // The hulls from the pose the garment was designed (and cleared) on.
+    const std::vector<std::string>& names = interpolator.pose_names();
+    const auto design = std::find(names.begin(), names.end(), garment.body.design_pose);
+    surface = collision::contact_surface(
+        design != names.end() ? interpolator.pose(static_cast<int>(design - names.begin())) : V_body, F_body,
+        options.contact_surface);
+    result.hand_hulls = surface.hull_count;
+    result.hull_faces = static_cast<int>(surface.F.rows()) - surface.body_face_count;
+    const Eigen::MatrixXd V_surface = surface.positions(V_body);
+    collider.emplace(surface.F, collision::reachable_body_faces(V_surface, surface.F, V_garment, options.reach));
     result.culled_body_faces = collider->face_ids().size();
     collider->set_threads(options.threads);
-    collider->set_body(V_body);
-    contact.emplace(F, F_body, collider->face_ids(), options.contact);
+    collider->set_body(V_surface);
+    contact.emplace(F, surface.F, collider->face_ids(), options.contact);
     contact->set_pinned(pin_ids);
     contact->set_threads(options.threads);
-    contact->set_body(V_body);
-    result.initial_crossings = collision::find_crossings(V_body, F_body, V_garment, F);
+    contact->set_body(V_surface);
+    result.initial_crossings = collision::find_crossings(V_surface, surface.F, V_garment, F);
     result.continuous_contact = options.continuous_contact && result.initial_crossings.intersection_free();
   }
 
@@ -309,9 +319,9 @@ struct GarmentMotion::Impl {
     BodyStage stage;
     stage.V = interpolator.frame(r.from, r.to, r.t);
     stage.targets = pin_targets(stage.V);
-    const Eigen::MatrixXd body_velocity = (stage.V - V_previous) / options.dt;
+    const Eigen::MatrixXd body_velocity = surface.positions((stage.V - V_previous) / options.dt);
     stage.seconds = seconds_since(t_stage);
-    stage.frame = collider->prepare(stage.V, &body_velocity);
+    stage.frame = collider->prepare(surface.positions(stage.V), &body_velocity);
     return stage;
   }
 
@@ -336,7 +346,7 @@ struct GarmentMotion::Impl {
     BodyStage stage = await(next_stage);
     result.times.body += stage.seconds;
     collider->set_body(std::move(stage.frame));
-    contact->set_body(stage.V);
+    contact->set_body(surface.positions(stage.V));
     V_body = std::move(stage.V);
     targets = std::move(stage.targets);
     request_next_stage();
@@ -532,8 +542,8 @@ struct GarmentMotion::Impl {
       }
       if (frame.key < 0) continue;
 
-      collider->set_body(V_body);
-      contact->set_body(V_body);
+      collider->set_body(surface.positions(V_body));
+      contact->set_body(surface.positions(V_body));
       KeyPoseResult key;
       key.key = frame.key;
       key.pose = motion.keys[static_cast<size_t>(frame.key)].pose;

@@ -20,6 +20,7 @@
 #include "adapt/rest_adapter.h"
 #include "cloth/cloth_simulator.h"
 #include "collision/body_collider.h"
+#include "collision/contact_surface.h"
 #include "collision/continuous_contact.h"
 #include "collision/crossings.h"
 #include "garment/garment_file.h"
@@ -75,6 +76,11 @@ struct MotionRunOptions {
   // the side of the cloth it starts on.
   bool continuous_contact = true;
   collision::ContinuousContactOptions contact;
+  // What the cloth collides with: the body plus convex hulls over its hands
+  // (collision/contact_surface.h), taken in the garment's design pose (or the
+  // motion's first frame where the pose set lacks it). Penetration depths are
+  // measured against it; crossings against the body itself.
+  collision::ContactSurfaceOptions contact_surface;
   double initial_push_speed = 0.1;    // m/s at which vertices that start inside the offset are pushed out to it
   // When non-empty (one per garment face): rest triangles used instead of the
   // rest shape's, e.g. a sewn pattern's flat pieces. Requires adapt == false.
@@ -147,7 +153,9 @@ struct MotionRunResult {
   double initial_min_distance = 0.0;  // m, smallest signed distance of the design garment to the body
   cloth::SolverCounters solver;       // steps, rejections, folds, factorizations, CG, contact constraints
   collision::CollisionStats collisions;  // body queries, projections, pinches, creases
-  collision::CrossingReport initial_crossings;  // the design garment against the first body frame
+  collision::CrossingReport initial_crossings;  // the design garment against the contact surface in the first frame
+  int hand_hulls = 0;                 // hulls of the contact surface (contact_surface.h)
+  int hull_faces = 0;                 // their faces
   bool continuous_contact = false;    // the intersection-free contact was active
   collision::ContinuousContactStats contact;
   MotionRunTimes times;

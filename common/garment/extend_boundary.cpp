@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 
+#include "collision/contact_surface.h"
+#include "collision/crossings.h"
 #include "core/error.h"
 #include "garment/remesh.h"
 #include "mesh/measures.h"
@@ -253,6 +255,16 @@ ExtendResult extend_boundary(const Mesh& garment, const GarmentFile& file, const
     BodyClearanceOptions clearance;
     clearance.offset = file.offset;
     result.clearance = clear_body(V, F, body->V, body->F, fixed, clearance);
+    // Then of the hand hulls the simulation collides with (contact_surface.h),
+    // which its intersection-free contact needs the garment to start outside
+    // of. After the body, since a hull and the hand under it are two parts
+    // for clear_body, which could send them to two sides.
+    const collision::ContactSurface surface = collision::contact_surface(body->V, body->F);
+    const Eigen::MatrixXd V_surface = surface.positions(body->V);
+    if (surface.hull_count > 0 && result.clearance.clear() &&
+        !collision::find_crossings(V_surface, surface.F, V, F).intersection_free()) {
+      result.clearance = clear_body(V, F, V_surface, surface.F, fixed, clearance);
+    }
     result.body_checked = true;
   }
 

@@ -133,6 +133,18 @@ int main(int argc, char** argv) {
   app.add_option("--contact-thickness", options.contact.thickness,
                  "Separation kept between the cloth and body vertices and edges by the continuous contact [m]")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  std::string hand_hulls = "on";
+  app.add_option("--hand-hulls", hand_hulls,
+                 "Collide the cloth also with the convex hull of each hand (each thin body part at least "
+                 "--hull-min-extent long), so that fingers push the cloth and never hook it (on), or with the "
+                 "body's own surface only (off)")
+      ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--hull-thin", options.contact_surface.thin,
+                 "A body vertex is in a thin part when the body along its inward normal is thinner than this [m]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--hull-min-extent", options.contact_surface.min_extent,
+                 "Thin parts with a shorter bounding-box diagonal (ears, the nose) keep their own shape [m]")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
   // A second thread prepares body frames and adaptations (see --threads),
   // where the machine has a second core.
   tool.common().threads = std::thread::hardware_concurrency() >= 2 ? 2 : 1;
@@ -155,6 +167,7 @@ int main(int argc, char** argv) {
     fit_options.verify = !no_verify;
     options.velocity_contacts = contact == "velocity";
     options.continuous_contact = continuous == "on";
+    options.contact_surface.hulls = hand_hulls == "on";
     options.solver.strategy = solver == "pcg" ? gp::cloth::SolverStrategy::pcg_reused_factor
                                               : gp::cloth::SolverStrategy::refactor_every_step;
     const gp::PoseSet poses = gp::load_pose_set(poses_path);
@@ -325,6 +338,9 @@ int main(int argc, char** argv) {
                          {"contact_band_m", options.contact_band},
                          {"continuous_contact", continuous},
                          {"contact_thickness_m", options.contact.thickness},
+                         {"hand_hulls", hand_hulls},
+                         {"hull_thin_m", options.contact_surface.thin},
+                         {"hull_min_extent_m", options.contact_surface.min_extent},
                          {"initial_push_speed_m_per_s", options.initial_push_speed},
                          {"contact_release_fraction", options.solver.contact_release_fraction},
                          {"solver", gp::cloth::solver_strategy_name(options.solver.strategy)},
@@ -341,7 +357,9 @@ int main(int argc, char** argv) {
                         {"garment_faces", read.mesh.F.rows()},
                         {"body_vertices", poses.V[0].rows()},
                         {"body_faces", poses.F.rows()},
-                        {"body_faces_kept", result.culled_body_faces}};
+                        {"body_faces_kept", result.culled_body_faces},
+                        {"hand_hulls", result.hand_hulls},
+                        {"hull_faces", result.hull_faces}};
     report["key_poses"] = keys;
     gp::OrderedJson cycles = gp::OrderedJson::array();
     for (const gp::adapt::FitCycle& c : fit.cycles) {
