@@ -210,8 +210,7 @@ struct GarmentMotion::Impl {
     surface = collision::contact_surface(
         design != names.end() ? interpolator.pose(static_cast<int>(design - names.begin())) : V_body, F_body,
         options.contact_surface);
-    result.hand_hulls = surface.hull_count;
-    result.hull_faces = static_cast<int>(surface.F.rows()) - surface.body_face_count;
+    result.contact_surface = surface;
     const Eigen::MatrixXd V_surface = surface.positions(V_body);
     collider.emplace(surface.F, collision::reachable_body_faces(V_surface, surface.F, V_garment, options.reach));
     result.culled_body_faces = collider->face_ids().size();

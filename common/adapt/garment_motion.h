@@ -154,8 +154,7 @@ struct MotionRunResult {
   cloth::SolverCounters solver;       // steps, rejections, folds, factorizations, CG, contact constraints
   collision::CollisionStats collisions;  // body queries, projections, pinches, creases
   collision::CrossingReport initial_crossings;  // the design garment against the contact surface in the first frame
-  int hand_hulls = 0;                 // hulls of the contact surface (contact_surface.h)
-  int hull_faces = 0;                 // their faces
+  collision::ContactSurface contact_surface;  // the body and its hand hulls (contact_surface.h)
   bool continuous_contact = false;    // the intersection-free contact was active
   collision::ContinuousContactStats contact;
   MotionRunTimes times;

@@ -164,6 +164,10 @@ ContactSurface contact_surface(const Eigen::MatrixXd& V, const Eigen::MatrixXi& 
       }
       ++s.hull_count;
       s.hull_faces.push_back(static_cast<int>(hull.size()));
+      s.part_vertices.push_back(static_cast<int>(part.size()));
+      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+      for (int v : part) centroid += V.row(v).transpose();
+      s.part_centroids.push_back(centroid / static_cast<double>(part.size()));
     }
   }
   s.F.resize(F.rows() + static_cast<Eigen::Index>(faces.size()), 3);

@@ -40,7 +40,11 @@ struct ContactSurface {
   int body_vertex_count = 0;   // #Vb
   int body_face_count = 0;     // #Fb
   int hull_count = 0;
-  std::vector<int> hull_faces;  // face count of each hull
+  // Per hull: its face count, the thin part's vertex count and the part's
+  // centroid in the pose it was taken in [m] (for reports).
+  std::vector<int> hull_faces;
+  std::vector<int> part_vertices;
+  std::vector<Eigen::Vector3d> part_centroids;
 
   // The surface's vertices for a body frame V_body (#Vb by 3): the body's
   // rows, then the copies. UsageError for a row count other than #Vb.

@@ -358,8 +358,15 @@ int main(int argc, char** argv) {
                         {"body_vertices", poses.V[0].rows()},
                         {"body_faces", poses.F.rows()},
                         {"body_faces_kept", result.culled_body_faces},
-                        {"hand_hulls", result.hand_hulls},
-                        {"hull_faces", result.hull_faces}};
+                        {"hull_faces", result.contact_surface.F.rows() - result.contact_surface.body_face_count}};
+    gp::OrderedJson hulls = gp::OrderedJson::array();
+    for (int h = 0; h < result.contact_surface.hull_count; ++h) {
+      const Eigen::Vector3d& c = result.contact_surface.part_centroids[static_cast<size_t>(h)];
+      hulls.push_back({{"faces", result.contact_surface.hull_faces[static_cast<size_t>(h)]},
+                       {"part_vertices", result.contact_surface.part_vertices[static_cast<size_t>(h)]},
+                       {"part_centroid", {c.x(), c.y(), c.z()}}});
+    }
+    report["hand_hulls"] = hulls;
     report["key_poses"] = keys;
     gp::OrderedJson cycles = gp::OrderedJson::array();
     for (const gp::adapt::FitCycle& c : fit.cycles) {
