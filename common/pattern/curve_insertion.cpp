@@ -40,12 +40,41 @@ struct EdgePoint {
   int id = -1;
 };
 
+// A point on an edge's end is that vertex; a point of a face on its edge or
+// corner is that edge point or vertex. Such points would otherwise be new
+// vertices on top of the mesh's own (on a corner) or, inside a face's
+// triangulation, split its rim where the neighbouring face does not.
+CurvePoint snapped(const Eigen::MatrixXi& F, const CurvePoint& p) {
+  if (p.is_edge()) {
+    if (p.t <= 0.0) return CurvePoint::at_vertex(p.a);
+    if (p.t >= 1.0) return CurvePoint::at_vertex(p.b);
+    return p;
+  }
+  if (!p.is_face() || p.face < 0 || p.face >= F.rows()) return p;
+  int positive = 0;
+  for (int k = 0; k < 3; ++k) positive += p.bary[k] > 0.0 ? 1 : 0;
+  if (positive == 3) return p;
+  if (positive <= 1) {
+    int best = 0;
+    for (int k = 1; k < 3; ++k)
+      if (p.bary[k] > p.bary[best]) best = k;
+    return CurvePoint::at_vertex(F(p.face, best));
+  }
+  int i = -1, j = -1;
+  for (int k = 0; k < 3; ++k)
+    if (p.bary[k] > 0.0) (i < 0 ? i : j) = k;
+  return CurvePoint::on_edge(F(p.face, i), F(p.face, j), p.bary[j] / (p.bary[i] + p.bary[j]));
+}
+
 }  // namespace
 
-RefinedMesh insert_curves(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SurfaceCurve>& curves,
-                          const std::vector<std::vector<int>>& carried) {
+RefinedMesh insert_curves(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                          const std::vector<SurfaceCurve>& input_curves, const std::vector<std::vector<int>>& carried) {
   const int n = static_cast<int>(V.rows());
   const int m = static_cast<int>(F.rows());
+  std::vector<SurfaceCurve> curves = input_curves;
+  for (SurfaceCurve& c : curves)
+    for (CurvePoint& p : c) p = snapped(F, p);
   // Faces of every edge.
   std::map<EdgeKey, std::vector<int>> edge_faces;
   for (int f = 0; f < m; ++f)
@@ -218,6 +247,8 @@ RefinedMesh insert_curves(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, co
   }
 
   // Faces: unchanged ones copied, the others triangulated in their plane.
+  // alias[id]: the point a new point coincides with (merged), else -1.
+  std::vector<int> alias(positions.size(), -1);
   std::vector<Eigen::Vector3i> faces;
   std::vector<int> parent;
   for (int f = 0; f < m; ++f) {
@@ -265,18 +296,27 @@ RefinedMesh insert_curves(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, co
     for (const auto& [id, q] : local) {
       const size_t before = cdt.number_of_vertices();
       const auto h = cdt.insert(q);
-      if (cdt.number_of_vertices() == before)
-        throw GeometryError("two curve points coincide in face " + std::to_string(f));
+      if (cdt.number_of_vertices() == before) {
+        // A point that coincides exactly with one inserted before (a lower
+        // id: a corner, or an edge point before a face point) is that point:
+        // two curves through the same point inside a face, or a point that
+        // the smoothing put on an edge or a corner.
+        alias[static_cast<size_t>(id)] = h->info();
+        handle[id] = h;
+        continue;
+      }
       h->info() = id;
       handle[id] = h;
     }
     std::set<std::pair<int, int>> rim_edges;
     try {
       for (const auto& [a, b] : rim) {
+        if (handle.at(a) == handle.at(b)) continue;
         cdt.insert_constraint(handle.at(a), handle.at(b));
-        rim_edges.insert(edge_key(a, b));
+        rim_edges.insert(edge_key(handle.at(a)->info(), handle.at(b)->info()));
       }
-      for (const auto& [a, b] : constraints[static_cast<size_t>(f)]) cdt.insert_constraint(handle.at(a), handle.at(b));
+      for (const auto& [a, b] : constraints[static_cast<size_t>(f)])
+        if (handle.at(a) != handle.at(b)) cdt.insert_constraint(handle.at(a), handle.at(b));
     } catch (const Cdt::Intersection_of_constraints_exception&) {
       throw GeometryError("two curves cross inside face " + std::to_string(f));
     }
@@ -319,12 +359,37 @@ RefinedMesh insert_curves(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, co
       parent.push_back(f);
     }
   }
-  out.V.resize(static_cast<int>(positions.size()), 3);
-  for (size_t i = 0; i < positions.size(); ++i) out.V.row(static_cast<int>(i)) = positions[i].transpose();
+  // Merged points leave the mesh; the others keep their order.
+  auto canonical = [&alias](int id) {
+    while (alias[static_cast<size_t>(id)] >= 0) id = alias[static_cast<size_t>(id)];
+    return id;
+  };
+  std::vector<int> renumber(positions.size(), -1);
+  int kept = 0;
+  for (size_t i = 0; i < positions.size(); ++i)
+    if (alias[i] < 0) renumber[i] = kept++;
+  auto final_id = [&](int id) { return renumber[static_cast<size_t>(canonical(id))]; };
+  auto remap_path = [&](std::vector<int>& path) {
+    std::vector<int> next;
+    for (int id : path) {
+      const int v = final_id(id);
+      if (next.empty() || next.back() != v) next.push_back(v);
+    }
+    path = std::move(next);
+  };
+  for (auto& path : out.paths) remap_path(path);
+  for (auto& path : out.carried) remap_path(path);
+  out.V.resize(kept, 3);
+  out.origin.clear();
+  for (size_t i = 0; i < positions.size(); ++i) {
+    if (renumber[i] < 0) continue;
+    out.V.row(renumber[i]) = positions[i].transpose();
+    out.origin.push_back(origin[i]);
+  }
   out.F.resize(static_cast<int>(faces.size()), 3);
-  for (size_t i = 0; i < faces.size(); ++i) out.F.row(static_cast<int>(i)) = faces[i].transpose();
+  for (size_t i = 0; i < faces.size(); ++i)
+    for (int k = 0; k < 3; ++k) out.F(static_cast<int>(i), k) = final_id(faces[i][k]);
   out.parent_face = parent;
-  out.origin = origin;
   return out;
 }
 

@@ -23,8 +23,12 @@ struct RefinedMesh {
 };
 
 // V #V by 3, F #F by 3 (edge-manifold, consistently oriented). `curves`
-// (surface_curve.h) may share points (the same vertex, or the same point of
-// an edge) but must not cross inside a face. `carried` are edge paths of the
+// (surface_curve.h) may share points (the same vertex, the same point of an
+// edge or of a face) but must not cross inside a face. Points that coincide
+// exactly become one vertex: an edge point at t = 0 or 1 is that end, a face
+// point with a zero barycentric coordinate is the point of that edge (or
+// corner), and points that still coincide in their face's plane (the same
+// face point given twice) are merged into the lowest id. `carried` are edge paths of the
 // input mesh (e.g. curves inserted earlier) that are returned with the
 // points that now split their edges. New vertices are numbered in a
 // deterministic order (edge points by edge and position, then face points).

@@ -116,3 +116,48 @@ TEST_CASE("two curves crossing inside a face are refused", "[curve][errors]") {
   const SurfaceCurve two{CurvePoint::on_edge(b, c, 0.5), CurvePoint::at_vertex(a)};
   CHECK_THROWS_AS(insert_curves(grid.V, grid.F, {one, two}), GeometryError);
 }
+
+TEST_CASE("curve points that coincide are merged into one vertex", "[curve]") {
+  Mesh grid = testing::make_grid(2, 2, 1.0, 1.0);
+  grid.F.col(1).swap(grid.F.col(2));
+  const int f = 0;
+  const int a = grid.F(f, 0), b = grid.F(f, 1), c = grid.F(f, 2);
+  const int n = static_cast<int>(grid.V.rows());
+  const double area = face_areas(grid.V, grid.F).sum();
+  // A dart-like junction: the second curve ends at the first one's point
+  // inside face 0 (two registrations of the same barycentric point), and a
+  // third runs from an edge point that coincides with a corner (t = 0).
+  const Eigen::Vector3d tip(0.4, 0.3, 0.3);
+  const SurfaceCurve one{CurvePoint::on_edge(a, b, 0.5), CurvePoint::in_face(f, tip), CurvePoint::on_edge(b, c, 0.5)};
+  const SurfaceCurve two{CurvePoint::at_vertex(c), CurvePoint::in_face(f, tip)};
+  const SurfaceCurve three{CurvePoint::on_edge(a, c, 0.0), CurvePoint::in_face(f, tip)};
+  const RefinedMesh r = insert_curves(grid.V, grid.F, {one, two, three});
+  // The tip is one vertex, shared by the three paths; the corner point is the corner.
+  REQUIRE(r.paths.size() == 3);
+  CHECK(r.paths[0].size() == 3);
+  const int tip_id = r.paths[0][1];
+  CHECK(r.paths[1] == std::vector<int>{c, tip_id});
+  CHECK(r.paths[2] == std::vector<int>{a, tip_id});
+  // New vertices: the two edge midpoints and the tip, no more; every one used by a face.
+  CHECK(r.V.rows() == n + 3);
+  CHECK(static_cast<int>(r.origin.size()) == r.V.rows());
+  std::vector<int> used(static_cast<size_t>(r.V.rows()), 0);
+  for (int g = 0; g < r.F.rows(); ++g)
+    for (int k = 0; k < 3; ++k) used[static_cast<size_t>(r.F(g, k))] = 1;
+  for (int v = 0; v < r.V.rows(); ++v) CHECK(used[static_cast<size_t>(v)] == 1);
+  // The refinement covers the mesh exactly once, and stays a manifold disk.
+  CHECK(face_areas(r.V, r.F).sum() == Approx(area).epsilon(1e-12));
+  CHECK(boundary_loops(r.F).size() == 1);
+  CHECK(euler_characteristic(r.F) == 1);
+  for (int g = 0; g < r.F.rows(); ++g) {
+    const Eigen::Vector3d p0 = r.V.row(r.F(g, 0)), p1 = r.V.row(r.F(g, 1)), p2 = r.V.row(r.F(g, 2));
+    CHECK((p1 - p0).cross(p2 - p0).norm() > 1e-6);
+  }
+  // Every vertex lies where its origin says.
+  for (int v = n; v < r.V.rows(); ++v) {
+    const SurfacePoint& s = r.origin[static_cast<size_t>(v)];
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) x += s.bary[k] * grid.V.row(grid.F(s.face, k)).transpose();
+    CHECK((x - r.V.row(v).transpose()).norm() < 1e-12);
+  }
+}
