@@ -178,18 +178,45 @@ std::vector<Polygon2> offset_polygon(const Polygon2& polygon, double distance, d
     }
     return best;
   };
+  // Every run of offset vertices beyond the limit is replaced by the two
+  // points where the offset enters and leaves the limit, found by bisection
+  // along the run's first and last edges: the bevel lies within the limit
+  // however sharp the corner (moving a far vertex part of the way towards
+  // its neighbours left a spike where two far vertices followed each other).
+  auto limit_point = [&](const Eigen::Vector2d& near, const Eigen::Vector2d& far) {
+    double lo = 0.0, hi = 1.0;  // near + lo (far - near) is within the limit, near + hi (...) beyond it
+    for (int it = 0; it < 50; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (outline_distance(near + mid * (far - near)) <= limit ? lo : hi) = mid;
+    }
+    return Eigen::Vector2d(near + lo * (far - near));
+  };
   for (Polygon2& offset : result) {
+    const size_t n = offset.size();
+    std::vector<char> far(n, 0);
+    size_t near_count = 0;
+    for (size_t i = 0; i < n; ++i) {
+      far[i] = outline_distance(offset[i]) > limit * 1.0001;
+      near_count += far[i] ? 0 : 1;
+    }
+    if (near_count == 0 || near_count == n) continue;
+    // Start at a near vertex, so that every run of far vertices is whole.
+    size_t start = 0;
+    while (far[start]) ++start;
     Polygon2 clipped;
-    for (size_t i = 0; i < offset.size(); ++i) {
-      const Eigen::Vector2d& q = offset[i];
-      const double D = outline_distance(q);
-      if (D <= limit * 1.0001) {
-        clipped.push_back(q);
+    for (size_t k = 0; k < n; ++k) {
+      const size_t i = (start + k) % n;
+      if (!far[i]) {
+        clipped.push_back(offset[i]);
         continue;
       }
-      const double t = std::min(0.45, (D - limit) / D);
-      clipped.push_back(q + t * (offset[(i + offset.size() - 1) % offset.size()] - q));
-      clipped.push_back(q + t * (offset[(i + 1) % offset.size()] - q));
+      size_t last = i;  // the run of far vertices i .. last
+      while (far[(last + 1) % n]) last = (last + 1) % n;
+      const Eigen::Vector2d& before = offset[(i + n - 1) % n];
+      const Eigen::Vector2d& after = offset[(last + 1) % n];
+      clipped.push_back(limit_point(before, offset[i]));
+      clipped.push_back(limit_point(after, offset[last]));
+      k += (last + n - i) % n;
     }
     offset = clipped;
   }

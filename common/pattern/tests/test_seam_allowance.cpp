@@ -49,6 +49,25 @@ TEST_CASE("acute corners are bevelled and touching dart sides are handled", "[se
   CHECK(polygon_area(cut[0]) == Approx(0.22 * 0.22).epsilon(1e-6));
 }
 
+TEST_CASE("the bevel of a run of sharp corners stays within twice the allowance", "[seam_allowance]") {
+  // A spike whose tip is two sharp corners 2 mm apart (a dart mouth bridged
+  // next to a narrow point): their mitres are two far offset vertices in a
+  // row, which moving each part of the way to its neighbours left far out.
+  for (double deg : {2.0, 5.0, 10.0}) {
+    const double a = deg * M_PI / 180.0;
+    const Polygon2 spike{{0, 0}, {0.3, 0}, {0.3, 0.002}, {0.3 * std::cos(a), 0.3 * std::sin(a)}};
+    const auto out = offset_polygon(spike, 0.01, 1e-5, "spike");
+    REQUIRE(!out.empty());
+    double farthest = 0.0;
+    for (const auto& q : out[0]) {
+      const double d = distance_to_outline(spike, q);
+      farthest = std::max(farthest, d);
+      CHECK(d <= 0.02 * (1 + 1e-6));
+    }
+    CHECK(farthest >= 0.0199);  // bevelled at the limit, not short of it
+  }
+}
+
 TEST_CASE("Douglas-Peucker keeps corners and drops collinear points", "[seam_allowance]") {
   Polygon2 poly;
   for (int i = 0; i < 10; ++i) poly.emplace_back(0.01 * i, 0.0);
