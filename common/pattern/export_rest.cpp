@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -10,10 +11,90 @@
 #include "pattern/dxf_writer.h"
 #include "pattern/rest_diagnostics.h"
 #include "pattern/svg_writer.h"
+#include "interp/motion_spec.h"
+#include "interp/pose_interpolator.h"
 #include "pose/pose_set.h"
 
 namespace gp {
 namespace fs = std::filesystem;
+namespace {
+
+// "sewn_02_armsup.ply": the sewn garment's drape at key pose 2.
+std::string sewn_drape_name(const adapt::KeyPoseResult& k) {
+  char name[256];
+  std::snprintf(name, sizeof(name), "sewn_%02d_%s.ply", k.key, k.pose.c_str());
+  return name;
+}
+
+OrderedJson vector_json(const Eigen::Vector3d& x) { return OrderedJson::array({x.x(), x.y(), x.z()}); }
+
+OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOptions& options) {
+  if (!result.sewn_fit_done)
+    return {{"checked", false}, {"why", "no fit report given (--fit FIT/report.json)"}};
+  const SewnFitResult& sewn = result.sewn_fit;
+  const adapt::FitCriteria& c = result.fit.criteria;
+  auto piece_name = [&result](int p) {
+    return p >= 0 ? OrderedJson(result.pattern.pieces[static_cast<size_t>(p)].name) : OrderedJson(nullptr);
+  };
+  OrderedJson poses = OrderedJson::array();
+  for (size_t i = 0; i < sewn.verification.poses.size(); ++i) {
+    const adapt::PoseCheck& check = sewn.verification.poses[i];
+    const adapt::KeyPoseResult& k = check.figures;
+    const SewnPoseWhere& w = sewn.where[i];
+    OrderedJson pieces = OrderedJson::array();
+    for (const PieceStretch& p : w.pieces)
+      pieces.push_back({{"piece", piece_name(p.piece)},
+                        {"area_fraction_above_limit", p.area_fraction_above},
+                        {"max_stretch", p.max_stretch}});
+    OrderedJson where = {{"pieces_above_limit", pieces},
+                         {"worst_face", {{"rest_face", w.worst_face},
+                                         {"piece", piece_name(w.worst_face_piece)},
+                                         {"position_m", vector_json(w.worst_face_position)}}}};
+    if (w.deepest_vertex >= 0)
+      where["deepest_vertex_inside"] = {{"vertex", w.deepest_vertex},
+                                        {"piece", piece_name(w.deepest_vertex_piece)},
+                                        {"position_m", vector_json(w.deepest_vertex_position)}};
+    else
+      where["deepest_vertex_inside"] = nullptr;
+    poses.push_back({{"key", k.key},
+                     {"pose", k.pose},
+                     {"mesh", sewn_drape_name(k)},
+                     {"verdict", check.passed() ? "pass" : "fail"},
+                     {"failures", check.failures},
+                     {"max_stretch", k.max_stretch},
+                     {"p99_stretch", k.p99_stretch},
+                     {"mean_stretch", k.mean_stretch},
+                     {"area_fraction_above_limit", k.area_fraction_above},
+                     {"deepest_penetration_m", k.deepest_penetration},
+                     {"crossings", collision::to_json(k.crossings)},
+                     {"where", where},
+                     {"steps", k.steps},
+                     {"settle_steps", k.settle_steps},
+                     {"settled", k.settled}});
+  }
+  const bool failed = result.sewn_fit_failed();
+  return {{"checked", true},
+          {"verdict", failed ? "fail" : "pass"},
+          {"fit_report", options.fit},
+          {"poses", result.fit.poses},
+          {"motion", result.fit.motion},
+          {"start", "garment as designed"},
+          {"delta", result.fit.delta()},
+          {"criteria",
+           {{"max_area_fraction_above_limit", c.max_area_above},
+            {"p99_margin", c.p99_margin},
+            {"max_penetration_m", c.max_penetration},
+            {"max_crossings", c.max_crossings}}},
+          {"error", result.sewn_fit_error.empty() ? OrderedJson(nullptr) : OrderedJson(result.sewn_fit_error)},
+          {"failure", failed ? OrderedJson(result.sewn_fit_error.empty() ? sewn_fit_failure(sewn, result.pattern)
+                                                                         : result.sewn_fit_error)
+                             : OrderedJson(nullptr)},
+          {"steps", sewn.verification.steps},
+          {"rejected_steps", sewn.verification.rejected_steps},
+          {"key_poses", poses}};
+}
+
+}  // namespace
 
 ExportRestResult export_rest(const ExportRestOptions& options) {
   using Clock = std::chrono::steady_clock;
@@ -24,8 +105,8 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
     result.timing[phase] = std::chrono::duration<double>(now - last).count();
     last = now;
   };
-  if (!options.round_trip.empty() && options.garment.empty())
-    throw UsageError("--round-trip needs the garment file (--garment): pins, material, design pose", "--round-trip");
+  if (!options.fit.empty() && options.garment.empty())
+    throw UsageError("the sewn-fit check (--fit) needs the garment file (--garment): pins, material, design", "--fit");
 
   MeshReadResult read = read_mesh(options.rest);
   result.warnings = read.warnings;
@@ -127,19 +208,35 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
                                 " faces turned over in tucks (see rest_shape in report.json)");
   }
 
-  if (!options.round_trip.empty()) {
-    const PoseSet poses = load_pose_set(options.round_trip);
-    // A failed drape is a finding about the pattern, not a failed export:
-    // it is reported and the pattern still written.
+  if (!options.fit.empty()) {
+    if (!have_design)
+      throw GeometryError("the sewn-fit check starts from the garment as designed, which is missing or has another "
+                          "connectivity than the rest shape",
+                          (fs::path(options.garment).parent_path() / result.garment.mesh_file).string());
+    result.fit = read_fit_settings(options.fit);
+    result.fit.run.threads = options.threads;
+    const PoseSet poses = load_pose_set(result.fit.poses);
+    const MotionSpec motion = read_motion_spec(result.fit.motion, poses);
+    if (result.garment.body.vertex_count != 0 &&
+        result.garment.body.vertex_count != static_cast<long long>(poses.V[0].rows()))
+      throw GeometryError("the garment was designed on a body with " + std::to_string(result.garment.body.vertex_count) +
+                              " vertices, the fit's pose set has " + std::to_string(poses.V[0].rows()),
+                          result.fit.poses);
+    InterpolationOptions interp_options;
+    interp_options.anchor = motion.anchor;
+    PoseInterpolator interpolator(poses, interp_options);
+    // A simulation that fails for good is a finding about the pattern (a
+    // pattern far from its rest shape can start with forces no step
+    // survives): the check fails and the pattern is still written.
     try {
-      result.round_trip = gp::round_trip(poses, result.garment, rest.V, rest.F, result.pattern, result.layout,
-                                         options.round_trip_options, have_design ? &design.V : nullptr);
-      result.round_trip_done = true;
+      result.sewn_fit = sewn_fit_check(interpolator, motion, design.V, rest.F, result.garment, result.pattern,
+                                       result.layout, result.fit.run, result.fit.criteria, options.progress);
     } catch (const NumericalError& e) {
-      result.round_trip_failure = e.what();
-      result.warnings.push_back(result.round_trip_failure);
+      result.sewn_fit_error = std::string("the simulation of the sewn garment failed: ") + e.what();
+      result.sewn_fit.delta = result.fit.delta();
     }
-    lap("round_trip");
+    result.sewn_fit_done = true;
+    lap("sewn_fit");
   }
   return result;
 }
@@ -194,35 +291,7 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
       {"seam_mismatch_tolerance", {{"absolute", options.tolerance.absolute}, {"relative", options.tolerance.relative}}},
       {"threads", options.threads},
       {"seam_spec", options.seams.empty() ? OrderedJson() : to_json(result.spec)}};
-  auto stretch_json = [](const StretchFigures& f) {
-    return OrderedJson{{"max_s1", f.max_s1}, {"p95_s1", f.p95_s1}, {"mean_s1", f.mean_s1}, {"min_s2", f.min_s2}};
-  };
-  auto run_json = [](const DrapeRun& r) { return OrderedJson{{"settle_steps", r.settle_steps}, {"settled", r.settled}}; };
-  const RoundTripOptions& ro = options.round_trip_options;
-  if (options.round_trip.empty())
-    report["round_trip"] = {{"checked", false}, {"why", "not requested (--round-trip POSES_JSON)"}};
-  else if (!result.round_trip_done)
-    report["round_trip"] = {
-        {"checked", false}, {"poses", options.round_trip}, {"dt_s", ro.dt}, {"why", result.round_trip_failure}};
-  else {
-    const RoundTripResult& trip = result.round_trip;
-    report["round_trip"] = {{"checked", true},
-                            {"poses", options.round_trip},
-                            {"pose", trip.pose},
-                            {"start", result.rest_shape.empty() ? "rest shape" : "designed garment"},
-                            {"dt_s", ro.dt},
-                            {"settle_max_steps", ro.settle_max_steps},
-                            {"settle_speed_m_per_s", ro.settle_speed},
-                            {"distance_mm",
-                             {{"max", 1000.0 * trip.max_distance},
-                              {"mean", 1000.0 * trip.mean_distance},
-                              {"p95", 1000.0 * trip.p95_distance}}},
-                            {"sewn_stretch_against_flat_pieces", stretch_json(trip.sewn_drape_stretch)},
-                            {"rest_drape_stretch_against_rest_shape", stretch_json(trip.rest_drape_stretch)},
-                            {"rest_drape", run_json(trip.rest_run)},
-                            {"sewn_drape", run_json(trip.sewn_run)},
-                            {"meshes", {"round_trip_rest_drape.ply", "round_trip_sewn_drape.ply"}}};
-  }
+  report["sewn_fit"] = sewn_fit_report(result, options);
   report["rest_shape"] = result.rest_shape;
   const OrderedJson body = pattern_report(result.pattern, result.layout, po, options.tolerance);
   for (auto it = body.begin(); it != body.end(); ++it) report[it.key()] = it.value();
@@ -230,13 +299,12 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
 }
 
 void write_export_rest(const ExportRestResult& result, const ExportRestOptions& options, const fs::path& dir) {
-  if (result.round_trip_done) {
+  for (const adapt::PoseCheck& check : result.sewn_fit.verification.poses) {
     Mesh drape;
     drape.F = result.rest.F;
-    drape.V = result.round_trip.V_rest_drape;
-    write_mesh(dir / "round_trip_rest_drape.ply", drape);
-    drape.V = result.round_trip.V_sewn_drape;
-    write_mesh(dir / "round_trip_sewn_drape.ply", drape);
+    drape.V = check.figures.V_draped;
+    drape.face_fields.push_back({"max_stretch", check.figures.face_max_stretch});
+    write_mesh(dir / sewn_drape_name(check.figures), drape);
   }
   const Pattern& pattern = result.pattern;
   const Layout& layout = result.layout;
@@ -246,9 +314,9 @@ void write_export_rest(const ExportRestResult& result, const ExportRestOptions& 
   write_file_atomic(dir / "seams.obj", [&](std::ostream& s) { write_seams_obj(s, pattern); }, false);
   write_mesh(dir / "pieces_flat.ply", flat_pieces_mesh(pattern, layout));
   OrderedJson timing = result.timing;
-  if (result.round_trip_done) {
-    timing["round_trip_rest_drape"] = result.round_trip.rest_run.seconds;
-    timing["round_trip_sewn_drape"] = result.round_trip.sewn_run.seconds;
+  if (result.sewn_fit_done) {
+    timing["sewn_fit_simulation"] = result.sewn_fit.verification.seconds;
+    timing["sewn_fit_steps"] = result.sewn_fit.verification.steps;
   }
   write_json_file(dir / "timing.json", {{"schema", schema_tag("timing", 1)}, {"seconds", timing}});
   write_json_file(dir / "report.json", export_rest_report(result, options));

@@ -1,9 +1,10 @@
 #pragma once
 // The export-rest stage as a library call: read the rest shape (and the
 // garment file and seam spec), make the pattern (make_pattern.h), lay it out,
-// diagnose the rest shape, optionally drape the sewn pattern (round_trip.h),
-// and write pattern.svg, pattern.dxf, pieces.obj, pieces_flat.ply,
-// timing.json and report.json ("export-rest-report/1", last).
+// diagnose the rest shape, check that the garment sewn from the pattern fits
+// every key pose of the fit (sewn_fit.h, with the fit's report), and write
+// pattern.svg, pattern.dxf, pieces.obj, pieces_flat.ply, the sewn garment's
+// drapes, timing.json and report.json ("export-rest-report/1", last).
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -13,8 +14,9 @@
 #include "pattern/export_report.h"
 #include "pattern/layout.h"
 #include "pattern/make_pattern.h"
-#include "pattern/round_trip.h"
+#include "pattern/fit_settings.h"
 #include "pattern/seam_spec.h"
+#include "pattern/sewn_fit.h"
 #include "spec/json_file.h"
 
 namespace gp {
@@ -24,12 +26,14 @@ struct ExportRestOptions {
   std::string garment;     // garment file (garment.json); empty: none
   std::string seams;       // seam spec (seam-spec/1); empty: only topology cuts
   std::string body;        // body for seams on the body (poses.json or mesh); empty: the garment's body source
-  std::string round_trip;  // pose set with the design pose; empty: no round trip
+  // The fit's report (simulate-adapt's report.json): the sewn-fit check runs
+  // through its poses and motion with its settings. Empty: no check.
+  std::string fit;
   PatternOptions pattern;
   LayoutOptions layout;
   SeamTolerance tolerance;
-  RoundTripOptions round_trip_options;
   int threads = 1;
+  adapt::ProgressCallback progress;  // the sewn-fit simulation's progress (lines prefixed "verification: ")
 };
 
 struct ExportRestResult {
@@ -42,9 +46,12 @@ struct ExportRestResult {
   Pattern pattern;
   Layout layout;
   OrderedJson rest_shape;      // diagnostics of the rest shape against the design (empty object without)
-  bool round_trip_done = false;
-  std::string round_trip_failure;  // why the round trip could not be checked
-  RoundTripResult round_trip;
+  bool sewn_fit_done = false;    // the sewn garment was simulated (with or without success)
+  std::string sewn_fit_error;    // a simulation that failed for good (the check then fails)
+  FitSettings fit;               // the fit's settings the check used
+  SewnFitResult sewn_fit;
+  // Whether the pattern fails the sewn-fit check (the stage then exits 8).
+  bool sewn_fit_failed() const { return sewn_fit_done && (!sewn_fit_error.empty() || !sewn_fit.passed()); }
   OrderedJson timing;          // seconds per phase
   std::vector<std::string> warnings;
 };

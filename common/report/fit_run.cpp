@@ -142,7 +142,7 @@ FitRun read_fit_run(const fs::path& dir) {
   }
   require(run.pattern, "/summary/meets_distortion_limit", "boolean");
   require(run.pattern, "/rest_shape", "object");
-  require(run.pattern, "/round_trip/checked", "boolean");
+  require(run.pattern, "/sewn_fit/checked", "boolean");
 
   if (run.fit_no_adapt) {
     if (require(*run.fit_no_adapt, "/options/adapt", "boolean").get<bool>())

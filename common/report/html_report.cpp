@@ -233,17 +233,18 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
   h += "<tr><th>within the limit</th><td>" + figure(pattern, "/summary/meets_distortion_limit", "yesno") + "</td></tr>\n";
   h += "<tr><th>sheet</th><td>" + optional_figure(pattern, "/summary/sheet_width", "metres2") + " &times; " +
        optional_figure(pattern, "/summary/sheet_height", "metres2") + "</td></tr>\n";
-  if (lookup(pattern, "/round_trip/checked")->get<bool>()) {
-    h += "<tr><th>round trip on the design pose: distance max / mean</th><td>" +
-         optional_figure(pattern, "/round_trip/distance_mm/max", "fixed2") + " / " +
-         optional_figure(pattern, "/round_trip/distance_mm/mean", "fixed2") + " mm</td></tr>\n";
-    h += "<tr><th>round trip: sewn garment's max stretch</th><td>" +
-         optional_figure(pattern, "/round_trip/sewn_stretch_against_flat_pieces/max_s1", "fixed3") + "</td></tr>\n";
-  } else {
-    h += "<tr><th>round trip on the design pose</th><td>" + figure(pattern, "/round_trip/distance_mm", "fixed2") + "</td></tr>\n";
-  }
   const std::string sewn = sewn_fit_pointer(pattern);
   h += "<tr><th>sewn fit in every key pose</th><td>" + verdict_cell(pattern, sewn) + "</td></tr>\n";
+  // The sewn garment's figures per key pose, where export-rest checked them.
+  if (const Json* poses = sewn.empty() ? nullptr : lookup(pattern, sewn + "/key_poses"); poses && poses->is_array()) {
+    for (size_t i = 0; i < poses->size(); ++i) {
+      const std::string p = sewn + "/key_poses/" + std::to_string(i);
+      h += "<tr><th>sewn fit at " + figure(pattern, p + "/pose", "text") + ": verdict, p99 stretch, area above the limit, deepest penetration</th><td>" +
+           figure(pattern, p + "/verdict", "text") + ", " + figure(pattern, p + "/p99_stretch", "fixed3") + ", " +
+           figure(pattern, p + "/area_fraction_above_limit", "percent2") + ", " +
+           figure(pattern, p + "/deepest_penetration_m", "mm2") + "</td></tr>\n";
+    }
+  }
   h += "</table>\n";
   h += "<p>The pattern at 1:1 in millimetres (" + escape_xml(files.pattern_svg) + "; as a picture: <a href=\"" +
        escape_xml(files.pattern_png) + "\">" + escape_xml(files.pattern_png) + "</a>).</p>\n";

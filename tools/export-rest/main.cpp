@@ -3,10 +3,13 @@
 // where the flattening would distort too much, flattens the pieces and writes
 // sewing patterns: pattern.svg (1:1, mm), pattern.dxf (R12, mm), pieces.obj
 // (3D + flat texture coordinates), pieces_flat.ply (2D pieces), timing.json
-// and report.json ("export-rest-report/1", last). The work is
+// and report.json ("export-rest-report/1", last). With --fit, the garment
+// sewn from the pieces is simulated through the fit's key poses and judged
+// (sewn_<k>_<pose>.ply; exit 8 when a pose fails). The work is
 // gp::export_rest (common/pattern/export_rest.h).
 #include <chrono>
 
+#include "adapt/motion_progress.h"
 #include "cli/tool.h"
 #include "core/atomic_file.h"
 #include "pattern/export_rest.h"
@@ -76,16 +79,10 @@ int main(int argc, char** argv) {
   app.add_option("--boundary-weight", po.flatten.boundary_weight,
                  "Weight of keeping seam edges at their 3D length, relative to the distortion energy [dimensionless]")
       ->capture_default_str()->check(CLI::Range(0.0, 1e6));
-  app.add_option("--round-trip", o.round_trip,
-                 "Pose set (poses.json) with the garment's design pose: drape the rest shape and the sewn flat pieces "
-                 "on it and compare (needs --garment); none: no round trip");
-  app.add_option("--round-trip-dt", o.round_trip_options.dt, "Time step of the round-trip drapes [s]")
-      ->capture_default_str()->check(CLI::Range(1e-5, 0.1));
-  app.add_option("--round-trip-settle-speed", o.round_trip_options.settle_speed,
-                 "Largest vertex speed of a settled round-trip drape [m/s]")
-      ->capture_default_str()->check(CLI::Range(1e-6, 10.0));
-  app.add_option("--round-trip-steps", o.round_trip_options.settle_max_steps, "Most settling steps per round-trip drape [count]")
-      ->capture_default_str()->check(CLI::Range(1, 1000000));
+  app.add_option("--fit", o.fit,
+                 "The fit's report (simulate-adapt's report.json): the garment sewn from the flat pieces is simulated "
+                 "through the fit's key poses with its settings and judged like its verification; a failing pose "
+                 "exits 8 (needs --garment); none: no sewn-fit check");
   app.add_option("--seam-allowance", o.layout.seam_allowance, "Seam allowance around every piece [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.2));
   app.add_option("--notch-spacing", o.layout.notch_spacing, "Distance between notches along a seam [m]")
@@ -107,7 +104,19 @@ int main(int argc, char** argv) {
     o.tolerance.absolute = po.seam_tolerance;
     o.tolerance.relative = po.seam_tolerance_relative;
 
+    gp::adapt::MotionProgressLine progress(o.fit.empty() ? gp::adapt::MotionRunOptions{}
+                                                         : gp::read_fit_settings(o.fit).run);
+    const auto run_start = std::chrono::steady_clock::now();
+    o.progress = [&](const gp::adapt::MotionProgress& p) {
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
+      tool.log().progress(progress.line(p, elapsed), p.key_done);
+      if (p.key_done) {
+        tool.log().progress_done();
+        tool.log().info(p.message);
+      }
+    };
     gp::ExportRestResult result = gp::export_rest(o);
+    tool.log().progress_done();
     for (const auto& w : result.warnings) tool.log().warning(w);
     result.timing["total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     gp::StagedOutputDir out(tool.common().out_dir, tool.common().force);
@@ -119,6 +128,12 @@ int main(int argc, char** argv) {
     tool.log().info("wrote " + tool.common().out_dir + ": " + std::to_string(p.pieces.size()) + " pieces, " +
                     std::to_string(darts) + " darts, " + std::to_string(p.seams.size()) + " seams; the limit is " +
                     (p.meets_limit ? "met" : "not met"));
+    if (result.sewn_fit_failed()) {
+      const std::string why = result.sewn_fit_error.empty() ? gp::sewn_fit_failure(result.sewn_fit, p)
+                                                            : result.sewn_fit_error;
+      tool.log().error(gp::ExitCode::check_failed, "the garment sewn from the pattern fails its fit at " + why);
+      return static_cast<int>(gp::ExitCode::check_failed);
+    }
     return 0;
   });
 }

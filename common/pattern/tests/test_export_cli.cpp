@@ -103,7 +103,7 @@ TEST_CASE("export-rest writes a 1:1 pattern of a sleeve", "[cli]") {
   CHECK(report["summary"]["pieces"] == 1);
   CHECK(report["summary"]["meets_distortion_limit"] == true);
   CHECK(report["options"]["seam_allowance"] == 0.01);
-  CHECK(report["round_trip"]["checked"] == false);
+  CHECK(report["sewn_fit"]["checked"] == false);
   const double width = c.nu * 2.0 * c.radius * std::sin(M_PI / c.nu);
   const double outline = report["pieces"][0]["outline_length"];
   CHECK(outline == Approx(2.0 * (width + c.height)).epsilon(1e-6));

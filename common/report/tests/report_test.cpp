@@ -34,7 +34,7 @@ FitRun small_run() {
   run.keys = {{0, "apose", "a.ply", "/key_poses/0"}, {1, "tpose", "t.ply", "/key_poses/1"}};
   run.pattern.file = "pattern/report.json";
   run.pattern.json = Json::parse(R"({"schema": "export-rest-report/1", "rest_shape": {},
-    "round_trip": {"checked": false},
+    "sewn_fit": {"checked": false, "why": "no fit report given"},
     "summary": {"pieces": 3, "seams": 4, "total_seam_length": 2.5, "worst_p95_error": 0.01, "worst_max_error": 0.03,
                 "meets_distortion_limit": true, "limit": {"p95_error": 0.02, "max_error": 0.05}}})");
   return run;
@@ -81,6 +81,27 @@ TEST_CASE("failed checks are stated in plain words with the pose and the figure"
   bool penetration_named = false;
   for (const Check& c : checks) penetration_named |= c.id == "penetration" && c.pose == "tpose";
   CHECK(penetration_named);
+}
+
+TEST_CASE("pieces over the distortion limit name their bound, and fail only when the sewn fit does not pass", "[report]") {
+  FitRun run = small_run();
+  Json& summary = run.pattern.json["summary"];
+  summary["meets_distortion_limit"] = false;
+  summary["limit"] = {{"kind", "one-sided"}, {"compression_worst1", 0.03}, {"ease_worst5", 0.10}};
+  summary["worst_compression"] = 0.067;
+  summary["worst_ease"] = 0.119;
+  summary["pieces_over_limit"] = {{"compression", {"upper right side", "front"}}, {"ease", {"left sleeve front"}},
+                                  {"flips", Json::array()}, {"overlap", Json::array()}};
+  std::vector<Check> checks = fit_checks(run);
+  CHECK(mentions(checks, CheckLevel::fail, "over on compression: upper right side, front; over on ease: left sleeve front."));
+  run.pattern.json["sewn_fit"] = {{"checked", true}, {"verdict", "pass"}};
+  checks = fit_checks(run);
+  CHECK(!mentions(checks, CheckLevel::fail, "distorted beyond the limit"));
+  CHECK(mentions(checks, CheckLevel::warning, "fits every key pose (sewn-fit check)"));
+  run.pattern.json["sewn_fit"] = {{"checked", true}, {"verdict", "fail"}, {"failure", "key pose 1 (tpose): p99 stretch 1.15"}};
+  checks = fit_checks(run);
+  CHECK(mentions(checks, CheckLevel::fail, "distorted beyond the limit"));
+  CHECK(mentions(checks, CheckLevel::fail, "(sewn-fit check): key pose 1 (tpose): p99 stretch 1.15."));
 }
 
 TEST_CASE("verification, crossings and sewn fit are read where the stages write them", "[report]") {

@@ -1,0 +1,30 @@
+#pragma once
+// The settings of a fit, read back from the fit's own report
+// (simulate-adapt's report.json, "simulate-adapt-report/1"): which poses and
+// motion it ran, how it simulated them (time step, settling, contact, solver)
+// and how its verification judged a key pose. The sewn-fit check
+// (sewn_fit.h) simulates the sewn pattern with exactly these, so that its
+// verdict and the fit's verification mean the same thing.
+#include <filesystem>
+#include <string>
+
+#include "adapt/fit_verification.h"
+#include "adapt/garment_motion.h"
+
+namespace gp {
+
+struct FitSettings {
+  std::string report;                 // the report read
+  std::string poses;                  // pose set of the fit (poses.json), as the fit was given it
+  std::string motion;                 // motion spec of the fit (motion/1), as the fit was given it
+  adapt::MotionRunOptions run;        // the simulation's settings; adapt is false, threads 1
+  adapt::FitCriteria criteria;        // the verification's bounds (the defaults when the fit skipped it)
+  double delta() const { return run.adaptation.delta; }
+};
+
+// Reads `report` (simulate-adapt's report.json). Throws InputError when it
+// cannot be read or parsed, SpecError naming the file and JSON pointer of a
+// missing, mistyped or out-of-range field or of another schema.
+FitSettings read_fit_settings(const std::filesystem::path& report);
+
+}  // namespace gp

@@ -1,0 +1,204 @@
+#include "pattern/sewn_fit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <Eigen/Dense>
+
+#include "core/error.h"
+
+namespace gp {
+
+std::vector<cloth::TriangleRest> sewn_rest_triangles(const Pattern& pattern, const Layout& layout, int face_count) {
+  const PatternMesh& mesh = pattern.mesh;
+  if (face_count != mesh.rest_F.rows()) throw GeometryError("the pattern was not made from this rest shape");
+  // Sheet position of pattern-mesh face g's corner k, turned by -90 degrees
+  // to (y, -x): the grain (+y) becomes the warp (+u).
+  std::vector<int> index_in_piece(static_cast<size_t>(mesh.F.rows()), -1);
+  for (const PatternPiece& p : pattern.pieces)
+    for (size_t i = 0; i < p.face_ids.size(); ++i) index_in_piece[static_cast<size_t>(p.face_ids[i])] = static_cast<int>(i);
+  auto sheet = [&](int g, int k) {
+    const int c = pattern.piece_of_face[static_cast<size_t>(g)];
+    const PatternPiece& p = pattern.pieces[static_cast<size_t>(c)];
+    const Eigen::RowVector2d x = layout.pieces[static_cast<size_t>(c)].UV.row(p.F(index_in_piece[static_cast<size_t>(g)], k));
+    return Eigen::Vector2d(x.y(), -x.x());
+  };
+  std::vector<std::vector<int>> parts(static_cast<size_t>(face_count));
+  for (int g = 0; g < mesh.F.rows(); ++g) parts[static_cast<size_t>(mesh.rest_face[static_cast<size_t>(g)])].push_back(g);
+  std::vector<cloth::TriangleRest> rest(static_cast<size_t>(face_count));
+  for (int f = 0; f < face_count; ++f) {
+    const auto& gs = parts[static_cast<size_t>(f)];
+    if (gs.empty()) throw GeometryError("the pattern does not cover every rest face");
+    if (gs.size() == 1) {
+      // An uncut rest face: its triangle as laid out.
+      Eigen::Matrix<double, 2, 3> P;
+      for (int k = 0; k < 3; ++k) P.col(k) = sheet(gs.front(), k);
+      rest[static_cast<size_t>(f)] = cloth::triangle_rest_flat(P);
+      continue;
+    }
+    // A rest face that a cut crosses is cloth from two pieces (or a piece
+    // and a dart): its rest metric is the area-weighted mean of its parts'
+    // metrics A^T A, A the affine map of a part from the face's plane to the
+    // sheet; the warp is that of its largest part.
+    const Eigen::Vector3d r0 = mesh.rest_V.row(mesh.rest_F(f, 0)), r1 = mesh.rest_V.row(mesh.rest_F(f, 1)),
+                          r2 = mesh.rest_V.row(mesh.rest_F(f, 2));
+    const Eigen::Vector3d x = (r1 - r0).normalized(), y = (r1 - r0).cross(r2 - r0).normalized().cross(x);
+    auto plane = [&](const Eigen::Vector3d& X) { return Eigen::Vector2d((X - r0).dot(x), (X - r0).dot(y)); };
+    Eigen::Matrix2d G = Eigen::Matrix2d::Zero(), R = Eigen::Matrix2d::Identity();
+    double total = 0.0, largest = -1.0;
+    for (int g : gs) {
+      Eigen::Matrix2d Q, S;
+      const Eigen::Vector2d q0 = plane(mesh.V.row(mesh.F(g, 0)).transpose());
+      const Eigen::Vector2d s0 = sheet(g, 0);
+      for (int k = 1; k < 3; ++k) {
+        Q.col(k - 1) = plane(mesh.V.row(mesh.F(g, k)).transpose()) - q0;
+        S.col(k - 1) = sheet(g, k) - s0;
+      }
+      const double area = 0.5 * std::abs(Q.determinant());
+      if (!(area > 0.0)) continue;
+      const Eigen::Matrix2d A = S * Q.inverse();
+      G += area * A.transpose() * A;
+      total += area;
+      if (area > largest) {
+        largest = area;
+        const Eigen::JacobiSVD<Eigen::Matrix2d> svd(A, Eigen::ComputeFullU | Eigen::ComputeFullV);
+        R = svd.matrixU() * svd.matrixV().transpose();
+      }
+    }
+    if (!(total > 0.0)) throw GeometryError("rest face " + std::to_string(f) + " has no area in the pattern");
+    G /= total;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(G);
+    const Eigen::Matrix2d root =
+        eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * eig.eigenvectors().transpose();
+    const Eigen::Matrix2d M = R * root;
+    Eigen::Matrix<double, 2, 3> P;
+    P.col(0).setZero();
+    P.col(1) = M * plane(r1);
+    P.col(2) = M * plane(r2);
+    rest[static_cast<size_t>(f)] = cloth::triangle_rest_flat(P);
+  }
+  return rest;
+}
+
+std::vector<int> piece_of_rest_face(const Pattern& pattern) {
+  const PatternMesh& mesh = pattern.mesh;
+  const int m = static_cast<int>(mesh.rest_F.rows());
+  std::vector<int> piece(static_cast<size_t>(m), -1);
+  std::vector<double> best(static_cast<size_t>(m), -1.0);
+  for (int g = 0; g < mesh.F.rows(); ++g) {
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(g, 0)), b = mesh.V.row(mesh.F(g, 1)), c = mesh.V.row(mesh.F(g, 2));
+    const double area = 0.5 * (b - a).cross(c - a).norm();
+    const size_t f = static_cast<size_t>(mesh.rest_face[static_cast<size_t>(g)]);
+    // Ties go to the lower piece, so that the answer does not depend on face order.
+    const int c_g = pattern.piece_of_face[static_cast<size_t>(g)];
+    if (area > best[f] || (area == best[f] && c_g < piece[f])) {
+      best[f] = area;
+      piece[f] = c_g;
+    }
+  }
+  return piece;
+}
+
+std::vector<int> piece_of_rest_vertex(const Pattern& pattern) {
+  const PatternMesh& mesh = pattern.mesh;
+  std::vector<int> piece(static_cast<size_t>(mesh.rest_vertex_count), -1);
+  for (int g = 0; g < mesh.F.rows(); ++g) {
+    const int c = pattern.piece_of_face[static_cast<size_t>(g)];
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.F(g, k);
+      if (v >= mesh.rest_vertex_count) continue;
+      int& p = piece[static_cast<size_t>(v)];
+      if (p < 0 || c < p) p = c;
+    }
+  }
+  return piece;
+}
+
+SewnPoseWhere locate_sewn_pose(const adapt::PoseCheck& check, const Pattern& pattern,
+                               const std::vector<cloth::TriangleRest>& sewn, const Eigen::MatrixXi& F,
+                               double delta) {
+  const adapt::KeyPoseResult& k = check.figures;
+  SewnPoseWhere where;
+  const std::vector<int> face_piece = piece_of_rest_face(pattern);
+  const size_t n = pattern.pieces.size();
+  std::vector<double> total(n, 0.0), above(n, 0.0), worst(n, 0.0);
+  const double limit = 1.0 + delta;
+  double largest = -1.0;
+  for (int f = 0; f < F.rows(); ++f) {
+    const int c = face_piece[static_cast<size_t>(f)];
+    const double s = k.face_max_stretch.size() > f ? k.face_max_stretch[f] : 0.0;
+    if (s > largest) {
+      largest = s;
+      where.worst_face = f;
+      where.worst_face_piece = c;
+    }
+    if (c < 0) continue;
+    const double a = sewn[static_cast<size_t>(f)].area;
+    total[static_cast<size_t>(c)] += a;
+    if (s > limit) above[static_cast<size_t>(c)] += a;
+    worst[static_cast<size_t>(c)] = std::max(worst[static_cast<size_t>(c)], s);
+  }
+  for (size_t c = 0; c < n; ++c) {
+    if (!(above[c] > 0.0)) continue;
+    where.pieces.push_back({static_cast<int>(c), above[c] / total[c], worst[c]});
+  }
+  std::sort(where.pieces.begin(), where.pieces.end(), [](const PieceStretch& a, const PieceStretch& b) {
+    return a.area_fraction_above > b.area_fraction_above ||
+           (a.area_fraction_above == b.area_fraction_above && a.piece < b.piece);
+  });
+  if (where.worst_face >= 0 && k.V_draped.rows() > 0) {
+    for (int j = 0; j < 3; ++j) where.worst_face_position += k.V_draped.row(F(where.worst_face, j)).transpose() / 3.0;
+  }
+  where.deepest_vertex = k.crossings.deepest_cloth_vertex_id;
+  if (where.deepest_vertex >= 0) {
+    const std::vector<int> vertex_piece = piece_of_rest_vertex(pattern);
+    if (static_cast<size_t>(where.deepest_vertex) < vertex_piece.size())
+      where.deepest_vertex_piece = vertex_piece[static_cast<size_t>(where.deepest_vertex)];
+    if (where.deepest_vertex < k.V_draped.rows())
+      where.deepest_vertex_position = k.V_draped.row(where.deepest_vertex).transpose();
+  }
+  return where;
+}
+
+SewnFitResult sewn_fit_check(PoseInterpolator& interpolator, const MotionSpec& motion, const Eigen::MatrixXd& V_start,
+                             const Eigen::MatrixXi& F, const GarmentFile& garment, const Pattern& pattern,
+                             const Layout& layout, const adapt::MotionRunOptions& options,
+                             const adapt::FitCriteria& criteria, const adapt::ProgressCallback& progress) {
+  if (V_start.rows() != pattern.mesh.rest_V.rows() || V_start.cols() != 3)
+    throw GeometryError("sewn-fit check: the start positions do not match the rest shape");
+  const std::vector<cloth::TriangleRest> sewn = sewn_rest_triangles(pattern, layout, static_cast<int>(F.rows()));
+  SewnFitResult result;
+  result.delta = options.adaptation.delta;
+  result.verification = adapt::verify_fit(interpolator, motion, V_start, F, garment, sewn, options, criteria, progress);
+  for (const adapt::PoseCheck& check : result.verification.poses)
+    result.where.push_back(locate_sewn_pose(check, pattern, sewn, F, result.delta));
+  return result;
+}
+
+std::string sewn_fit_failure(const SewnFitResult& result, const Pattern& pattern) {
+  for (size_t i = 0; i < result.verification.poses.size(); ++i) {
+    const adapt::PoseCheck& check = result.verification.poses[i];
+    if (check.passed()) continue;
+    const SewnPoseWhere& w = result.where[i];
+    std::string line = "key pose " + std::to_string(check.figures.key) + " (" + check.figures.pose + "): ";
+    for (size_t j = 0; j < check.failures.size(); ++j) line += (j ? "; " : "") + check.failures[j];
+    auto name = [&pattern](int c) { return c >= 0 ? pattern.pieces[static_cast<size_t>(c)].name : std::string("?"); };
+    char buf[200];
+    if (!w.pieces.empty()) {
+      std::snprintf(buf, sizeof(buf), "; worst in %s (%.1f %% of its area above %.3f, up to %.3f)",
+                    name(w.pieces.front().piece).c_str(), 100.0 * w.pieces.front().area_fraction_above,
+                    1.0 + result.delta, w.pieces.front().max_stretch);
+      line += buf;
+    } else if (w.worst_face >= 0) {
+      line += "; largest stretch in " + name(w.worst_face_piece);
+    }
+    if (w.deepest_vertex >= 0 && check.figures.deepest_penetration > 0.0)
+      line += "; deepest inside the body in " + name(w.deepest_vertex_piece) + " (vertex " +
+              std::to_string(w.deepest_vertex) + ")";
+    return line;
+  }
+  return "";
+}
+
+}  // namespace gp

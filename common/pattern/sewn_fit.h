@@ -1,0 +1,87 @@
+#pragma once
+// The sewn-fit check: does the garment a tailor sews from the flat pieces
+// still fit? The rest shape's faces take their triangles from the laid-out
+// pieces (the pieces join along the seams because they share the rest
+// shape's vertices) and the garment is simulated through every key pose of
+// the fit's motion, with no adaptation, by the fit's own verification pass
+// (adapt/fit_verification.h), starting from the garment as designed. A key
+// pose fails as the fit's verification fails one (FitCriteria); the check
+// also says where: the pieces with cloth above 1 + delta, the worst face and
+// the deepest vertex, by piece name.
+#include <string>
+#include <vector>
+#include <Eigen/Core>
+
+#include "adapt/fit_verification.h"
+#include "cloth/cloth_energy.h"
+#include "garment/garment_file.h"
+#include "interp/motion_spec.h"
+#include "interp/pose_interpolator.h"
+#include "pattern/layout.h"
+#include "pattern/pattern.h"
+
+namespace gp {
+
+// The flat rest triangle of every rest face (#F, in rest face order): its
+// corners in its laid-out piece (sheet metres), turned so that the sheet's
+// y axis (the grain line, the body's vertical) is the warp (the u axis of
+// cloth::triangle_rest_flat), as the rest shape's own triangles have +y as warp.
+// A rest face that a cut runs through holds cloth of two pieces: its
+// triangle has the area-weighted mean metric of its parts (and the warp of
+// the largest), the simulation's resolution being the rest shape's.
+// Throws GeometryError when the pattern was not made from a rest shape of
+// face_count faces or leaves a face without area.
+std::vector<cloth::TriangleRest> sewn_rest_triangles(const Pattern& pattern, const Layout& layout, int face_count);
+
+// The piece each rest face belongs to (#F; the piece holding most of its
+// area when a cut crosses it) and each rest vertex (#V; the lowest piece
+// index among those holding it: a seam vertex is in two).
+std::vector<int> piece_of_rest_face(const Pattern& pattern);
+std::vector<int> piece_of_rest_vertex(const Pattern& pattern);
+
+struct PieceStretch {          // one piece's cloth in one key pose
+  int piece = -1;
+  double area_fraction_above = 0.0;  // of the piece's sewn rest area, with max stretch above 1 + delta
+  double max_stretch = 0.0;          // largest principal stretch of its faces
+};
+
+// Where a key pose's figures come from, by piece.
+struct SewnPoseWhere {
+  std::vector<PieceStretch> pieces;  // pieces with cloth above 1 + delta, most area fraction first
+  int worst_face = -1;               // rest face of the largest stretch
+  int worst_face_piece = -1;
+  Eigen::Vector3d worst_face_position = Eigen::Vector3d::Zero();  // its centroid on the drape, metres
+  int deepest_vertex = -1;           // cloth vertex deepest inside the body (-1: none inside)
+  int deepest_vertex_piece = -1;
+  Eigen::Vector3d deepest_vertex_position = Eigen::Vector3d::Zero();
+};
+
+struct SewnFitResult {
+  adapt::FitVerification verification;  // one PoseCheck per key pose
+  std::vector<SewnPoseWhere> where;      // one per key pose
+  double delta = 0.0;
+  bool passed() const { return verification.passed(); }
+};
+
+// Where the sewn garment's key pose `check` stretches or lies inside the
+// body, by piece. sewn: the sewn rest triangles (#F).
+SewnPoseWhere locate_sewn_pose(const adapt::PoseCheck& check, const Pattern& pattern,
+                               const std::vector<cloth::TriangleRest>& sewn, const Eigen::MatrixXi& F,
+                               double delta);
+
+// The check. V_start (#V by 3): the garment as designed; F (#F by 3) the
+// rest shape's faces, the pattern made from them. options: the fit's
+// simulation settings (fit_settings.h); criteria its verification's bounds.
+// Throws as adapt::verify_fit (NumericalError when a step fails for good)
+// and as sewn_rest_triangles.
+SewnFitResult sewn_fit_check(PoseInterpolator& interpolator, const MotionSpec& motion, const Eigen::MatrixXd& V_start,
+                             const Eigen::MatrixXi& F, const GarmentFile& garment, const Pattern& pattern,
+                             const Layout& layout, const adapt::MotionRunOptions& options,
+                             const adapt::FitCriteria& criteria, const adapt::ProgressCallback& progress = {});
+
+// One line naming the first failing key pose, what fails and where
+// ("key pose 2 (armsup): p99 stretch 1.1534 above 1.1200; worst in left
+// sleeve (4.1 % of its area above 1.100)"); empty when every pose passes.
+std::string sewn_fit_failure(const SewnFitResult& result, const Pattern& pattern);
+
+}  // namespace gp

@@ -1,0 +1,264 @@
+// The sewn-fit check on a small generated scene: a cap pinned around a
+// sphere body in two poses (a, and b 1 % larger). The cap is doubly curved,
+// so its pattern has darts or seams; sewn back from its flat pieces it must
+// fit both poses as its rest shape does, and a pattern shrunk by 5 % must
+// not: export-rest exits 8 and names the pose and the piece.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+
+#include "core/error.h"
+#include "core/sha256.h"
+#include "garment/garment_file.h"
+#include "io/mesh_io.h"
+#include "mesh/topology.h"
+#include "pattern/fit_settings.h"
+#include "pattern/layout.h"
+#include "pattern/make_pattern.h"
+#include "pattern/sewn_fit.h"
+#include "pose/pose_set.h"
+#include "spec/json_file.h"
+#include "testing/command.h"
+#include "testing/files.h"
+#include "testing/test_meshes.h"
+
+namespace fs = std::filesystem;
+using namespace gp;
+
+namespace {
+
+struct CapScene {
+  fs::path dir;
+  PoseSet poses;
+  GarmentFile garment;
+  Mesh cap;
+};
+
+// poses.json (pose "a": an icosphere of radius 0.2 m; "b": the same 1 %
+// larger), motion.json (a -> b), garment.json and garment.ply: the body's
+// faces above y = 0.1 at the comfort offset (1 cm), its rim pinned.
+CapScene write_cap_scene(const std::string& name) {
+  CapScene s;
+  s.dir = testing::fresh_temp_dir(name);
+  const double r = 0.2, offset = 0.01;
+  const Mesh body = testing::make_icosphere(3, r);
+  write_mesh(s.dir / "a.ply", body);
+  PoseSetManifest manifest;
+  manifest.vertex_count = body.V.rows();
+  manifest.face_count = body.F.rows();
+  manifest.topology_sha256 = topology_checksum(body.F);
+  manifest.reference = "a";
+  Mesh grown = body;
+  grown.V *= 1.01;  // pose b: the body 1 % larger, so that the cloth moves between the key poses
+  write_mesh(s.dir / "b.ply", grown);
+  manifest.poses = {{"a", "a.ply", sha256_file_hex(s.dir / "a.ply"), "test"},
+                    {"b", "b.ply", sha256_file_hex(s.dir / "b.ply"), "test"}};
+  write_pose_set_manifest(s.dir / "poses.json", manifest);
+  s.poses = load_pose_set(s.dir / "poses.json");
+
+  std::vector<int> cap_faces;
+  for (int f = 0; f < body.F.rows(); ++f) {
+    bool above = true;
+    for (int k = 0; k < 3; ++k) above = above && body.V(body.F(f, k), 1) > 0.1;
+    if (above) cap_faces.push_back(f);
+  }
+  const gp::testing::SubMesh sub = gp::testing::face_subset(body, cap_faces);
+  s.cap = sub.mesh;
+  s.cap.V *= (r + offset) / r;
+  write_mesh(s.dir / "garment.ply", s.cap);
+
+  GarmentFile& g = s.garment;
+  g.name = "cap";
+  g.mesh_file = "garment.ply";
+  g.mesh_sha256 = sha256_file_hex(s.dir / "garment.ply");
+  g.vertex_count = s.cap.V.rows();
+  g.face_count = s.cap.F.rows();
+  g.body.source = "poses.json";
+  g.body.source_sha256 = sha256_file_hex(s.dir / "poses.json");
+  g.body.design_pose = "a";
+  g.body.vertex_count = body.V.rows();
+  g.body.face_count = body.F.rows();
+  g.body.topology_sha256 = manifest.topology_sha256;
+  g.spec_file = "none";
+  g.spec_sha256 = "none";
+  g.target_edge_length = 0.05;
+  g.offset = offset;
+  const std::vector<std::vector<int>> loops = boundary_loops(s.cap.F);
+  REQUIRE(loops.size() == 1);
+  GarmentLoop loop;
+  loop.name = "rim";
+  loop.pinned = true;
+  const std::vector<std::vector<int>> incident = vertex_faces(body.F, static_cast<int>(body.V.rows()));
+  for (int v : loops[0]) {
+    loop.vertex_ids.push_back(v);
+    const int b = sub.vertex_ids[static_cast<size_t>(v)];
+    SurfacePoint p;
+    p.face = incident[static_cast<size_t>(b)][0];
+    for (int k = 0; k < 3; ++k) p.bary(k) = body.F(p.face, k) == b ? 1.0 : 0.0;
+    loop.binding.push_back(p);
+  }
+  g.loops.push_back(loop);
+  g.paint.assign(static_cast<size_t>(s.cap.F.rows()), 1.0);
+  write_garment_file(s.dir / "garment.json", g);
+  write_json_file(s.dir / "motion.json", {{"schema", "motion/1"}, {"steps", 10}, {"sequence", {"a", "b"}}});
+  return s;
+}
+
+// The fit of the cap through a -> b without adaptation (its rest shape is the
+// design), with a stretch limit of 1.04: simulate-adapt's report, which the
+// sewn-fit check takes its settings from.
+fs::path write_fit_report(const CapScene& s) {
+  const auto run = testing::run_command(
+      testing::tool_path("simulate-adapt") + " --no-adapt --delta 0.04 --threads 1 -q --poses " +
+      (s.dir / "poses.json").string() + " --motion " + (s.dir / "motion.json").string() + " --garment " +
+      (s.dir / "garment.json").string() + " --out " + (s.dir / "fit").string());
+  INFO(run.err);
+  REQUIRE((run.exit_code == 0 || run.exit_code == 8));
+  return s.dir / "fit" / "report.json";
+}
+
+}  // namespace
+
+TEST_CASE("the sewn triangles are the flat pieces' and cover every rest face", "[sewn_fit]") {
+  const CapScene s = write_cap_scene("sewn-fit-triangles");
+  const Pattern pattern = make_pattern(s.cap.V, s.cap.F, {}, PatternOptions{});
+  REQUIRE(pattern.pieces.size() >= 1);
+  CHECK(pattern.seams.size() >= 1);  // doubly curved: darts or seams
+  const Layout layout = layout_pattern(pattern, LayoutOptions{});
+  // A rest face that a cut splits has its parts' mean metric: about the flattening's area.
+  const auto sewn = sewn_rest_triangles(pattern, layout, static_cast<int>(s.cap.F.rows()));
+  double flat_area = 0.0, piece_area = 0.0;
+  for (const auto& t : sewn) flat_area += t.area;
+  for (const auto& p : pattern.pieces) piece_area += p.flat.stats.area_2d;
+  CHECK(flat_area == Approx(piece_area).epsilon(1e-3));
+  // Every rest face and vertex is in a piece.
+  for (int c : piece_of_rest_face(pattern)) CHECK((c >= 0 && c < static_cast<int>(pattern.pieces.size())));
+  for (int c : piece_of_rest_vertex(pattern)) CHECK((c >= 0 && c < static_cast<int>(pattern.pieces.size())));
+  CHECK_THROWS_AS(sewn_rest_triangles(pattern, layout, static_cast<int>(s.cap.F.rows()) + 1), GeometryError);
+}
+
+TEST_CASE("the sewn-fit check passes a good pattern and fails one shrunk by 5 %", "[sewn_fit][cli]") {
+  const CapScene s = write_cap_scene("sewn-fit-cli");
+  const fs::path fit = write_fit_report(s);
+  const FitSettings settings = read_fit_settings(fit);
+  CHECK(settings.delta() == 0.04);
+  CHECK(!settings.run.adapt);
+  const std::string base = testing::tool_path("export-rest") + " --garment " + (s.dir / "garment.json").string() +
+                           " -q --fit " + fit.string();
+
+  // The design as rest shape: its pattern sewn back fits both poses.
+  const auto good = testing::run_command(base + " " + (s.dir / "garment.ply").string() + " --out " +
+                                         (s.dir / "good").string());
+  INFO(good.err);
+  REQUIRE(good.exit_code == 0);
+  const Json report = read_json_file(s.dir / "good" / "report.json");
+  const Json& sewn = report["sewn_fit"];
+  CHECK(sewn["checked"] == true);
+  CHECK(sewn["verdict"] == "pass");
+  CHECK(sewn["delta"] == 0.04);
+  REQUIRE(sewn["key_poses"].size() == 2);
+  for (size_t i = 0; i < 2; ++i) {
+    const Json& k = sewn["key_poses"][i];
+    INFO("pose " << k["pose"] << " p99 " << k["p99_stretch"] << " max " << k["max_stretch"] << " above "
+                 << k["area_fraction_above_limit"]);
+    CHECK(k["verdict"] == "pass");
+    CHECK(k["p99_stretch"].get<double>() < 1.06);
+    CHECK(k["p99_stretch"].get<double>() > 0.95);
+    CHECK(fs::exists(s.dir / "good" / k["mesh"].get<std::string>()));
+  }
+  CHECK(sewn["key_poses"][0]["pose"] == "a");
+  CHECK(sewn["key_poses"][1]["pose"] == "b");
+  // Same inputs, same outputs.
+  const auto again = testing::run_command(base + " " + (s.dir / "garment.ply").string() + " --out " +
+                                          (s.dir / "again").string());
+  REQUIRE(again.exit_code == 0);
+  for (const char* name : {"report.json", "sewn_01_b.ply"})
+    CHECK(testing::read_file(s.dir / "good" / name) == testing::read_file(s.dir / "again" / name));
+
+  // The rest shape shrunk by 5 % about its centroid: every flat piece is 5 %
+  // too small, and sewn it stretches over the body beyond 1.04.
+  Mesh shrunk = s.cap;
+  const Eigen::RowVector3d centre = shrunk.V.colwise().mean();
+  shrunk.V = ((shrunk.V.rowwise() - centre) * 0.95).rowwise() + centre;
+  write_mesh(s.dir / "shrunk.ply", shrunk);
+  const auto bad = testing::run_command(base + " " + (s.dir / "shrunk.ply").string() + " --out " +
+                                        (s.dir / "bad").string());
+  INFO(bad.err);
+  CHECK(bad.exit_code == 8);
+  CHECK(bad.err.find("error[check]") != std::string::npos);
+  CHECK(bad.err.find("key pose 0 (a)") != std::string::npos);
+  const Json failed = read_json_file(s.dir / "bad" / "report.json")["sewn_fit"];
+  CHECK(failed["verdict"] == "fail");
+  for (const Json& k : failed["key_poses"]) {
+    INFO("pose " << k["pose"] << " p99 " << k["p99_stretch"] << " above " << k["area_fraction_above_limit"]);
+    CHECK(k["verdict"] == "fail");
+    CHECK(k["area_fraction_above_limit"].get<double>() > 0.5);
+    REQUIRE(!k["where"]["pieces_above_limit"].empty());
+    CHECK(k["where"]["pieces_above_limit"][0]["piece"].is_string());
+  }
+  CHECK(failed["failure"].get<std::string>().find("worst in") != std::string::npos);
+  CHECK(fs::exists(s.dir / "bad" / "pattern.svg"));  // the pattern is still written
+
+  // Without --fit: not checked; and --fit needs the garment file.
+  const auto plain = testing::run_command(testing::tool_path("export-rest") + " " + (s.dir / "garment.ply").string() +
+                                          " --garment " + (s.dir / "garment.json").string() + " -q --out " +
+                                          (s.dir / "plain").string());
+  REQUIRE(plain.exit_code == 0);
+  CHECK(read_json_file(s.dir / "plain" / "report.json")["sewn_fit"]["checked"] == false);
+  const auto no_garment = testing::run_command(testing::tool_path("export-rest") + " " +
+                                               (s.dir / "garment.ply").string() + " -q --fit " + fit.string() +
+                                               " --out " + (s.dir / "x").string());
+  CHECK(no_garment.exit_code == 2);
+  CHECK(no_garment.err.find("--fit") != std::string::npos);
+}
+
+TEST_CASE("the fit's settings are read from its report, strictly", "[sewn_fit]") {
+  const fs::path dir = testing::fresh_temp_dir("sewn-fit-settings");
+  Json report = {{"schema", "simulate-adapt-report/1"},
+                 {"options",
+                  {{"poses", "p.json"}, {"motion", "m.json"}, {"dt_s", 0.005}, {"substeps", 2}, {"delta", 0.08},
+                   {"settle_speed_m_per_s", 0.04}, {"settle_stretch_change", 1e-3}, {"settle_max_steps", 700},
+                   {"settle_damping", 0.5}, {"reach_m", 0.12}, {"contact", "velocity"}, {"contact_band_m", 5e-4},
+                   {"continuous_contact", "off"}, {"contact_thickness_m", 1e-3},
+                   {"initial_push_speed_m_per_s", 0.1}, {"contact_release_fraction", 0.1},
+                   {"solver", "pcg_reused_factor"}, {"cg_tolerance", 1e-4}, {"cg_max_iterations", 40},
+                   {"fresh_factor_max_iterations", 200}, {"factorization_cost", 20.0},
+                   {"warp_preconditioner", true}}},
+                 {"verification",
+                  {{"criteria",
+                    {{"max_area_fraction_above_limit", 0.02}, {"p99_margin", 0.03}, {"max_penetration_m", 0.004},
+                     {"max_crossings", 1}}}}}};
+  write_json_file(dir / "r.json", report);
+  const FitSettings s = read_fit_settings(dir / "r.json");
+  CHECK(s.poses == "p.json");
+  CHECK(s.motion == "m.json");
+  CHECK(s.run.dt == 0.005);
+  CHECK(s.run.substeps == 2);
+  CHECK(s.delta() == 0.08);
+  CHECK(s.run.settle_max_steps == 700);
+  CHECK(s.run.settle_damping == 0.5);
+  CHECK(!s.run.continuous_contact);
+  CHECK(s.run.velocity_contacts);
+  CHECK(s.run.solver.strategy == cloth::SolverStrategy::pcg_reused_factor);
+  CHECK(!s.run.adapt);
+  CHECK(s.criteria.max_area_above == 0.02);
+  CHECK(s.criteria.p99_margin == 0.03);
+  CHECK(s.criteria.max_penetration == 0.004);
+  CHECK(s.criteria.max_crossings == 1);
+  // A fit without verification: the default bounds.
+  report["verification"] = nullptr;
+  write_json_file(dir / "r.json", report);
+  CHECK(read_fit_settings(dir / "r.json").criteria.max_area_above == adapt::FitCriteria{}.max_area_above);
+  // A missing field is named by its pointer; another schema is refused.
+  report["options"].erase("delta");
+  write_json_file(dir / "r.json", report);
+  try {
+    read_fit_settings(dir / "r.json");
+    FAIL("no error");
+  } catch (const SpecError& e) {
+    CHECK(e.where().find("delta") != std::string::npos);
+  }
+  report["schema"] = "export-rest-report/1";
+  write_json_file(dir / "r.json", report);
+  CHECK_THROWS_AS(read_fit_settings(dir / "r.json"), SpecError);
+}
