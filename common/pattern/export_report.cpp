@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <limits>
 #include <set>
+#include <string>
+#include <vector>
 
 #include "mesh/topology.h"
 
@@ -183,6 +185,33 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
                   {"flattenings", pattern.flattenings},
                   {"sheet_width", layout.width},
                   {"sheet_height", layout.height}};
+  // Which bound each piece exceeds: under the one-sided limit a piece over
+  // it is over on compression (cloth that the sewn garment must stretch) or
+  // on ease (cloth to spare), and the two mean different things for the fit.
+  auto bounds_exceeded = [&options](const PatternPiece& p) {
+    std::vector<std::string> over;
+    const DistortionStats& s = p.stats;
+    if (options.symmetric) {
+      if (s.p95_error > options.p95_limit) over.push_back("p95_error");
+      if (s.max_error > options.max_limit) over.push_back("max_error");
+    } else {
+      if (s.worst1_compression > options.compression_worst1) over.push_back("compression");
+      if (s.worst5_ease > options.ease_worst5) over.push_back("ease");
+    }
+    if (p.flat.stats.flipped_triangles > 0) over.push_back("flips");
+    if (p.flat.boundary_overlaps) over.push_back("overlap");
+    return over;
+  };
+  OrderedJson over_limit = OrderedJson::object();
+  for (const char* b : {"compression", "ease", "p95_error", "max_error", "flips", "overlap"}) {
+    if (options.symmetric ? (std::string(b) == "compression" || std::string(b) == "ease")
+                          : (std::string(b) == "p95_error" || std::string(b) == "max_error"))
+      continue;
+    over_limit[b] = OrderedJson::array();
+  }
+  for (const PatternPiece& p : pattern.pieces)
+    for (const std::string& b : bounds_exceeded(p)) over_limit[b].push_back(p.name);
+  j["summary"]["pieces_over_limit"] = over_limit;
   OrderedJson pieces = OrderedJson::array();
   for (size_t i = 0; i < pattern.pieces.size(); ++i) {
     const PatternPiece& p = pattern.pieces[i];
@@ -210,6 +239,7 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
                         {"mean_error", s.mean_error},
                         {"p95_compression", s.p95_compression}}},
                       {"meets_limit", p.meets_limit},
+                      {"over_limit", bounds_exceeded(p)},
                       {"flipped_triangles", p.flat.stats.flipped_triangles},
                       {"boundary_overlaps", p.flat.boundary_overlaps},
                       {"initialization", p.flat.initialization},

@@ -358,7 +358,48 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
     seams.push_back(seam);
     curves.push_back(sets.front());
   }
-  if (!seams.empty()) insert_cuts(pattern, seams, curves);
+  if (seams.empty()) return;
+  try {
+    Pattern trial = pattern;
+    insert_cuts(trial, seams, curves);
+    pattern = std::move(trial);
+    return;
+  } catch (const GeometryError&) {
+    // Two armholes that cross (on a rest shape grown into flaps, the level
+    // sets of two sleeves can meet) or one that crosses itself: keep those
+    // that go in together, in order, and leave the others to the later cuts.
+  }
+  std::vector<size_t> kept;
+  for (size_t i = 0; i < seams.size(); ++i) {
+    std::vector<PatternSeam> s;
+    std::vector<SurfaceCurve> c;
+    for (size_t k : kept) s.push_back(seams[k]), c.push_back(curves[k]);
+    s.push_back(seams[i]);
+    c.push_back(curves[i]);
+    Pattern trial = pattern;
+    try {
+      insert_cuts(trial, s, c);
+      kept.push_back(i);
+    } catch (const GeometryError& e) {
+      pattern.notes.push_back("no armhole at the boundary " + pattern.limbs[i].loop + ": its seam would cross " +
+                              (kept.empty() ? "itself" : "another armhole") + " (" + e.what() + ")");
+    }
+  }
+  std::vector<int> new_index(seams.size(), -1);
+  std::vector<Limb> limbs;
+  std::vector<PatternSeam> s;
+  std::vector<SurfaceCurve> c;
+  for (size_t k : kept) {
+    new_index[k] = static_cast<int>(limbs.size());
+    limbs.push_back(pattern.limbs[k]);
+    s.push_back(seams[k]);
+    c.push_back(curves[k]);
+  }
+  for (int& l : pattern.limb_of_rest_face)
+    if (l >= 0) l = new_index[static_cast<size_t>(l)];
+  pattern.limbs = limbs;
+  if (limbs.empty()) pattern.limb_of_rest_face.clear();
+  if (!s.empty()) insert_cuts(pattern, s, c);
 }
 
 void cut_to_disks(Pattern& pattern, const PatternOptions& options, const PatternContext& context) {
@@ -596,6 +637,38 @@ void merge_small_pieces(Pattern& pattern, const PatternOptions& options, Flatten
   }
 }
 
+void remove_overlapping_darts(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
+  std::set<std::string> tried;
+  for (;;) {
+    // The first dart (by seam order) of a piece whose outline overlaps itself.
+    size_t dart = pattern.seams.size();
+    for (const PatternPiece& p : pattern.pieces) {
+      if (!p.flat.boundary_overlaps) continue;
+      for (int d : p.dart_seams)
+        if (!tried.count(pattern.seams[static_cast<size_t>(d)].name)) dart = std::min(dart, static_cast<size_t>(d));
+    }
+    if (dart >= pattern.seams.size()) return;
+    const std::string name = pattern.seams[dart].name;
+    tried.insert(name);
+    Pattern trial = pattern;
+    trial.seams.erase(trial.seams.begin() + static_cast<long>(dart));
+    assemble_pieces(trial);
+    if (!std::all_of(trial.pieces.begin(), trial.pieces.end(), [](const PatternPiece& p) { return is_disk(p); }))
+      continue;
+    flatten_pieces(trial, options, cache, true);
+    // Kept out only where it removes an overlap and adds none.
+    auto overlaps = [](const Pattern& x) {
+      int n = 0;
+      for (const PatternPiece& p : x.pieces) n += p.flat.boundary_overlaps ? 1 : 0;
+      return n;
+    };
+    if (overlaps(trial) >= overlaps(pattern)) continue;
+    trial.merged_cuts.push_back(name);
+    trial.notes.push_back(name + " removed: its sides crossed in the flat piece, which overlapped itself");
+    pattern = std::move(trial);
+  }
+}
+
 Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SeamPath>& seams,
                      const PatternOptions& options, const PatternContext& context) {
   using Clock = std::chrono::steady_clock;
@@ -626,6 +699,7 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   flatten_pieces(pattern, options, cache, true);
   lap("flatten");
   merge_small_pieces(pattern, options, cache);
+  remove_overlapping_darts(pattern, options, cache);
   // The output has no flipped triangle: pieces left with flips are
   // flattened injectively.
   flatten_pieces(pattern, options, cache, true);

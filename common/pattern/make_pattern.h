@@ -161,6 +161,12 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options);
 // halve it.
 void merge_small_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
 
+// Phase 6b: removes a dart of a piece whose flat outline overlaps itself
+// (its sides crossed: the flattening wanted less cloth there, not more)
+// when that leaves fewer overlapping pieces; it is listed under merged_cuts
+// with a note.
+void remove_overlapping_darts(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
+
 // All phases.
 Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SeamPath>& seams,
                      const PatternOptions& options, const PatternContext& context = {});
