@@ -40,6 +40,24 @@ std::vector<std::string> check_pose(const KeyPoseResult& k, double delta, const 
   return failures;
 }
 
+OrderedJson to_json(const PoseCheck& check, const std::string& mesh) {
+  const KeyPoseResult& k = check.figures;
+  return {{"key", k.key},
+          {"pose", k.pose},
+          {"mesh", mesh},
+          {"verdict", check.passed() ? "pass" : "fail"},
+          {"failures", check.failures},
+          {"max_stretch", k.max_stretch},
+          {"p99_stretch", k.p99_stretch},
+          {"mean_stretch", k.mean_stretch},
+          {"area_fraction_above_limit", k.area_fraction_above},
+          {"deepest_penetration_m", k.deepest_penetration},
+          {"crossings", collision::to_json(k.crossings)},
+          {"steps", k.steps},
+          {"settle_steps", k.settle_steps},
+          {"settled", k.settled}};
+}
+
 std::vector<cloth::TriangleRest> rest_triangles_of(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F) {
   return cloth::build_rest_state(V_rest, F, cloth::ClothParameters{}).triangles;
 }

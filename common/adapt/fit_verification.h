@@ -12,6 +12,7 @@
 
 #include "adapt/garment_motion.h"
 #include "cloth/cloth_energy.h"
+#include "spec/json_file.h"
 
 namespace gp::adapt {
 
@@ -57,6 +58,11 @@ FitVerification verify_fit(PoseInterpolator& interpolator, const MotionSpec& mot
 // The checks of a run without adaptation (its key poses are already a fresh
 // simulation of its rest shape); seconds is left 0.
 FitVerification judge_run(const MotionRunResult& run, double delta, const FitCriteria& criteria = {});
+
+// A key pose's check as the stages report it: key, pose, `mesh` (the drape's
+// file), verdict, failures, stretch figures, penetration, crossings and
+// settling.
+OrderedJson to_json(const PoseCheck& check, const std::string& mesh);
 
 // The rest triangles of a rest shape (#V by 3, same connectivity as F), with
 // the material's warp direction, as the simulator builds them.

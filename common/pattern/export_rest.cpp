@@ -56,21 +56,9 @@ OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOpti
                                         {"position_m", vector_json(w.deepest_vertex_position)}};
     else
       where["deepest_vertex_inside"] = nullptr;
-    poses.push_back({{"key", k.key},
-                     {"pose", k.pose},
-                     {"mesh", sewn_drape_name(k)},
-                     {"verdict", check.passed() ? "pass" : "fail"},
-                     {"failures", check.failures},
-                     {"max_stretch", k.max_stretch},
-                     {"p99_stretch", k.p99_stretch},
-                     {"mean_stretch", k.mean_stretch},
-                     {"area_fraction_above_limit", k.area_fraction_above},
-                     {"deepest_penetration_m", k.deepest_penetration},
-                     {"crossings", collision::to_json(k.crossings)},
-                     {"where", where},
-                     {"steps", k.steps},
-                     {"settle_steps", k.settle_steps},
-                     {"settled", k.settled}});
+    OrderedJson pose = adapt::to_json(check, sewn_drape_name(k));
+    pose["where"] = where;
+    poses.push_back(pose);
   }
   const bool failed = result.sewn_fit_failed();
   return {{"checked", true},

@@ -280,20 +280,7 @@ int main(int argc, char** argv) {
         std::snprintf(name, sizeof(name), options.adapt ? "verified_%02d_%s.ply" : "draped_%02d_%s.ply", k.key,
                       k.pose.c_str());
         if (options.adapt) write_drape(name, k);
-        poses_json.push_back({{"key", k.key},
-                              {"pose", k.pose},
-                              {"mesh", name},
-                              {"verdict", check.passed() ? "pass" : "fail"},
-                              {"failures", check.failures},
-                              {"max_stretch", k.max_stretch},
-                              {"p99_stretch", k.p99_stretch},
-                              {"mean_stretch", k.mean_stretch},
-                              {"area_fraction_above_limit", k.area_fraction_above},
-                              {"deepest_penetration_m", k.deepest_penetration},
-                              {"crossings", gp::collision::to_json(k.crossings)},
-                              {"steps", k.steps},
-                              {"settle_steps", k.settle_steps},
-                              {"settled", k.settled}});
+        poses_json.push_back(gp::adapt::to_json(check, name));
       }
       verified = {{"verdict", verification->passed() ? "pass" : "fail"},
                   {"criteria",
