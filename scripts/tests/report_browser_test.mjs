@@ -141,7 +141,9 @@ try {
     absent: e.classList.contains('absent')})));
   check(figures.length > 12 * keyPoses, `expected the key poses' figures, found ${figures.length} figures`);
   for (const f of figures) compareFigure(f);
-  check(figures.some((f) => f.absent), 'the fixture has no verification yet: some figure should read "not checked"');
+  // Every stage of the fixture now writes every figure the page shows (the
+  // sewn fit was the last one missing), so no figure needs to read "not
+  // checked"; one that does is compared above (absent from the reports).
   const before = await page.locator('#before-after img').count();
   check(before === keyPoses, `expected ${keyPoses} before/after pictures (NO_ADAPT=1), found ${before}`);
 
