@@ -37,6 +37,9 @@ FitSettings read_fit_settings(const std::filesystem::path& report) {
   r.contact_band = o.required_number("contact_band_m", Range::non_negative());
   r.continuous_contact = required_choice("continuous_contact", {"on", "off"}) == "on";
   r.contact.thickness = o.required_number("contact_thickness_m", Range::positive());
+  r.contact_surface.hulls = required_choice("hand_hulls", {"on", "off"}) == "on";
+  r.contact_surface.thin = o.required_number("hull_thin_m", Range::positive());
+  r.contact_surface.min_extent = o.required_number("hull_min_extent_m", Range::non_negative());
   r.initial_push_speed = o.required_number("initial_push_speed_m_per_s", Range::positive());
   r.solver.contact_release_fraction = o.required_number("contact_release_fraction", Range::non_negative());
   const std::string solver = required_choice("solver", {"refactor_every_step", "pcg_reused_factor", "pcg_jacobi"});

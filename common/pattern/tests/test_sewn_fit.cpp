@@ -219,7 +219,8 @@ TEST_CASE("the fit's settings are read from its report, strictly", "[sewn_fit]")
                   {{"poses", "p.json"}, {"motion", "m.json"}, {"dt_s", 0.005}, {"substeps", 2}, {"delta", 0.08},
                    {"settle_speed_m_per_s", 0.04}, {"settle_stretch_change", 1e-3}, {"settle_max_steps", 700},
                    {"settle_damping", 0.5}, {"reach_m", 0.12}, {"contact", "velocity"}, {"contact_band_m", 5e-4},
-                   {"continuous_contact", "off"}, {"contact_thickness_m", 1e-3},
+                   {"continuous_contact", "off"}, {"contact_thickness_m", 1e-3}, {"hand_hulls", "off"},
+                   {"hull_thin_m", 0.02}, {"hull_min_extent_m", 0.12},
                    {"initial_push_speed_m_per_s", 0.1}, {"contact_release_fraction", 0.1},
                    {"solver", "pcg_reused_factor"}, {"cg_tolerance", 1e-4}, {"cg_max_iterations", 40},
                    {"fresh_factor_max_iterations", 200}, {"factorization_cost", 20.0},
@@ -238,6 +239,9 @@ TEST_CASE("the fit's settings are read from its report, strictly", "[sewn_fit]")
   CHECK(s.run.settle_max_steps == 700);
   CHECK(s.run.settle_damping == 0.5);
   CHECK(!s.run.continuous_contact);
+  CHECK(!s.run.contact_surface.hulls);
+  CHECK(s.run.contact_surface.thin == 0.02);
+  CHECK(s.run.contact_surface.min_extent == 0.12);
   CHECK(s.run.velocity_contacts);
   CHECK(s.run.solver.strategy == cloth::SolverStrategy::pcg_reused_factor);
   CHECK(!s.run.adapt);
