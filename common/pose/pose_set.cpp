@@ -30,6 +30,19 @@ std::string topology_checksum(const Eigen::MatrixXi& F) {
   return sha256_hex(bytes);
 }
 
+std::string vertex_checksum(const Eigen::MatrixXd& V) {
+  std::string bytes;
+  bytes.reserve(static_cast<size_t>(V.rows()) * 24);
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      uint64_t bits = 0;
+      const double x = V(i, k);
+      std::memcpy(&bits, &x, sizeof bits);
+      for (int b = 0; b < 8; ++b) bytes.push_back(static_cast<char>((bits >> (8 * b)) & 0xff));
+    }
+  return sha256_hex(bytes);
+}
+
 bool is_valid_pose_name(const std::string& name) {
   if (name.empty() || name.size() > 64) return false;
   for (char c : name)

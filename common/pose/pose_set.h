@@ -57,6 +57,11 @@ struct PoseSet {
 // stages can tell that two files share connectivity without comparing them.
 std::string topology_checksum(const Eigen::MatrixXi& F);
 
+// Digest of a pose's vertex positions (#V by 3; their IEEE double bits,
+// little-endian, row by row): the same body in the same pose gives the same
+// digest whatever file it was read from.
+std::string vertex_checksum(const Eigen::MatrixXd& V);
+
 // True for names made of [A-Za-z0-9_-], 1 to 64 characters.
 bool is_valid_pose_name(const std::string& name);
 
