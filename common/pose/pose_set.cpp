@@ -1,5 +1,6 @@
 #include "pose/pose_set.h"
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <set>
@@ -35,9 +36,10 @@ std::string vertex_checksum(const Eigen::MatrixXd& V) {
   bytes.reserve(static_cast<size_t>(V.rows()) * 24);
   for (Eigen::Index i = 0; i < V.rows(); ++i)
     for (int k = 0; k < 3; ++k) {
-      uint64_t bits = 0;
-      const double x = V(i, k);
-      std::memcpy(&bits, &x, sizeof bits);
+      // Non-finite or absurd coordinates (no body) all hash as the largest value.
+      const double um = V(i, k) * 1e6;
+      const int64_t q = std::abs(um) < 9e18 ? static_cast<int64_t>(std::llround(um)) : INT64_MAX;
+      const uint64_t bits = static_cast<uint64_t>(q);
       for (int b = 0; b < 8; ++b) bytes.push_back(static_cast<char>((bits >> (8 * b)) & 0xff));
     }
   return sha256_hex(bytes);

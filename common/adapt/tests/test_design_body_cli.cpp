@@ -20,23 +20,20 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A pose set of one pose "a", a sphere of the given radius, in `dir`.
+// A pose set of one pose "a", a sphere of the given radius, made in `dir` by
+// register-check as the pipeline makes it.
 void write_body(const fs::path& dir, double radius) {
   fs::create_directories(dir);
-  const gp::Mesh body = gp::testing::make_icosphere(3, radius);
-  gp::write_mesh(dir / "a.ply", body);
-  gp::PoseSetManifest manifest;
-  manifest.vertex_count = body.V.rows();
-  manifest.face_count = body.F.rows();
-  manifest.topology_sha256 = gp::topology_checksum(body.F);
-  manifest.reference = "a";
-  manifest.poses = {{"a", "a.ply", gp::sha256_file_hex(dir / "a.ply"), "test"}};
-  gp::write_pose_set_manifest(dir / "poses.json", manifest);
+  gp::write_mesh(dir / "a.ply", gp::testing::make_icosphere(3, radius));
+  const auto r = gp::testing::run_command(gp::testing::tool_path("register-check") + " " + (dir / "a.ply").string() +
+                                          " --units m --up +y --quiet --out " + (dir / "set").string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
 }
 
 // A free cap over the top of the body of `body_dir`, 1 cm out, designed on its pose "a".
 void write_cap(const fs::path& dir, const fs::path& body_dir) {
-  const gp::PoseSet set = gp::load_pose_set(body_dir / "poses.json");
+  const gp::PoseSet set = gp::load_pose_set(body_dir / "set" / "poses.json");
   gp::Mesh body;
   body.V = set.V[0];
   body.F = set.F;
@@ -53,8 +50,8 @@ void write_cap(const fs::path& dir, const fs::path& body_dir) {
   g.mesh_sha256 = gp::sha256_file_hex(dir / "garment.ply");
   g.vertex_count = cap.V.rows();
   g.face_count = cap.F.rows();
-  g.body.source = (body_dir / "poses.json").string();
-  g.body.source_sha256 = gp::sha256_file_hex(body_dir / "poses.json");
+  g.body.source = (body_dir / "set" / "poses.json").string();
+  g.body.source_sha256 = gp::sha256_file_hex(body_dir / "set" / "poses.json");
   g.body.design_pose = "a";
   g.body.vertex_count = body.V.rows();
   g.body.face_count = body.F.rows();
@@ -83,10 +80,10 @@ TEST_CASE("the design pose's checksum travels in the garment file and tells anot
 
   const gp::GarmentFile g = gp::read_garment_file(dir / "garment.json");
   CHECK(g.body.design_pose_sha256.size() == 64);
-  const gp::DesignPoseMatch same = gp::match_design_pose(g, gp::load_pose_set(dir / "same" / "poses.json"));
+  const gp::DesignPoseMatch same = gp::match_design_pose(g, gp::load_pose_set(dir / "same" / "set" / "poses.json"));
   CHECK(same.checked);
   CHECK(same.same);
-  const gp::DesignPoseMatch other = gp::match_design_pose(g, gp::load_pose_set(dir / "other" / "poses.json"));
+  const gp::DesignPoseMatch other = gp::match_design_pose(g, gp::load_pose_set(dir / "other" / "set" / "poses.json"));
   CHECK(other.checked);
   CHECK_FALSE(other.same);
   CHECK(other.expected == g.body.design_pose_sha256);
@@ -94,7 +91,7 @@ TEST_CASE("the design pose's checksum travels in the garment file and tells anot
 
   const auto run = [&](const std::string& body, const std::string& out, const std::string& extra) {
     return gp::testing::run_command(gp::testing::tool_path("simulate-adapt") + " --poses " +
-                                    (dir / body / "poses.json").string() + " --motion " +
+                                    (dir / body / "set" / "poses.json").string() + " --motion " +
                                     (dir / "motion.json").string() + " --garment " +
                                     (dir / "garment.json").string() + " --out " + (dir / out).string() +
                                     " --quiet --no-verify --settle-max-steps 5 " + extra);
