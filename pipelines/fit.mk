@@ -17,7 +17,8 @@
 #
 # Every stage writes one folder under $(OUT) and its report.json last, so a
 # stage's report is the make target that marks it done; make reruns exactly
-# the stages whose inputs (or the stage's binary) changed. Stages write to a
+# the stages whose inputs, flags (customer.mk or the command line) or binary
+# changed, and those after them. Stages write to a
 # temporary folder and rename it into place, so a failed stage leaves the
 # previous result (or nothing) and the earlier stages' outputs intact.
 
@@ -49,14 +50,40 @@ REPORT_FLAGS   ?=
 # and each key pose's figures.
 QUIET   ?= --quiet
 SIMULATE_QUIET ?=
+# Threads of every stage. simulate-adapt's own default is 2 where the machine
+# has two cores (a second thread prepares the body frames and adaptations;
+# the outputs are the same for any count), but make fit gives it THREADS too:
+# on the shared 2-core build machine under load (load average 7-12) two
+# threads were slower, not faster: wall time x1.26 and x1.46 against one
+# thread (small-shirt fit, median of 5 runs interleaved; README.md). On a
+# machine of its own, SIMULATE_THREADS=2 gains the 1.2-1.3x of BENCHMARKS.md.
 THREADS ?= 1
+SIMULATE_THREADS ?= $(THREADS)
 RUN = @echo "fit: $(1)"; $(BIN)/$(1) --threads $(THREADS)
+RUN_SIMULATE = @echo "fit: simulate-adapt"; $(BIN)/simulate-adapt --threads $(SIMULATE_THREADS)
+
+# Each stage's effective flags are a prerequisite: $(OUT)/flags/<stage> holds
+# them and is rewritten (at parse time) only when they differ, so changing
+# customer.mk or a *_FLAGS variable reruns exactly that stage and the ones
+# after it, and a rerun with the same flags does nothing. Thread counts are
+# left out: they do not change any output.
+FLAGS_DIR := $(OUT)/flags
+quote = '$(subst ','\'',$(1))'
+define flags_stamp
+$(shell mkdir -p '$(FLAGS_DIR)' && printf '%s\n' $(call quote,$(strip $(2))) | cmp -s - '$(FLAGS_DIR)/$(1)' || printf '%s\n' $(call quote,$(strip $(2))) > '$(FLAGS_DIR)/$(1)')$(FLAGS_DIR)/$(1)
+endef
+AVATAR_STAMP   := $(call flags_stamp,make-avatar,$(AVATAR_FLAGS))
+REGISTER_STAMP := $(call flags_stamp,register-check,$(REGISTER_FLAGS))
+GARMENT_STAMP  := $(call flags_stamp,make-garment,$(GARMENT_FLAGS))
+SIMULATE_STAMP := $(call flags_stamp,simulate-adapt,$(SIMULATE_FLAGS))
+EXPORT_STAMP   := $(call flags_stamp,export-rest,$(EXPORT_FLAGS) $(if $(ROUND_TRIP),round-trip))
+REPORT_STAMP   := $(call flags_stamp,fit-report,$(REPORT_FLAGS) $(if $(NO_ADAPT),no-adapt))
 
 # --- body -------------------------------------------------------------------
 ifneq ($(wildcard $(C)/avatar.json),)
 BODY_DIR   := $(OUT)/body
 POSE_FILES := $(OUT)/body/report.json
-$(OUT)/body/report.json: $(C)/avatar.json $(BIN)/make-avatar
+$(OUT)/body/report.json: $(C)/avatar.json $(AVATAR_STAMP) $(BIN)/make-avatar
 	$(call RUN,make-avatar) $< $(AVATAR_FLAGS) --out $(@D) --force $(QUIET)
 POSE_INPUT := $(OUT)/body
 else
@@ -64,11 +91,11 @@ POSE_INPUT := $(C)/poses
 POSE_FILES := $(sort $(wildcard $(C)/poses/*.ply $(C)/poses/*.obj))
 endif
 
-$(OUT)/poses/report.json: $(POSE_FILES) $(BIN)/register-check
+$(OUT)/poses/report.json: $(POSE_FILES) $(REGISTER_STAMP) $(BIN)/register-check
 	$(call RUN,register-check) $(POSE_INPUT) $(REGISTER_FLAGS) --out $(@D) --force $(QUIET)
 
 # --- garment ----------------------------------------------------------------
-$(OUT)/garment/report.json: $(C)/garment-spec.json $(OUT)/poses/report.json $(BIN)/make-garment
+$(OUT)/garment/report.json: $(C)/garment-spec.json $(OUT)/poses/report.json $(GARMENT_STAMP) $(BIN)/make-garment
 	$(call RUN,make-garment) $< --poses $(OUT)/poses/poses.json $(GARMENT_FLAGS) --out $(@D) --force $(QUIET)
 
 ifneq ($(wildcard $(C)/extend.json),)
@@ -87,14 +114,14 @@ endif
 # complete, so the pattern and the report are still made, and `fit` exits 8
 # at the end, naming the report that shows where.
 VERDICT_OK = || test $$? -eq 8
-$(OUT)/fit/report.json: $(GARMENT_REPORT) $(C)/motion.json $(OUT)/poses/report.json $(BIN)/simulate-adapt
-	$(call RUN,simulate-adapt) --poses $(OUT)/poses/poses.json --motion $(C)/motion.json \
+$(OUT)/fit/report.json: $(GARMENT_REPORT) $(C)/motion.json $(OUT)/poses/report.json $(SIMULATE_STAMP) $(BIN)/simulate-adapt
+	$(RUN_SIMULATE) --poses $(OUT)/poses/poses.json --motion $(C)/motion.json \
 	  --garment $(GARMENT) $(SIMULATE_FLAGS) --out $(@D) --force $(SIMULATE_QUIET) $(VERDICT_OK)
 
 ifneq ($(NO_ADAPT),)
 NO_ADAPT_REPORT := $(OUT)/fit-noadapt/report.json
-$(NO_ADAPT_REPORT): $(GARMENT_REPORT) $(C)/motion.json $(OUT)/poses/report.json $(BIN)/simulate-adapt
-	$(call RUN,simulate-adapt) --no-adapt --poses $(OUT)/poses/poses.json --motion $(C)/motion.json \
+$(NO_ADAPT_REPORT): $(GARMENT_REPORT) $(C)/motion.json $(OUT)/poses/report.json $(SIMULATE_STAMP) $(BIN)/simulate-adapt
+	$(RUN_SIMULATE) --no-adapt --poses $(OUT)/poses/poses.json --motion $(C)/motion.json \
 	  --garment $(GARMENT) $(SIMULATE_FLAGS) --out $(@D) --force $(SIMULATE_QUIET) $(VERDICT_OK)
 endif
 
@@ -105,13 +132,13 @@ endif
 # It simulates for about as long as the fit's verification, so it prints its
 # progress like simulate-adapt.
 SEAMS := $(wildcard $(C)/seams.json)
-$(OUT)/pattern/report.json: $(OUT)/fit/report.json $(SEAMS) $(BIN)/export-rest
+$(OUT)/pattern/report.json: $(OUT)/fit/report.json $(SEAMS) $(EXPORT_STAMP) $(BIN)/export-rest
 	$(call RUN,export-rest) $(OUT)/fit/rest.ply --garment $(GARMENT) $(if $(SEAMS),--seams $(SEAMS) --body $(OUT)/poses/poses.json) \
 	  $(if $(NO_SEW_CHECK),,--fit $(OUT)/fit/report.json) $(EXPORT_FLAGS) --out $(@D) --force $(SIMULATE_QUIET) $(VERDICT_OK)
 
 # --- report --------------------------------------------------------------------
 # Pictures, 3D views and every stage's figures in one folder that opens from disk.
-$(OUT)/report/report.json: $(OUT)/pattern/report.json $(OUT)/fit/report.json $(NO_ADAPT_REPORT) $(BIN)/fit-report
+$(OUT)/report/report.json: $(OUT)/pattern/report.json $(OUT)/fit/report.json $(NO_ADAPT_REPORT) $(REPORT_STAMP) $(BIN)/fit-report
 	$(call RUN,fit-report) $(OUT) $(REPORT_FLAGS) --out $(@D) --force $(QUIET)
 
 .PHONY: fit

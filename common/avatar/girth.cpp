@@ -5,6 +5,8 @@
 #include <map>
 #include <utility>
 
+#include "mesh/slice_mesh.h"
+
 namespace gp {
 
 double convex_hull_perimeter(std::vector<Eigen::Vector2d> p) {
@@ -30,57 +32,6 @@ double convex_hull_perimeter(std::vector<Eigen::Vector2d> p) {
   double per = 0.0;
   for (size_t i = 0; i < hull.size(); ++i) per += (hull[(i + 1) % hull.size()] - hull[i]).norm();
   return per;
-}
-
-std::vector<std::vector<Eigen::Vector3d>> slice_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                                                     const Eigen::Vector3d& point,
-                                                     const Eigen::Vector3d& normal) {
-  const Eigen::Vector3d n = normal.normalized();
-  Eigen::VectorXd s(V.rows());
-  for (Eigen::Index i = 0; i < V.rows(); ++i) s(i) = (V.row(i).transpose() - point).dot(n);
-  auto positive = [&](int v) { return s(v) >= 0.0; };
-  // Cut points are identified by their (sorted) edge; each crossing triangle
-  // links the cut point where its boundary goes from + to - to the one where
-  // it comes back, which orders the loop consistently with the orientation.
-  std::map<std::pair<int, int>, int> point_id;
-  std::vector<Eigen::Vector3d> points;
-  std::vector<int> next;
-  auto cut = [&](int a, int b) {
-    const std::pair<int, int> key(std::min(a, b), std::max(a, b));
-    auto it = point_id.find(key);
-    if (it != point_id.end()) return it->second;
-    const double t = s(a) / (s(a) - s(b));
-    points.push_back(V.row(a).transpose() + t * (V.row(b) - V.row(a)).transpose());
-    next.push_back(-1);
-    const int id = static_cast<int>(points.size()) - 1;
-    point_id.emplace(key, id);
-    return id;
-  };
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    int out_edge = -1, in_edge = -1;
-    for (int k = 0; k < 3; ++k) {
-      const int a = F(f, k), b = F(f, (k + 1) % 3);
-      if (positive(a) && !positive(b))
-        out_edge = cut(a, b);
-      else if (!positive(a) && positive(b))
-        in_edge = cut(a, b);
-    }
-    if (out_edge >= 0 && in_edge >= 0) next[in_edge] = out_edge;
-  }
-  std::vector<std::vector<Eigen::Vector3d>> loops;
-  std::vector<bool> used(points.size(), false);
-  for (size_t start = 0; start < points.size(); ++start) {
-    if (used[start] || next[start] < 0) continue;
-    std::vector<Eigen::Vector3d> loop;
-    int i = static_cast<int>(start);
-    while (i >= 0 && !used[i]) {
-      used[i] = true;
-      loop.push_back(points[i]);
-      i = next[i];
-    }
-    loops.push_back(std::move(loop));
-  }
-  return loops;
 }
 
 double mesh_girth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::Vector3d& point,

@@ -8,18 +8,13 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "mesh/slice_mesh.h"
+
 namespace gp {
 
 // Perimeter of the convex hull of 2-D points (Andrew's monotone chain);
 // 0 for fewer than two distinct points.
 double convex_hull_perimeter(std::vector<Eigen::Vector2d> points);
-
-// Closed polylines where the plane through `point` with normal `normal` cuts
-// the triangle mesh (V #V by 3, F #F by 3). A vertex exactly on the plane
-// counts as lying on its positive side, so every loop is closed on a closed mesh.
-std::vector<std::vector<Eigen::Vector3d>> slice_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                                                     const Eigen::Vector3d& point,
-                                                     const Eigen::Vector3d& normal);
 
 // Girth [m] of the mesh at a plane: convex-hull perimeter of the slice loop
 // that encloses `point` (in the plane). Returns -1 if no loop encloses it.

@@ -94,6 +94,7 @@ OrderedJson to_json(const GarmentFile& g) {
                {"vertex_count", g.body.vertex_count},
                {"face_count", g.body.face_count},
                {"topology_sha256", g.body.topology_sha256}};
+  if (!g.body.design_pose_sha256.empty()) j["body"]["design_pose_sha256"] = g.body.design_pose_sha256;
   j["spec"] = {{"file", g.spec_file}, {"sha256", g.spec_sha256}};
   j["target_edge_length"] = g.target_edge_length;
   j["offset"] = g.offset;
@@ -139,6 +140,7 @@ GarmentFile read_garment_file(const std::filesystem::path& path) {
   g.body.vertex_count = body.required_integer("vertex_count", Range::non_negative());
   g.body.face_count = body.required_integer("face_count", Range::non_negative());
   g.body.topology_sha256 = body.required_string("topology_sha256");
+  g.body.design_pose_sha256 = body.string("design_pose_sha256", "");
   body.finish();
   const SpecObject spec = root.object("spec");
   g.spec_file = spec.required_string("file");

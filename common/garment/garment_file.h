@@ -12,7 +12,8 @@
 //               "vertex_count": 4012, "face_count": 7826 },
 //     "body": { "source": "<poses.json or mesh path as given>", "source_sha256": "...",
 //               "design_pose": "tpose", "vertex_count": 27578, "face_count": 55152,
-//               "topology_sha256": "<gp::topology_checksum of the body triangles>" },
+//               "topology_sha256": "<gp::topology_checksum of the body triangles>",
+//               "design_pose_sha256": "<gp::vertex_checksum of the design pose>" },
 //     "spec": { "file": "<garment spec path as given>", "sha256": "..." },
 //     "target_edge_length": 0.02,         // metres, the garment's resolution
 //     "offset": 0.015,                    // comfort offset (T4), metres
@@ -81,6 +82,10 @@ struct GarmentBodyInfo {
   long long vertex_count = 0;
   long long face_count = 0;
   std::string topology_sha256;
+  // gp::vertex_checksum of the design pose's vertices, so that a later stage
+  // can tell that a pose set's pose of that name is the same body. Empty in
+  // files written before it was recorded (optional on reading).
+  std::string design_pose_sha256;
 };
 
 struct GarmentExtension {

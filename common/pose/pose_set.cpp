@@ -1,5 +1,6 @@
 #include "pose/pose_set.h"
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <set>
@@ -26,6 +27,20 @@ std::string topology_checksum(const Eigen::MatrixXi& F) {
     for (int k = 0; k < 3; ++k) {
       const uint32_t v = static_cast<uint32_t>(F(t, k));
       for (int b = 0; b < 4; ++b) bytes.push_back(static_cast<char>((v >> (8 * b)) & 0xff));
+    }
+  return sha256_hex(bytes);
+}
+
+std::string vertex_checksum(const Eigen::MatrixXd& V) {
+  std::string bytes;
+  bytes.reserve(static_cast<size_t>(V.rows()) * 24);
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      // Non-finite or absurd coordinates (no body) all hash as the largest value.
+      const double um = V(i, k) * 1e6;
+      const int64_t q = std::abs(um) < 9e18 ? static_cast<int64_t>(std::llround(um)) : INT64_MAX;
+      const uint64_t bits = static_cast<uint64_t>(q);
+      for (int b = 0; b < 8; ++b) bytes.push_back(static_cast<char>((bits >> (8 * b)) & 0xff));
     }
   return sha256_hex(bytes);
 }

@@ -314,28 +314,45 @@ RegisterCheckResult register_check(const std::vector<PoseInput>& inputs,
   // Units and up axis from the reference pose.
   if (usable[ref]) {
     UnitsAndUp u;
+    const std::string where = " (" + r.poses[ref].file + ")";
     if (o.up == "auto") {
-      u.up = detect_up_axis(meshes[ref].V, meshes[ref].F, &u.up_ambiguous, &u.up_reason);
-      if (u.up_ambiguous)
-        add(r, Severity::warning, ExitCode::ok, inputs[ref].name,
-            "the up direction is a guess (" + u.up_reason + "); pass --up to be sure");
+      const UpAxisDetection d = detect_up_axis(meshes[ref].V, meshes[ref].F);
+      u.up = d.up;
+      u.up_ambiguous = d.ambiguous;
+      u.up_reason = d.reason;
+      u.up_cues = d.cues;
+      if (d.ambiguous)
+        add(r, Severity::error, ExitCode::geometry, inputs[ref].name,
+            "cannot tell which way is up: " + d.reason + "; pass --up" + where);
     } else {
       u.up = UpAxis::parse(o.up);
       u.up_reason = "given by --up";
     }
     const Eigen::VectorXd along = meshes[ref].V.col(u.up.axis);
     u.height = along.maxCoeff() - along.minCoeff();
-    if (o.units == "auto") {
-      try {
-        u.units = detect_units(u.height);
-      } catch (const GeometryError& e) {
+    if (o.height > 0) {
+      if (o.units != "auto") throw UsageError("--height scales the body itself; it excludes --units", "--height");
+      if (!(u.height > 0)) {
         add(r, Severity::error, ExitCode::geometry, inputs[ref].name,
-            std::string(e.what()) + " (" + r.poses[ref].file + ")");
+            "the body has no extent along " + u.up.name() + "; cannot scale it to --height" + where);
+      } else {
+        u.units = "height";
+        u.given_height_m = o.height;
+        u.scale_to_metres = o.height / u.height;
       }
     } else {
-      u.units = o.units;
+      if (o.units == "auto") {
+        try {
+          u.units = detect_units(u.height);
+        } catch (const GeometryError& e) {
+          add(r, Severity::error, ExitCode::geometry, inputs[ref].name,
+              std::string(e.what()) + " or --height" + where);
+        }
+      } else {
+        u.units = o.units;
+      }
+      u.scale_to_metres = metres_per_unit(u.units);
     }
-    u.scale_to_metres = metres_per_unit(u.units);
     r.units = u;
   }
 
@@ -391,6 +408,7 @@ OrderedJson register_check_report(const RegisterCheckResult& r, const RegisterCh
   OrderedJson opt;
   opt["reference"] = o.reference.empty() ? r.poses[r.reference].name : o.reference;
   opt["units"] = o.units;
+  opt["height_m"] = o.height > 0 ? OrderedJson(o.height) : OrderedJson(nullptr);
   opt["up"] = o.up;
   opt["reorder"] = o.reorder;
   opt["triangulate"] = o.triangulate;
@@ -410,6 +428,12 @@ OrderedJson register_check_report(const RegisterCheckResult& r, const RegisterCh
     u["up"] = r.units->up.name();
     u["up_ambiguous"] = r.units->up_ambiguous;
     u["up_reason"] = r.units->up_reason;
+    OrderedJson cues = OrderedJson::array();
+    for (const UpCue& c : r.units->up_cues)
+      cues.push_back({{"cue", c.name}, {"vote", c.vote == 0 ? "none" : UpAxis{r.units->up.axis, c.vote}.name()},
+                      {"detail", c.detail}});
+    u["up_cues"] = cues;
+    if (r.units->given_height_m > 0) u["scaled_to_height_m"] = r.units->given_height_m;
     u["height_input_units"] = r.units->height;
     u["height_m"] = r.units->height * r.units->scale_to_metres;
     u["output"] = "metres, +y up";

@@ -25,6 +25,10 @@ struct RegisterCheckOptions {
   std::string reference;          // reference pose name; empty: the first pose
   std::string units = "auto";     // "auto", "m", "cm", "mm" or "in"
   std::string up = "auto";        // "auto" or one of +x -x +y -y +z -z
+  // Metres: scale the body so that the reference pose's extent along the up
+  // axis is this (a body in unknown units whose height is known); 0: off.
+  // Excludes `units`.
+  double height = 0;
   bool reorder = false;           // recover the common vertex order of permuted poses
   bool triangulate = false;       // split polygons instead of rejecting them
   bool allow_open = false;        // holes are warnings instead of errors

@@ -1,5 +1,6 @@
 #include "registration/units.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -7,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/math.h"
+#include "mesh/slice_mesh.h"
 
 namespace gp {
 
@@ -28,8 +30,45 @@ double metres_per_unit(const std::string& units) {
   throw UsageError("units must be one of m, cm, mm, in; got '" + units + "'", "--units");
 }
 
-UpAxis detect_up_axis(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, bool* ambiguous,
-                      std::string* reason) {
+namespace {
+
+// Cross-sections of the mesh in the plane `axis` = level that are at least
+// `min_length` long (shorter ones are noise: an eye shell, a stray fragment).
+int count_sections(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int axis, double level,
+                   double min_length) {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::Zero();
+  point(axis) = level;
+  normal(axis) = 1;
+  std::vector<bool> closed;
+  const auto cut = slice_mesh(V, F, point, normal, &closed);
+  int count = 0;
+  for (size_t i = 0; i < cut.size(); ++i)
+    if (polyline_length(cut[i], closed[i]) >= min_length) ++count;
+  return count;
+}
+
+// The middle value of a few counts.
+int median_count(std::vector<int> counts) {
+  std::sort(counts.begin(), counts.end());
+  return counts[counts.size() / 2];
+}
+
+std::string format(double x, int precision = 3) {
+  std::ostringstream s;
+  s.precision(precision);
+  s << x;
+  return s.str();
+}
+
+std::string join_counts(const std::vector<int>& counts) {
+  std::string s;
+  for (int c : counts) s += (s.empty() ? "" : " ") + std::to_string(c);
+  return s;
+}
+
+}  // namespace
+
+UpAxisDetection detect_up_axis(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
   // Area-weighted first and second moments of the surface.
   double total = 0;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero(), second = Eigen::Vector3d::Zero();
@@ -45,8 +84,15 @@ UpAxis detect_up_axis(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, bool* 
   if (total <= 0) throw GeometryError("mesh has no area; cannot find its up axis");
   mean /= total;
   const Eigen::Vector3d variance = second / total - mean.cwiseProduct(mean);
+  UpAxisDetection d;
   int axis = 0;
   variance.maxCoeff(&axis);
+  d.up = UpAxis{axis, +1};
+  double runner_up = 0;
+  for (int k = 0; k < 3; ++k)
+    if (k != axis) runner_up = std::max(runner_up, variance(k));
+  d.spread_ratio = variance(axis) > 0 ? runner_up / variance(axis) : 1.0;
+  const bool axis_ambiguous = !(d.spread_ratio <= kUpAxisSpreadMargin);
 
   double lo = INFINITY, hi = -INFINITY;
   for (Eigen::Index i = 0; i < V.rows(); ++i)
@@ -55,10 +101,13 @@ UpAxis detect_up_axis(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, bool* 
       hi = std::max(hi, V(i, axis));
     }
   const double height = hi - lo;
+  if (!(height > 0)) throw GeometryError("mesh is flat along its longest axis; cannot find its up axis");
 
-  // Sign, first cue: the soles. A standing body's lowest 5 % holds flat
-  // surface facing the floor (about 0.04 m^2 for two feet), while its highest
-  // 5 % is a rounded head or hands with little surface facing straight up.
+  // Soles: surface facing along the axis (within 20 degrees) in the lowest
+  // and highest 5 %. The generated bodies' feet show 0.006 h^2 standing with
+  // the arms down and 0.004 h^2 with the arms up (a taller extent); capped
+  // wrists or ankles about 0.001-0.002 h^2. The vote needs 0.0025 h^2 and
+  // five times the other end.
   const double cos20 = gp::math::cos(20.0 * M_PI / 180.0);
   double flat_low = 0, flat_high = 0;
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
@@ -67,35 +116,67 @@ UpAxis detect_up_axis(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, bool* 
     const double len = n2.norm();
     if (!(len > 0) || !std::isfinite(len)) continue;
     const double h = ((a + b + c)(axis) / 3.0 - lo) / height;
-    const double facing = n2(axis) / len;
-    if (h < 0.05 && facing < -cos20) flat_low += 0.5 * len;
+    // Either way along the axis: a mirrored or inside-out scan has its normals reversed.
+    const double facing = std::abs(n2(axis)) / len;
+    if (h < 0.05 && facing > cos20) flat_low += 0.5 * len;
     if (h > 0.95 && facing > cos20) flat_high += 0.5 * len;
   }
-  // Second cue: the upper body carries more surface than the legs, so the
-  // surface centroid lies above the middle of the extent.
-  const double offset = height > 0 ? (mean(axis) - 0.5 * (lo + hi)) / height : 0.0;
+  UpCue soles{"soles", 0, ""};
+  {
+    const double enough = 0.0025 * height * height;
+    if (flat_low >= enough && flat_low > 5 * flat_high) soles.vote = +1;
+    else if (flat_high >= enough && flat_high > 5 * flat_low) soles.vote = -1;
+    soles.detail = "flat surface across the axis at the low end " + format(flat_low / (height * height)) +
+                   " h^2, at the high end " + format(flat_high / (height * height)) +
+                   " h^2 (soles: at least 0.0025 h^2 and five times the other end)";
+  }
 
-  UpAxis up{axis, +1};
-  bool guess = false;
-  const double floor_ratio = (flat_low + 1e-12 * height * height) / (flat_high + 1e-12 * height * height);
-  if (floor_ratio > 2.0 || floor_ratio < 0.5) {
-    up.sign = floor_ratio > 1.0 ? +1 : -1;
-  } else {
-    up.sign = offset >= 0 ? +1 : -1;
-    guess = std::abs(offset) < 0.02;
+  // Legs: cross-sections in slices 4-22 % of the height from each end.
+  UpCue legs{"legs", 0, ""};
+  {
+    std::vector<int> low, high;
+    for (int k = 0; k < 7; ++k) {
+      const double t = 0.04 + 0.03 * k;
+      low.push_back(count_sections(V, F, axis, lo + t * height, 0.05 * height));
+      high.push_back(count_sections(V, F, axis, hi - t * height, 0.05 * height));
+    }
+    // The legs' end holds two sections: against one (head and neck) at the
+    // other end; or, with the arms raised, two throughout against two arms
+    // with the head appearing between them (three) at the other end.
+    const auto median_is = [](const std::vector<int>& c, int n) { return median_count(c) == n; };
+    const auto most = [](const std::vector<int>& c) { return *std::max_element(c.begin(), c.end()); };
+    const auto legs_at = [&](const std::vector<int>& legs_end, const std::vector<int>& head_end) {
+      return (median_is(legs_end, 2) && median_is(head_end, 1)) ||
+             (median_is(legs_end, 2) && most(legs_end) == 2 && most(head_end) >= 3 && !median_is(head_end, 1));
+    };
+    if (legs_at(low, high)) legs.vote = +1;
+    else if (legs_at(high, low)) legs.vote = -1;
+    legs.detail = "cross-sections 4-22 % of the height from the low end " + join_counts(low) +
+                  ", from the high end " + join_counts(high) +
+                  " (legs: two at the feet against one at the head, or two throughout against two arms and then the head)";
   }
-  if (ambiguous) *ambiguous = guess;
-  if (reason) {
-    std::ostringstream s;
-    s.precision(3);
-    s << "largest area-weighted spread along " << "xyz"[axis] << " (variances x " << variance(0)
-      << ", y " << variance(1) << ", z " << variance(2) << "); surface facing away from the body "
-      << "at its low end " << flat_low << ", at its high end " << flat_high
-      << " (soles are low); surface centroid " << (offset * 100) << " % of the height from the middle"
-      << (guess ? " (neither cue is clear: assumed " + up.name() + ")" : "");
-    *reason = s.str();
+  d.cues = {soles, legs};
+
+  int votes_up = 0, votes_down = 0;
+  for (const UpCue& c : d.cues) {
+    if (c.vote > 0) ++votes_up;
+    if (c.vote < 0) ++votes_down;
   }
-  return up;
+  d.up.sign = votes_down > votes_up ? -1 : +1;
+  const bool sign_ambiguous = (votes_up > 0) == (votes_down > 0);  // none, or disagreeing cues
+  d.ambiguous = axis_ambiguous || sign_ambiguous;
+
+  std::ostringstream s;
+  s << "longest along " << "xyz"[axis] << " (area-weighted variances x " << format(variance(0)) << ", y "
+    << format(variance(1)) << ", z " << format(variance(2)) << "; the next axis at "
+    << format(100 * d.spread_ratio, 2) << " % of it" << (axis_ambiguous ? ", too close to tell" : "") << ")";
+  for (const UpCue& c : d.cues)
+    s << "; " << c.name << " say "
+      << (c.vote == 0 ? std::string("nothing") : UpAxis{axis, c.vote}.name() + " up") << " (" << c.detail << ")";
+  if (sign_ambiguous)
+    s << (votes_up > 0 ? "; the cues disagree" : "; no cue tells which end is up");
+  d.reason = s.str();
+  return d;
 }
 
 std::string detect_units(double height) {

@@ -3,9 +3,12 @@
 customer (testdata/customers/small-shirt): a second run does nothing, touching
 the garment spec reruns exactly the dependent stages (the fit report last), a broken input stops the
 pipeline at the right stage with its message and leaves earlier outputs
-intact, and two fresh runs give byte-identical files (timing.json aside)."""
+intact, two fresh runs give byte-identical files (timing.json aside), and a
+stage's flags changed on the command line or in customer.mk rerun exactly
+that stage and the ones after it."""
 import argparse
 import filecmp
+import json
 import os
 import re
 import shutil
@@ -20,9 +23,9 @@ CUSTOMER = os.path.join(ROOT, "testdata", "customers", "small-shirt")
 BIN = None
 
 
-def fit(customer, out, expect_ok=True):
+def fit(customer, out, expect_ok=True, variables=()):
     r = subprocess.run(["make", "--no-print-directory", "-f", os.path.join(ROOT, "pipelines", "fit.mk"),
-                        f"CUSTOMER={customer}", f"OUT={out}", f"BIN={BIN}"],
+                        f"CUSTOMER={customer}", f"OUT={out}", f"BIN={BIN}", *variables],
                        cwd=ROOT, capture_output=True, text=True)
     if expect_ok and r.returncode != 0:
         raise AssertionError(f"make fit failed ({r.returncode}):\n{r.stdout}\n{r.stderr}")
@@ -116,6 +119,36 @@ class PipelineTest(unittest.TestCase):
             self.assertEqual(differ, [])
         finally:
             shutil.rmtree(previous, ignore_errors=True)
+
+    def test_6_flags_on_the_command_line_rerun_their_stage(self):
+        after_sim = ["simulate-adapt", "export-rest", "fit-report"]
+        _, stages = fit(self.customer, self.out, variables=["SIMULATE_FLAGS=--settle-max-steps 100"])
+        self.assertEqual(stages, after_sim)
+        with open(os.path.join(self.out, "fit", "report.json")) as f:
+            self.assertEqual(json.load(f)["options"]["settle_max_steps"], 100)
+        _, stages = fit(self.customer, self.out, variables=["SIMULATE_FLAGS=--settle-max-steps 100"])
+        self.assertEqual(stages, [])
+        # Back to customer.mk's flags: the fit is made with them again.
+        _, stages = fit(self.customer, self.out)
+        self.assertEqual(stages, after_sim)
+        with open(os.path.join(self.out, "fit", "report.json")) as f:
+            self.assertEqual(json.load(f)["options"]["settle_max_steps"], 120)
+
+    def test_7_flags_changed_in_customer_mk_rerun_their_stage(self):
+        mk = os.path.join(self.customer, "customer.mk")
+        good = read(mk)
+        try:
+            with open(mk, "a") as f:
+                f.write("EXPORT_FLAGS := --max-rounds 16\n")  # the default: another string, the same pattern
+            _, stages = fit(self.customer, self.out)
+            self.assertEqual(stages, ["export-rest", "fit-report"])
+            _, stages = fit(self.customer, self.out)
+            self.assertEqual(stages, [])
+        finally:
+            with open(mk, "w") as f:
+                f.write(good)
+        _, stages = fit(self.customer, self.out)
+        self.assertEqual(stages, ["export-rest", "fit-report"])
 
 
 if __name__ == "__main__":

@@ -60,6 +60,7 @@ int main(int argc, char** argv) {
     body_info.vertex_count = V_body.rows();
     body_info.face_count = F_body.rows();
     body_info.topology_sha256 = gp::topology_checksum(F_body);
+    body_info.design_pose_sha256 = gp::vertex_checksum(V_body);
 
     gp::MakeGarmentResult result = gp::make_garment(V_body, F_body, spec);
     tool.log().detail("garment: " + std::to_string(result.mesh.V.rows()) + " vertices, " +

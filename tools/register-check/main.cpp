@@ -1,6 +1,5 @@
 // register-check: validates a customer's registered poses and writes the
 // normalized pose set (poses.json + one binary PLY per pose) for later stages.
-#include <iostream>
 
 #include "cli/tool.h"
 #include "core/atomic_file.h"
@@ -24,8 +23,15 @@ int main(int argc, char** argv) {
   app.add_option("--reference", o.reference, "Reference pose name (file stem) [default: first pose]");
   app.add_option("--units", o.units, "Input units: auto, m, cm, mm or in")
       ->check(CLI::IsMember({"auto", "m", "cm", "mm", "in"}));
-  app.add_option("--up", o.up, "Input up axis: auto, +y, -y, +z, -z, +x or -x")
+  auto* units = app.get_option("--units");
+  app.add_option("--up", o.up,
+                 "Input up axis: auto, +y, -y, +z, -z, +x or -x (auto refuses a body whose up direction its cues "
+                 "cannot tell, exit 5)")
       ->check(CLI::IsMember({"auto", "+x", "-x", "+y", "-y", "+z", "-z"}));
+  auto* height = app.add_option("--height", o.height,
+                                "Scale the body so that the reference pose is this tall along the up axis, for a "
+                                "body in unknown units; the report records the factor. Excludes --units [m]")
+                     ->check(CLI::Range(0.3, 3.0));
   app.add_flag("--reorder", o.reorder,
                "Re-index poses whose vertices are in another order into the reference's order");
   app.add_flag("--triangulate", o.triangulate, "Split polygons into triangles instead of rejecting them");
@@ -39,6 +45,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 60.0));
   app.add_option("--worst-edges", o.worst_edges, "Worst edges listed per pose in the report [count]")
       ->check(CLI::Range(0, 1000));
+  height->excludes(units);
   tool.add_common_options();
 
   return tool.run(argc, argv, [&] {
@@ -48,12 +55,6 @@ int main(int argc, char** argv) {
     gp::StagedOutputDir out(tool.common().out_dir, tool.common().force);
     const gp::RegisterCheckResult result = gp::register_check(poses, o);
     auto& log = tool.log();
-
-    for (const gp::Finding& f : result.findings) {
-      const std::string who = f.pose.empty() ? "" : f.pose + ": ";
-      if (f.severity == gp::Severity::warning) log.warning(who + f.message);
-      else log.info((f.severity == gp::Severity::error ? "error: " : "check failed: ") + who + f.message);
-    }
 
     const gp::ExitCode code = result.exit_code();
     if (code == gp::ExitCode::ok) {
@@ -76,6 +77,22 @@ int main(int argc, char** argv) {
     gp::write_json_file(out.file("report.json"), gp::register_check_report(result, o));
     out.commit();
 
+    const std::string report_path = tool.common().out_dir + "/report.json";
+    if (code != gp::ExitCode::ok) {
+      // One line: the first error (or failed check); the others are in the report.
+      const gp::Severity first = code == gp::ExitCode::check_failed ? gp::Severity::fail : gp::Severity::error;
+      int others = -1;
+      std::string message;
+      for (const gp::Finding& f : result.findings)
+        if (f.severity != gp::Severity::warning) {
+          if (message.empty() && f.severity == first) message = (f.pose.empty() ? "" : f.pose + ": ") + f.message;
+          ++others;
+        }
+      log.error(code, message + (others > 0 ? "; " + std::to_string(others) + " more in " : "; see ") + report_path);
+      return static_cast<int>(code);
+    }
+    for (const gp::Finding& f : result.findings)
+      log.warning((f.pose.empty() ? "" : f.pose + ": ") + f.message);
     std::string summary = std::to_string(result.poses.size()) + " poses, " +
                           std::to_string(result.F.rows()) + " triangles";
     if (result.units)
@@ -84,16 +101,7 @@ int main(int argc, char** argv) {
     for (const gp::PoseCheck& p : result.poses)
       if (p.edge_ratios) worst = std::max(worst, p.edge_ratios->worst_factor);
     if (result.poses.size() > 1) summary += ", worst edge-length factor " + std::to_string(worst);
-    log.info(result.verdict() + ": " + summary + "; report in " +
-             (tool.common().out_dir + "/report.json"));
-    if (code != gp::ExitCode::ok && code != gp::ExitCode::check_failed) {
-      for (const gp::Finding& f : result.findings)
-        if (f.severity == gp::Severity::error) {
-          std::cerr << "register-check: error[" << gp::category_name(code) << "]: "
-                    << (f.pose.empty() ? "" : f.pose + ": ") << f.message << '\n';
-          break;
-        }
-    }
+    log.info(result.verdict() + ": " + summary + "; report in " + report_path);
     return static_cast<int>(code);
   });
 }

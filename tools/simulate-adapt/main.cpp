@@ -16,6 +16,7 @@
 #include "cli/tool.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "garment/design_body.h"
 #include "garment/garment_file.h"
 #include "interp/motion_spec.h"
 #include "interp/pose_interpolator.h"
@@ -39,6 +40,10 @@ int main(int argc, char** argv) {
   app.add_option("--garment", garment_path, "Garment file (garment.json, garment/1); its mesh sits beside it")
       ->required();
   app.add_flag("--no-adapt", no_adapt, "Keep the rest shape fixed (evaluate a single-pose design)");
+  bool other_body = false;
+  app.add_flag("--other-body", other_body,
+               "Fit the garment to a pose set whose design pose is another body than the one it was designed on "
+               "(by default that is refused, exit 5)");
   bool no_verify = false;
   app.add_flag("--no-verify", no_verify,
                "Skip the verification pass (the final rest shape simulated afresh through the motion without "
@@ -192,6 +197,29 @@ int main(int argc, char** argv) {
                                   std::to_string(poses.V[0].rows()),
                               garment_path);
     }
+    const gp::DesignPoseMatch design = gp::match_design_pose(garment, poses);
+    if (!design.same && !other_body)
+      throw gp::GeometryError("pose '" + garment.body.design_pose + "' of the pose set is another body than the "
+                              "garment was designed on (its vertex checksum " + design.actual.substr(0, 16) +
+                              ", the garment file's " + design.expected.substr(0, 16) +
+                              "); pass --other-body to fit it deliberately",
+                              poses_path);
+    std::optional<gp::CarryToBodyResult> carried;
+    if (!design.same) {
+      // The garment is put on the new body before it moves: carried with the
+      // body where the design body can still be found, and cleared of it.
+      Eigen::MatrixXd V_from;
+      try {
+        const gp::DesignBody from = gp::load_design_body(garment, garment_path, "");
+        if (gp::vertex_checksum(from.V) == design.expected) V_from = from.V;
+      } catch (const gp::InputError&) {
+      }
+      carried = gp::carry_to_body(read.mesh.V, read.mesh.F, garment, V_from,
+                                  poses.V[static_cast<size_t>(design.pose)], poses.F);
+      tool.log().warning("pose '" + garment.body.design_pose + "' is another body than the garment was designed on; "
+                         "the garment was " + (carried->carried ? "carried to it and " : "") + "cleared of it (" +
+                         (carried->clearance.clear() ? "clear" : "still crossing it") + ") as --other-body asks");
+    }
     gp::InterpolationOptions interp_options;
     interp_options.anchor = motion.anchor;
     gp::PoseInterpolator interpolator(poses, interp_options);
@@ -298,6 +326,7 @@ int main(int argc, char** argv) {
                          {"motion", motion_path},
                          {"garment", garment_path},
                          {"adapt", options.adapt},
+                         {"other_body", other_body},
                          {"dt_s", options.dt},
                          {"substeps", options.substeps},
                          {"adapt_every", options.adapt_every},
@@ -340,6 +369,15 @@ int main(int argc, char** argv) {
                          {"motion_effective", gp::to_json(motion)},
                          {"material", gp::to_json(garment.material)},
                          {"comfort_offset_m", garment.offset}};
+    if (carried) {
+      report["other_body"] = {{"design_pose", garment.body.design_pose},
+                              {"garment_file_sha256", design.expected},
+                              {"pose_set_sha256", design.actual},
+                              {"carried_with_body", carried->carried},
+                              {"largest_carry_m", carried->carried ? gp::OrderedJson(carried->largest_carry)
+                                                                   : gp::OrderedJson(nullptr)},
+                              {"clearance", gp::to_json(carried->clearance)}};
+    }
     report["counts"] = {{"garment_vertices", read.mesh.V.rows()},
                         {"garment_faces", read.mesh.F.rows()},
                         {"body_vertices", poses.V[0].rows()},

@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <filesystem>
 
 #include "core/error.h"
@@ -49,4 +50,30 @@ TEST_CASE("pose names are checked", "[pose]") {
   CHECK_FALSE(gp::is_valid_pose_name(""));
   CHECK_FALSE(gp::is_valid_pose_name("arms up"));
   CHECK_FALSE(gp::is_valid_pose_name("../x"));
+}
+
+TEST_CASE("vertex checksums tell bodies apart but not round-off", "[pose]") {
+  const gp::Mesh body = gp::testing::make_icosphere(3, 0.9);
+  const std::string sum = gp::vertex_checksum(body.V);
+  CHECK(sum.size() == 64);
+  // The same body through centimetres and back, and through a file.
+  const Eigen::MatrixXd via_cm = (body.V * 100.0) * 0.01;
+  CHECK((via_cm - body.V).cwiseAbs().maxCoeff() < 1e-15);
+  CHECK(gp::vertex_checksum(via_cm) == sum);
+  const fs::path dir = gp::testing::fresh_temp_dir("vertex_checksum");
+  gp::write_mesh(dir / "body.ply", body);
+  CHECK(gp::vertex_checksum(gp::read_mesh(dir / "body.ply").mesh.V) == sum);
+  // One vertex moved by 5 micrometres, the body 1 % larger, two vertices swapped.
+  Eigen::MatrixXd moved = body.V;
+  moved(7, 1) += 5e-6;
+  CHECK(gp::vertex_checksum(moved) != sum);
+  CHECK(gp::vertex_checksum(body.V * 1.01) != sum);
+  Eigen::MatrixXd swapped = body.V;
+  swapped.row(0).swap(swapped.row(1));
+  CHECK(gp::vertex_checksum(swapped) != sum);
+  // Non-finite coordinates hash without undefined behaviour.
+  Eigen::MatrixXd nan = body.V;
+  nan(0, 0) = std::nan("");
+  CHECK(gp::vertex_checksum(nan) != sum);
+  fs::remove_all(dir);
 }

@@ -2,6 +2,7 @@
 // one per failure mode, each asserting the exit code and the message.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <numeric>
@@ -119,7 +120,85 @@ TEST_CASE("register-check converts centimetres and z-up scans to metres, +y up",
   gp::write_mesh(dir / "tiny.ply", tiny);
   run_check({dir / "tiny.ply"}, dir / "out3", "", r);
   CHECK(r.exit_code == 5);
-  CHECK_THAT(r.err, Catch::Contains("cannot infer units") && Catch::Contains("--units"));
+  CHECK_THAT(r.err, Catch::Contains("cannot infer units") && Catch::Contains("--units") &&
+                        Catch::Contains("--height"));
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("register-check scales a body in unknown units to a known height", "[register-check]") {
+  const fs::path dir = gp::testing::fresh_temp_dir("rc_height");
+  const gp::Mesh body = make_body();
+  gp::Mesh odd = body;
+  odd.V *= 10.72 / 1.7;  // 10.72 units tall: no unit fits
+  gp::write_mesh(dir / "odd.ply", odd);
+  gp::write_mesh(dir / "odd_bow.ply", bend(odd, 0.0));
+  gp::testing::CommandResult r;
+  run_check({dir / "odd.ply"}, dir / "out", "", r);
+  CHECK(r.exit_code == 5);
+  CHECK_THAT(r.err, Catch::Contains("cannot infer units from a body height of 10.72") && Catch::Contains("--height"));
+  run_check({dir / "odd.ply", dir / "odd_bow.ply"}, dir / "out2", "--height 1.65", r);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const gp::Json report = read_report(dir / "out2");
+  CHECK(report["options"]["height_m"].get<double>() == 1.65);
+  CHECK(report["units"]["units"] == "height");
+  CHECK(report["units"]["scaled_to_height_m"].get<double>() == 1.65);
+  CHECK(report["units"]["scale_to_metres"].get<double>() == Approx(1.65 / 10.72).epsilon(1e-9));
+  CHECK(report["units"]["height_m"].get<double>() == Approx(1.65).epsilon(1e-12));
+  const gp::PoseSet set = gp::load_pose_set(dir / "out2" / "poses.json");
+  for (const Eigen::MatrixXd& V : set.V)
+    CHECK(V.col(1).maxCoeff() - V.col(1).minCoeff() == Approx(1.65).epsilon(1e-9));
+  CHECK((set.V[0] - body.V * (1.65 / 1.7)).cwiseAbs().maxCoeff() < 1e-9);
+  // With --up it takes any orientation; with --units it is a usage error.
+  gp::Mesh sideways = odd;
+  sideways.V.col(0).swap(sideways.V.col(1));
+  sideways.F.col(1).swap(sideways.F.col(2));
+  gp::write_mesh(dir / "sideways.ply", sideways);
+  run_check({dir / "sideways.ply"}, dir / "out3", "--height 1.8 --up +x", r);
+  CHECK(r.exit_code == 0);
+  CHECK(read_report(dir / "out3")["units"]["height_m"].get<double>() == Approx(1.8).epsilon(1e-12));
+  run_check({dir / "odd.ply"}, dir / "out4", "--height 1.8 --units cm", r);
+  CHECK(r.exit_code == 2);
+  CHECK_FALSE(fs::exists(dir / "out4"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("register-check refuses a body whose up direction it cannot tell, in one line", "[register-check]") {
+  const fs::path dir = gp::testing::fresh_temp_dir("rc_up");
+  // An ellipsoid with no flat end and one cross-section at each: nothing says which end is up.
+  gp::Mesh egg = gp::testing::make_icosphere(3, 1.0);
+  egg.V = egg.V * Eigen::Vector3d(0.25, 0.85, 0.15).asDiagonal();
+  gp::write_mesh(dir / "egg.ply", egg);
+  gp::testing::CommandResult r;
+  run_check({dir / "egg.ply"}, dir / "out", "", r);
+  CHECK(r.exit_code == 5);
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK_THAT(r.err, Catch::StartsWith("register-check: error[geometry]: egg: cannot tell which way is up") &&
+                        Catch::Contains("soles say nothing") && Catch::Contains("legs say nothing") &&
+                        Catch::Contains("pass --up"));
+  const gp::Json report = read_report(dir / "out");
+  CHECK(report["verdict"] == "error");
+  CHECK(report["units"]["up_ambiguous"] == true);
+  CHECK(report["units"]["up_cues"].size() == 2);
+  CHECK_FALSE(fs::exists(dir / "out" / "poses.json"));
+  // --up settles it.
+  run_check({dir / "egg.ply"}, dir / "out2", "--up -y", r);
+  CHECK(r.exit_code == 0);
+  CHECK(read_report(dir / "out2")["units"]["up"] == "-y");
+  CHECK(read_report(dir / "out2")["units"]["up_reason"] == "given by --up");
+  // The flat-based stand-in body upside down along z is found as -z.
+  const gp::Mesh body = make_body();
+  gp::Mesh turned = body;
+  for (Eigen::Index i = 0; i < body.V.rows(); ++i)
+    turned.V.row(i) = Eigen::RowVector3d(body.V(i, 0), body.V(i, 2), -body.V(i, 1));
+  gp::write_mesh(dir / "turned.ply", turned);
+  run_check({dir / "turned.ply"}, dir / "out3", "", r);
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  const gp::Json turned_report = read_report(dir / "out3");
+  CHECK(turned_report["units"]["up"] == "-z");
+  CHECK(turned_report["units"]["up_cues"][0]["vote"] == "-z");
   fs::remove_all(dir);
 }
 
@@ -318,7 +397,10 @@ TEST_CASE("register-check fails a registration error with exit 8 and writes the 
   gp::testing::CommandResult r;
   run_check({dir / "a.ply", dir / "b.ply"}, dir / "out", "", r);
   CHECK(r.exit_code == 8);
-  CHECK_THAT(r.err, Catch::Contains("check failed: b: registration: an edge changes length"));
+  // One line: the failed check, and where the rest is.
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK_THAT(r.err, Catch::StartsWith("register-check: error[check]: b: registration: an edge changes length") &&
+                        Catch::Contains("report.json"));
   const gp::Json report = read_report(dir / "out");
   CHECK(report["verdict"] == "fail");
   const gp::Json& worst = report["poses"][1]["edge_ratio"]["worst_edges"][0];
