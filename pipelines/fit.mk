@@ -76,7 +76,7 @@ AVATAR_STAMP   := $(call flags_stamp,make-avatar,$(AVATAR_FLAGS))
 REGISTER_STAMP := $(call flags_stamp,register-check,$(REGISTER_FLAGS))
 GARMENT_STAMP  := $(call flags_stamp,make-garment,$(GARMENT_FLAGS))
 SIMULATE_STAMP := $(call flags_stamp,simulate-adapt,$(SIMULATE_FLAGS))
-EXPORT_STAMP   := $(call flags_stamp,export-rest,$(EXPORT_FLAGS) $(if $(ROUND_TRIP),round-trip))
+EXPORT_STAMP   := $(call flags_stamp,export-rest,$(EXPORT_FLAGS) $(if $(NO_SEW_CHECK),no-sew-check))
 REPORT_STAMP   := $(call flags_stamp,fit-report,$(REPORT_FLAGS) $(if $(NO_ADAPT),no-adapt))
 
 # --- body -------------------------------------------------------------------

@@ -65,7 +65,7 @@ struct CylinderCase {
     g.mesh_sha256 = "0";
     g.vertex_count = cyl.V.rows();
     g.face_count = cyl.F.rows();
-    g.body = {"none", "0", "tpose", 0, 0, "0"};
+    g.body = {"none", "0", "tpose", 0, 0, "0", ""};
     g.spec_file = "none";
     g.spec_sha256 = "0";
     g.target_edge_length = 0.03;
