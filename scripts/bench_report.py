@@ -1,5 +1,6 @@
 """BENCHMARKS.md from the results of scripts/bench.py."""
 import math
+import os
 
 PAPER = [(3926, 1.70), (1103, 7.82)]  # Wolff et al. 2023: garment vertices, frames/s on 12 cores at 2.7 GHz
 PHASES = [("forces_assembly", "forces + assembly"), ("factorization", "factorization"), ("solve", "solve"),
@@ -260,6 +261,18 @@ def memory_section(lines, bench, plot):
     lines += plot("memory.png")
 
 
+def changes_section(lines, changes_path):
+    """The speed changes measured one against the binary before them
+    (benchmarks/changes.md, written by hand with each change: a benchmark run
+    has only the current binary, so it cannot measure these ratios itself)."""
+    if not os.path.exists(changes_path):
+        return
+    with open(changes_path) as f:
+        text = f.read().strip()
+    if text:
+        lines += ["### Changes measured against the binary before them", "", text, ""]
+
+
 def write(path, bench, meta, plots):
     available = set(plots)
 
@@ -283,6 +296,7 @@ def write(path, bench, meta, plots):
         "",
     ]
     sim_section(lines, bench.results, meta, plot)
+    changes_section(lines, os.path.join(os.path.dirname(os.path.abspath(path)), meta["plots_rel"], "changes.md"))
     culling_section(lines, bench.results, plot)
     tradeoff_section(lines, bench.results, plot)
     interp_section(lines, bench.results, plot)

@@ -8,6 +8,7 @@ packages=(
   cmake g++ make pkg-config
   libeigen3-dev            # dense and sparse linear algebra
   libsuitesparse-dev       # CHOLMOD
+  libmetis-dev             # METIS, which the static CHOLMOD library calls for its ordering
   libopenblas-dev          # BLAS for CHOLMOD's supernodal factorization (reference BLAS is ~70 % slower)
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev  # CGAL and what its headers need
   libassimp-dev            # mesh formats besides OBJ and PLY

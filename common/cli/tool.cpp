@@ -92,19 +92,8 @@ void set_thread_count(int threads) {
   using SetThreads = void (*)(int);
   if (auto* set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
     set(threads);
-  // CHOLMOD's supernodal factorization also runs OpenMP loops of its own;
-  // without this, --threads 1 would still use every core.
-  if (auto* set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "omp_set_num_threads")))
-    set(threads);
-  // That is not enough for one thread: CHOLMOD 3's supernodal factorization
-  // asks for teams of CHOLMOD_OMP_NUM_THREADS (4) in a num_threads clause,
-  // which overrides the count above, for loops over every supernode. On this
-  // 2-core machine a 1,085-vertex run made 441,000 futex calls in 80 steps,
-  // waking three worker threads thousands of times per factorization. With no
-  // active parallel level allowed, every OpenMP region runs on the calling
-  // thread alone.
-  if (threads == 1)
-    if (auto* set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"))) set(0);
+  // CHOLMOD's own OpenMP loops always run on the calling thread
+  // (common/linalg/cholmod_serial_openmp.cpp), whatever the count.
 }
 
 }  // namespace gp

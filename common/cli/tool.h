@@ -78,9 +78,7 @@ class Tool {
   Logger log_;
 };
 
-// Sets the number of threads for Eigen, for OpenBLAS (the BLAS calls inside
-// CHOLMOD's supernodal factorization) and for OpenMP (CHOLMOD's own loops),
-// where those libraries are loaded.
+// Sets the number of threads for Eigen and for OpenBLAS, where it is loaded.
 void set_thread_count(int threads);
 
 }  // namespace gp

@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <vector>
 
@@ -8,6 +9,7 @@
 #include <Eigen/SparseCore>
 
 #include "core/error.h"
+#include "linalg/cholmod_serial_openmp.h"
 #include "linalg/cholmod_solver.h"
 
 namespace {
@@ -197,4 +199,31 @@ TEST_CASE("a moved solver keeps its factor and the source stays usable", "[linal
   CHECK_THROWS_AS(first.solve(B), gp::UsageError);
   first.compute(A);
   CHECK(relative_residual(A, first.solve(B), B) < 1e-12);
+}
+
+TEST_CASE("CHOLMOD's parallel regions run on the calling thread and start no thread", "[linalg]") {
+  // Threads of this process (Linux): an OpenMP runtime would start its team
+  // on the first region that asks for one and keep it.
+  auto thread_count = [] {
+    std::error_code error;
+    long count = 0;
+    for (std::filesystem::directory_iterator it("/proc/self/task", error), end; !error && it != end; it.increment(error))
+      ++count;
+    return count;
+  };
+  const long threads_before = thread_count();
+  if (threads_before == 0) WARN("skipped the thread count: /proc/self/task is not readable");
+  // 150 x 150 grid: supernodes far above the sizes (1,024 entries, 64
+  // columns, 128 rows) at which CHOLMOD's loops ask for a team of four.
+  const SparseMatrix A = grid_laplacian(150, 150, 0.01);
+  const long regions_before = gp::cholmod_openmp_regions();
+  gp::CholmodSolver solver;
+  solver.compute(A);
+  REQUIRE(solver.is_supernodal());
+  const long regions = gp::cholmod_openmp_regions() - regions_before;
+  // 13,660 regions here: several per supernode and per descendant update.
+  CHECK(regions > 1000);
+  if (threads_before > 0) CHECK(thread_count() == threads_before);
+  const Eigen::MatrixXd B = deterministic_rhs(A.rows(), 2);
+  CHECK(relative_residual(A, solver.solve(B), B) < 1e-10);
 }
