@@ -196,6 +196,23 @@ MeshReadResult read_ply(const std::filesystem::path& path, const MeshReadOptions
     }
   }
   if (!have_format) throw InputError("header has no format line", file);
+  // Every instance of an element with properties takes at least one byte, so
+  // a count beyond the bytes after the header is a corrupt file, not a
+  // reason to allocate or loop that often; an element without properties
+  // would be read without consuming anything.
+  const std::streamoff body_start = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::streamoff body_bytes = in.tellg() - body_start;
+  in.seekg(body_start);
+  for (const Element& e : elements) {
+    if (e.count > 0 && e.properties.empty())
+      throw InputError("element '" + e.name + "' has " + std::to_string(e.count) + " instances but no properties",
+                       file);
+    if (e.count > body_bytes)
+      throw InputError("element '" + e.name + "' declares " + std::to_string(e.count) +
+                           " instances, more than the " + std::to_string(body_bytes) + " bytes after the header",
+                       file);
+  }
   result.format = enc == Encoding::ascii       ? "ply-ascii"
                   : enc == Encoding::binary_le ? "ply-binary-le"
                                                : "ply-binary-be";

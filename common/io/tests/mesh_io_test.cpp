@@ -160,6 +160,20 @@ TEST_CASE("malformed files are input errors naming file and element", "[io]") {
   require_error([&] { gp::read_mesh(dir / "range.ply"); }, gp::ExitCode::input,
                 "vertex index 5 out of range [0, 3) (" + (dir / "range.ply").string() + ": face 0)");
   require_error([&] { gp::read_mesh(dir / "absent.ply"); }, gp::ExitCode::input, "no such file");
+  // Found by fuzzing: an element without properties and two billion
+  // instances was skipped instance by instance without reading a byte (a
+  // hang); a count beyond the file's bytes is refused before any allocation.
+  const std::string triangle =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\n";
+  write_text(dir / "empty_element.ply", triangle + "element junk 2182178764\nend_header\n" + std::string(36, '\0'));
+  require_error([&] { gp::read_mesh(dir / "empty_element.ply"); }, gp::ExitCode::input,
+                "element 'junk' has 2182178764 instances but no properties");
+  write_text(dir / "huge_count.ply",
+             "ply\nformat binary_little_endian 1.0\nelement vertex 2000000000\nproperty float x\n"
+             "property float y\nproperty float z\nend_header\n" + std::string(36, '\0'));
+  require_error([&] { gp::read_mesh(dir / "huge_count.ply"); }, gp::ExitCode::input,
+                "element 'vertex' declares 2000000000 instances, more than the 36 bytes after the header");
   fs::remove_all(dir);
 }
 
