@@ -14,32 +14,6 @@ bool FitVerification::passed() const {
   return true;
 }
 
-std::vector<std::string> check_pose(const KeyPoseResult& k, double delta, const FitCriteria& criteria) {
-  std::vector<std::string> failures;
-  char line[200];
-  const double limit = 1.0 + delta;
-  if (k.area_fraction_above >= criteria.max_area_above) {
-    std::snprintf(line, sizeof(line), "%.2f %% of the area stretched above %.3f (at most %.2f %%)",
-                  100.0 * k.area_fraction_above, limit, 100.0 * criteria.max_area_above);
-    failures.push_back(line);
-  }
-  if (k.p99_stretch > limit + criteria.p99_margin) {
-    std::snprintf(line, sizeof(line), "p99 stretch %.4f above %.4f", k.p99_stretch, limit + criteria.p99_margin);
-    failures.push_back(line);
-  }
-  if (k.deepest_penetration > criteria.max_penetration) {
-    std::snprintf(line, sizeof(line), "a cloth vertex %.1f mm inside the body (at most %.1f mm)",
-                  1e3 * k.deepest_penetration, 1e3 * criteria.max_penetration);
-    failures.push_back(line);
-  }
-  if (k.crossings.crossings() > criteria.max_crossings) {
-    std::snprintf(line, sizeof(line), "the body passes through the cloth (%ld edge/triangle crossings, at most %ld)",
-                  k.crossings.crossings(), criteria.max_crossings);
-    failures.push_back(line);
-  }
-  return failures;
-}
-
 OrderedJson to_json(const PoseCheck& check, const std::string& mesh) {
   const KeyPoseResult& k = check.figures;
   return {{"key", k.key},

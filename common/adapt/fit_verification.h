@@ -16,16 +16,6 @@
 
 namespace gp::adapt {
 
-// A key pose fails when any bound is exceeded.
-struct FitCriteria {
-  double max_area_above = 0.01;    // rest-area fraction with max stretch above 1 + delta: fails at or above
-  double p99_margin = 0.02;        // fails when the p99 stretch exceeds 1 + delta + p99_margin
-  double max_penetration = 0.002;  // m: fails when a cloth vertex lies deeper inside the body
-  // Body edges through cloth triangles plus cloth edges through body
-  // triangles (collision/crossings.h): fails above this count.
-  long max_crossings = 0;
-};
-
 struct PoseCheck {
   KeyPoseResult figures;              // drape, stretch and penetration figures of the key pose
   std::vector<std::string> failures;  // one sentence per bound exceeded (empty: passed)
@@ -39,10 +29,6 @@ struct FitVerification {
   double seconds = 0.0;               // wall time of the simulation
   bool passed() const;
 };
-
-// The bounds a key pose's figures exceed, in words ("p99 stretch 1.134 above
-// 1.120"); empty when it passes. delta: the stretch limit of the fit.
-std::vector<std::string> check_pose(const KeyPoseResult& figures, double delta, const FitCriteria& criteria);
 
 // Simulates the garment through `motion` with the given rest triangles (one
 // per face of F) and no adaptation, starting at V_start (#V by 3: the garment

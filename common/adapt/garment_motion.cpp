@@ -43,30 +43,6 @@ cloth::ClothParameters parameters_from(const Material& m) {
   return p;
 }
 
-// Area-weighted statistics of the per-face stretch.
-void stretch_figures(const Eigen::VectorXd& s, const Eigen::VectorXd& area, double limit, KeyPoseResult& k) {
-  const double total = area.sum();
-  std::vector<int> order(s.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&s](int a, int b) { return s(a) < s(b); });
-  double accumulated = 0.0;
-  k.p99_stretch = s.size() ? s(order.back()) : 0.0;
-  for (int f : order) {
-    accumulated += area(f);
-    if (accumulated >= 0.99 * total) {
-      k.p99_stretch = s(f);
-      break;
-    }
-  }
-  k.max_stretch = s.size() ? s.maxCoeff() : 0.0;
-  k.mean_stretch = total > 0.0 ? s.dot(area) / total : 0.0;
-  double above = 0.0;
-  for (Eigen::Index f = 0; f < s.size(); ++f) {
-    if (s(f) > limit) above += area(f);
-  }
-  k.area_fraction_above = total > 0.0 ? above / total : 0.0;
-}
-
 void check_options(const MotionRunOptions& options) {
   if (options.substeps < 1 || options.adapt_every < 1 || options.settle_max_steps < 0 || options.threads < 1) {
     throw UsageError("substeps, adapt_every and threads must be at least 1, settle_max_steps non-negative");

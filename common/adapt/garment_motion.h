@@ -17,6 +17,7 @@
 
 #include <Eigen/Core>
 
+#include "adapt/key_pose.h"
 #include "adapt/rest_adapter.h"
 #include "cloth/cloth_simulator.h"
 #include "collision/body_collider.h"
@@ -99,26 +100,6 @@ struct MotionRunOptions {
   // adaptations computed and half the body contacts queried on a second
   // thread. The work and its inputs are the same, so are the outputs.
   int threads = 1;
-};
-
-struct KeyPoseResult {
-  std::string pose;
-  int key = 0;                        // index in the motion's key sequence
-  Eigen::MatrixXd V_draped;           // #V by 3
-  Eigen::VectorXd face_max_stretch;   // #F, largest principal stretch against the rest shape
-  double max_stretch = 0.0;
-  double p99_stretch = 0.0;           // 99th percentile over faces, weighted by rest area
-  double mean_stretch = 0.0;          // rest-area weighted mean
-  double area_fraction_above = 0.0;   // rest-area fraction with max stretch above 1 + delta
-  double deepest_penetration = 0.0;   // m inside the body (0 when nothing is inside)
-  double rest_area_growth = 1.0;      // rest area / design rest area
-  double rest_area_change = 0.0;      // relative rest-area change over the last fixed_point_steps settle steps
-  long steps = 0;                     // simulation steps up to this key pose
-  int settle_steps = 0;
-  bool settled = false;
-  double max_speed = 0.0;             // largest instantaneous vertex speed at the end [m/s]
-  double max_net_speed = 0.0;         // largest net vertex speed over the last settle check [m/s]
-  collision::CrossingReport crossings;  // the drape against the body at this pose
 };
 
 struct MotionRunTimes {               // wall seconds

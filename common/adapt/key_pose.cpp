@@ -1,0 +1,64 @@
+#include "adapt/key_pose.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <numeric>
+
+namespace gp::adapt {
+
+void stretch_figures(const Eigen::VectorXd& s, const Eigen::VectorXd& area, double limit, KeyPoseResult& k) {
+  const double total = area.sum();
+  std::vector<int> order(s.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&s](int a, int b) { return s(a) < s(b); });
+  double accumulated = 0.0;
+  k.p99_stretch = s.size() ? s(order.back()) : 0.0;
+  for (int f : order) {
+    accumulated += area(f);
+    if (accumulated >= 0.99 * total) {
+      k.p99_stretch = s(f);
+      break;
+    }
+  }
+  k.max_stretch = s.size() ? s.maxCoeff() : 0.0;
+  k.mean_stretch = total > 0.0 ? s.dot(area) / total : 0.0;
+  double above = 0.0;
+  for (Eigen::Index f = 0; f < s.size(); ++f) {
+    if (s(f) > limit) above += area(f);
+  }
+  k.area_fraction_above = total > 0.0 ? above / total : 0.0;
+}
+
+std::vector<std::string> stretch_failures(const KeyPoseResult& k, double delta, const FitCriteria& criteria) {
+  std::vector<std::string> failures;
+  char line[200];
+  const double limit = 1.0 + delta;
+  if (k.area_fraction_above >= criteria.max_area_above) {
+    std::snprintf(line, sizeof(line), "%.2f %% of the area stretched above %.3f (at most %.2f %%)",
+                  100.0 * k.area_fraction_above, limit, 100.0 * criteria.max_area_above);
+    failures.push_back(line);
+  }
+  if (k.p99_stretch > limit + criteria.p99_margin) {
+    std::snprintf(line, sizeof(line), "p99 stretch %.4f above %.4f", k.p99_stretch, limit + criteria.p99_margin);
+    failures.push_back(line);
+  }
+  return failures;
+}
+
+std::vector<std::string> check_pose(const KeyPoseResult& k, double delta, const FitCriteria& criteria) {
+  std::vector<std::string> failures = stretch_failures(k, delta, criteria);
+  char line[200];
+  if (k.deepest_penetration > criteria.max_penetration) {
+    std::snprintf(line, sizeof(line), "a cloth vertex %.1f mm inside the body (at most %.1f mm)",
+                  1e3 * k.deepest_penetration, 1e3 * criteria.max_penetration);
+    failures.push_back(line);
+  }
+  if (k.crossings.crossings() > criteria.max_crossings) {
+    std::snprintf(line, sizeof(line), "the body passes through the cloth (%ld edge/triangle crossings, at most %ld)",
+                  k.crossings.crossings(), criteria.max_crossings);
+    failures.push_back(line);
+  }
+  return failures;
+}
+
+}  // namespace gp::adapt

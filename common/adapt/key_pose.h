@@ -1,0 +1,55 @@
+#pragma once
+// A key pose of a motion run: the settled drape, its stretch, penetration and
+// crossing figures, and the bounds within which it counts as a fit.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "collision/crossings.h"
+
+namespace gp::adapt {
+
+struct KeyPoseResult {
+  std::string pose;
+  int key = 0;                        // index in the motion's key sequence
+  Eigen::MatrixXd V_draped;           // #V by 3
+  Eigen::VectorXd face_max_stretch;   // #F, largest principal stretch against the rest shape
+  double max_stretch = 0.0;
+  double p99_stretch = 0.0;           // 99th percentile over faces, weighted by rest area
+  double mean_stretch = 0.0;          // rest-area weighted mean
+  double area_fraction_above = 0.0;   // rest-area fraction with max stretch above 1 + delta
+  double deepest_penetration = 0.0;   // m inside the body (0 when nothing is inside)
+  double rest_area_growth = 1.0;      // rest area / design rest area
+  double rest_area_change = 0.0;      // relative rest-area change over the last fixed_point_steps settle steps
+  long steps = 0;                     // simulation steps up to this key pose
+  int settle_steps = 0;
+  bool settled = false;
+  double max_speed = 0.0;             // largest instantaneous vertex speed at the end [m/s]
+  double max_net_speed = 0.0;         // largest net vertex speed over the last settle check [m/s]
+  collision::CrossingReport crossings;  // the drape against the body at this pose
+};
+
+// The bounds of a fitted key pose; it fails when any is exceeded.
+struct FitCriteria {
+  double max_area_above = 0.01;    // rest-area fraction with max stretch above 1 + delta: fails at or above
+  double p99_margin = 0.02;        // fails when the p99 stretch exceeds 1 + delta + p99_margin
+  double max_penetration = 0.002;  // m: fails when a cloth vertex lies deeper inside the body
+  // Body edges through cloth triangles plus cloth edges through body
+  // triangles (collision/crossings.h): fails above this count.
+  long max_crossings = 0;
+};
+
+// Sets k's max, p99 (area-weighted) and mean stretch and the area fraction
+// above `limit` from per-face stretches s and areas (both #F).
+void stretch_figures(const Eigen::VectorXd& s, const Eigen::VectorXd& area, double limit, KeyPoseResult& k);
+
+// The stretch bounds a key pose's figures exceed, in words ("p99 stretch
+// 1.134 above 1.120"); empty when they hold. delta: the stretch limit.
+std::vector<std::string> stretch_failures(const KeyPoseResult& k, double delta, const FitCriteria& criteria);
+
+// All bounds a key pose's figures exceed (stretch, penetration, crossings);
+// empty when it passes.
+std::vector<std::string> check_pose(const KeyPoseResult& k, double delta, const FitCriteria& criteria);
+
+}  // namespace gp::adapt
