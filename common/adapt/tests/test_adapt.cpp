@@ -384,3 +384,77 @@ TEST_CASE("the smoothed stitching keeps a shape whose targets are its own triang
   CHECK_THROWS_AS(ArapStitcher(V0, sphere.F, -1.0), gp::UsageError);
   CHECK_THROWS_AS(ArapStitcher(V0, sphere.F, std::nan("")), gp::UsageError);
 }
+
+TEST_CASE("capping a target's growth keeps every direction at least the design's", "[adapt]") {
+  for (const double scale : {1e-6, 1.0, 1e3}) {
+    INFO("scale " << scale);
+    Eigen::Matrix2d D;
+    D << 1.0, 0.3, 0.0, 0.8;
+    D *= scale;
+    const Eigen::Matrix2d G_d = D.transpose() * D;
+    const double tolerance = 1e-12 * G_d.norm();
+    auto at_least_design = [&](const Eigen::Matrix2d& T) {
+      return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(T.transpose() * T - G_d).eigenvalues().minCoeff() >
+             -tolerance;
+    };
+    // Within the bound, even where shorter than the design: left as it is.
+    Eigen::Matrix2d stretch;
+    stretch << 3.0, 0.0, 0.0, 0.8;
+    Eigen::Matrix2d T = stretch * D;
+    CHECK_FALSE(cap_face_growth(D, 4.0, T));
+    CHECK((T - stretch * D).norm() == 0.0);
+    // Stretched 8 times along the first edge: the area is held at 4 times the
+    // design's, the first edge carries all of it, the other direction keeps
+    // the design's length (a uniform scale would shrink it to 0.71).
+    stretch << 8.0, 0.0, 0.0, 1.0;
+    T = stretch * D;
+    CHECK(cap_face_growth(D, 4.0, T));
+    CHECK(std::abs(T.determinant()) == Approx(4.0 * std::abs(D.determinant())).epsilon(1e-9));
+    CHECK(T.col(0).norm() == Approx(4.0 * D.col(0).norm()).epsilon(1e-9));
+    CHECK(at_least_design(T));
+    CHECK(T(1, 0) == 0.0);  // laid out as triangle_frame_edges
+    CHECK(T(1, 1) > 0.0);
+    // Grown 6 times along one direction and shrunk to 0.8 across it (area
+    // 4.8): the short direction comes back to the design's, the long one
+    // takes the rest of the bound.
+    stretch << 6.0, 0.0, 0.0, 0.8;
+    T = stretch * D;
+    CHECK(cap_face_growth(D, 4.0, T));
+    CHECK(std::abs(T.determinant()) == Approx(4.0 * std::abs(D.determinant())).epsilon(1e-9));
+    CHECK(at_least_design(T));
+    // Grown evenly: the even scale to the bound.
+    T = 3.0 * D;
+    CHECK(cap_face_growth(D, 4.0, T));
+    CHECK((T.transpose() * T - 4.0 * G_d).norm() < 1e-9 * G_d.norm());
+  }
+  // A degenerate design triangle and a NaN target set no bound.
+  Eigen::Matrix2d T = 10.0 * Eigen::Matrix2d::Identity();
+  CHECK_FALSE(cap_face_growth(Eigen::Matrix2d::Zero(), 4.0, T));
+  CHECK(T == 10.0 * Eigen::Matrix2d::Identity());
+  T(0, 0) = std::nan("");
+  CHECK_FALSE(cap_face_growth(Eigen::Matrix2d::Identity(), 4.0, T));
+}
+
+TEST_CASE("a rest capped at its growth bound keeps the design's width across the stretch", "[adapt]") {
+  // A 10 x 10 cm sheet held stretched 8 times along x: the targets (7.4
+  // times along x after clipping at 1.08) pass the area bound of 4 and are
+  // compatible, so the stitching meets them. The rest must be 4 times as long
+  // and exactly as wide as designed.
+  const gp::Mesh grid = gp::testing::make_grid(8, 8, 0.1, 0.1);
+  Eigen::MatrixXd V_sim = grid.V;
+  V_sim.col(0) *= 8.0;
+  Eigen::MatrixXd V_rest = grid.V;
+  const AdaptReport r = RestShapeAdapter(grid.V, grid.F).adapt(V_sim, V_rest);
+  CHECK(r.capped_faces == grid.F.rows());
+  // Lengths of the first grid row (along x) and column (along z) of the
+  // stitched rest, which may lie turned in its plane.
+  auto polyline = [&](int stride, int count) {
+    double length = 0.0;
+    for (int k = 0; k < count; ++k) length += (V_rest.row((k + 1) * stride) - V_rest.row(k * stride)).norm();
+    return length;
+  };
+  const double along = polyline(1, 8), across = polyline(9, 8);
+  INFO("rest row " << along << " m, column " << across << " m; misfit " << r.arap.misfit);
+  CHECK(along == Approx(0.4).epsilon(0.01));
+  CHECK(across == Approx(0.1).epsilon(0.01));
+}
