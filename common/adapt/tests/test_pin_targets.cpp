@@ -270,4 +270,7 @@ TEST_CASE("a body part rising beside pinned cloth does not pass through it", "[a
   }
   INFO("binding alone: " << (bound_crossings == -2 ? "the step failed" : "crossings at the shrug"));
   CHECK((bound_crossings == -2 || bound_crossings > 0));
+  // A clearance is a fraction of the offset.
+  CHECK_THROWS_AS(run_shrug(scene, 1.5), gp::UsageError);
+  CHECK_THROWS_AS(run_shrug(scene, -0.1), gp::UsageError);
 }
