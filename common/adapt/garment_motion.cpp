@@ -57,6 +57,9 @@ void check_options(const MotionRunOptions& options) {
   if (!(options.settle_damping >= 0.0) || !std::isfinite(options.settle_damping)) {
     throw UsageError("settle_damping must be finite and non-negative");
   }
+  if (!(options.pin_clearance >= 0.0 && options.pin_clearance <= 1.0)) {
+    throw UsageError("pin_clearance must be within [0, 1] (a fraction of the comfort offset)");
+  }
   if (!options.rest_triangles.empty() && options.adapt) {
     throw UsageError("per-face rest triangles need adapt off (the rest shape is then fixed)");
   }
@@ -102,6 +105,7 @@ struct GarmentMotion::Impl {
   // Pins: the bound vertices of pinned loops and their bindings.
   std::vector<int> pin_ids;
   std::vector<SurfacePoint> pin_binding;
+  std::vector<int> pin_hints;  // warm starts of the pin targets' body queries
 
   Eigen::MatrixXd V_body, targets;  // the current body stage
   collision::ContactSurface surface;  // the body and its hand hulls, as the cloth meets them
@@ -196,6 +200,8 @@ struct GarmentMotion::Impl {
     contact->set_pinned(pin_ids);
     contact->set_threads(options.threads);
     contact->set_body(V_surface);
+    pin_hints.assign(pin_ids.size(), -1);
+    clear_pin_targets();
     result.initial_crossings = collision::find_crossings(V_surface, surface.F, V_garment, F);
     result.continuous_contact = options.continuous_contact && result.initial_crossings.intersection_free();
   }
@@ -324,7 +330,17 @@ struct GarmentMotion::Impl {
     contact->set_body(surface.positions(stage.V));
     V_body = std::move(stage.V);
     targets = std::move(stage.targets);
+    clear_pin_targets();
     request_next_stage();
+  }
+
+  // The pin targets moved out to their clearance from the collider's current
+  // body (MotionRunOptions::pin_clearance).
+  void clear_pin_targets() {
+    if (!(options.pin_clearance > 0.0)) return;
+    const auto t0 = Clock::now();
+    keep_off_body(targets, *collider, options.pin_clearance * garment.offset, pin_hints, result.pins);
+    result.times.body += seconds_since(t0);
   }
 
   void advance_offsets() {

@@ -6,10 +6,11 @@
 //
 // Per interpolation frame the body comes from the pose interpolator; pinned
 // boundary vertices follow their body binding (garment_file.h) as hard
-// constraints; body collisions push the cloth out to the garment's comfort
-// offset. At every key pose the body stops and the cloth settles until it is
-// slow, its largest stretch steady and (adapting) its rest area a fixed point,
-// or a step cap; then the key pose's drape and figures are recorded.
+// constraints, kept clear of the body (pin_targets.h);
+// body collisions push the cloth out to the garment's comfort offset. At
+// every key pose the body stops and the cloth settles until it is slow, its
+// largest stretch steady and (adapting) its rest area a fixed point, or a
+// step cap; then the key pose's drape and figures are recorded.
 #include <functional>
 #include <memory>
 #include <string>
@@ -18,6 +19,7 @@
 #include <Eigen/Core>
 
 #include "adapt/key_pose.h"
+#include "adapt/pin_targets.h"
 #include "adapt/rest_adapter.h"
 #include "cloth/cloth_simulator.h"
 #include "collision/body_collider.h"
@@ -82,6 +84,13 @@ struct MotionRunOptions {
   // motion's first frame where the pose set lacks it). Penetration depths are
   // measured against it; crossings against the body itself.
   collision::ContactSurfaceOptions contact_surface;
+  // Pin targets kept at least this fraction of the comfort offset from the
+  // contact surface in every body frame (pin_targets.h): the continuous
+  // contact never moves a pinned vertex, so where another body part rises
+  // beside a bound point (a shoulder lifted towards the neckline) the target
+  // moves out instead of letting the body through the cloth next to it.
+  // Targets farther out follow their binding alone; 0: all of them do.
+  double pin_clearance = 0.5;
   double initial_push_speed = 0.1;    // m/s at which vertices that start inside the offset are pushed out to it
   // When non-empty (one per garment face): rest triangles used instead of the
   // rest shape's, e.g. a sewn pattern's flat pieces. Requires adapt == false.
@@ -108,7 +117,9 @@ struct MotionRunTimes {               // wall seconds
   double solve = 0.0;
   double collisions = 0.0;            // responses and tree rebuilds
   double adaptation = 0.0;
-  double body = 0.0;                  // interpolation, normals, pin targets (on the worker with threads > 1)
+  // Interpolation, normals, pin targets (on the worker with threads > 1; the
+  // targets' clearance from the body on the stepping thread).
+  double body = 0.0;
   double setup = 0.0;                 // before the first step: culling, collision tree, simulator, ARAP factor, initial distances
   // With threads > 1: time the stepping thread waited for the worker. The
   // phases above are then each thread's own time, and they overlap.
@@ -138,6 +149,7 @@ struct MotionRunResult {
   collision::ContactSurface contact_surface;  // the body and its hand hulls (contact_surface.h)
   bool continuous_contact = false;    // the intersection-free contact was active
   collision::ContinuousContactStats contact;
+  PinClearanceStats pins;             // pin targets moved out to their clearance (pin_clearance)
   MotionRunTimes times;
 };
 

@@ -17,34 +17,9 @@ double mesh_area(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
   return area;
 }
 
-bool cap_face_growth(const Eigen::Matrix2d& D_design, double max_area_growth, Eigen::Matrix2d& T) {
-  const double design_area = std::abs(D_design.determinant());
-  if (!(design_area > 0.0) || !T.allFinite() || !(std::abs(T.determinant()) > max_area_growth * design_area)) {
-    return false;  // within the bound, or a degenerate design that sets none
-  }
-  const Eigen::LLT<Eigen::Matrix2d> llt(D_design.transpose() * D_design);
-  if (llt.info() != Eigen::Success) return false;
-  const Eigen::Matrix2d L = llt.matrixL();
-  const Eigen::Matrix2d L_inv = L.inverse();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(L_inv * (T.transpose() * T) * L_inv.transpose());
-  // Squared principal stretches against the design, those below 1 raised to 1,
-  // then brought to the bound as s_i^t.
-  Eigen::Vector2d lambda = eig.eigenvalues().cwiseMax(1.0);
-  const double t = std::log(max_area_growth) / std::log(std::sqrt(lambda(0) * lambda(1)));
-  for (int i = 0; i < 2; ++i) lambda(i) = std::pow(lambda(i), t);
-  const Eigen::Matrix2d Q = eig.eigenvectors();
-  const Eigen::Matrix2d G = L * Q * lambda.asDiagonal() * Q.transpose() * L.transpose();
-  // The triangle with these edge lengths and angle, laid out as
-  // triangle_frame_edges does.
-  const double a = std::sqrt(G(0, 0));
-  const double b = G(0, 1) / a;
-  T << a, b, 0.0, std::sqrt(std::max(G(1, 1) - b * b, 0.0));
-  return true;
-}
-
 RestShapeAdapter::RestShapeAdapter(const Eigen::MatrixXd& V_reference, const Eigen::MatrixXi& F,
                                    AdaptOptions options)
-    : F_(F), options_(options), stitcher_(V_reference, F, options.smoothing_length) {
+    : F_(F), options_(options), stitcher_(V_reference, F, options.smoothing_length), reference_areas_(F.rows()) {
   if (!(options.delta >= 0.0)) throw UsageError("stretch limit delta must be non-negative");
   if (!(options.arap.tolerance > 0.0) || options.arap.max_iterations < 1) {
     throw UsageError("ARAP tolerance must be positive and the iteration cap at least 1");
@@ -55,9 +30,7 @@ RestShapeAdapter::RestShapeAdapter(const Eigen::MatrixXd& V_reference, const Eig
   if (!(options.max_face_growth > 1.0)) throw UsageError("the face growth cap must be above 1");
   for (int f = 0; f < F.rows(); ++f) {
     const Eigen::Vector3d a = V_reference.row(F(f, 0)), b = V_reference.row(F(f, 1)), c = V_reference.row(F(f, 2));
-    Eigen::Matrix3d X;
-    X << a, b, c;
-    reference_edges_.push_back(triangle_frame_edges(X));
+    reference_areas_(f) = 0.5 * (b - a).cross(c - a).norm();
   }
 }
 
@@ -72,12 +45,17 @@ AdaptReport RestShapeAdapter::adapt(const Eigen::MatrixXd& V_sim, Eigen::MatrixX
     return report;
   }
   std::vector<Eigen::Matrix2d> next = targets;
-  // Targets held within max_face_growth of the design's area.
+  // Targets held within max_face_growth of the design's area (a uniform
+  // scale keeps their shape).
   auto cap = [&](std::vector<Eigen::Matrix2d>& T) {
     report.capped_faces = 0;
     for (int f = 0; f < F_.rows(); ++f) {
-      report.capped_faces += cap_face_growth(reference_edges_[static_cast<size_t>(f)], options_.max_face_growth,
-                                             T[static_cast<size_t>(f)]);
+      const double area = 0.5 * std::abs(T[static_cast<size_t>(f)].determinant());
+      const double bound = options_.max_face_growth * reference_areas_(f);
+      if (area > bound) {
+        T[static_cast<size_t>(f)] *= std::sqrt(bound / area);
+        ++report.capped_faces;
+      }
     }
   };
   for (int round = 0; round < options_.rounds; ++round) {

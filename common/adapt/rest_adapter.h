@@ -8,8 +8,6 @@
 // targets are exactly the current rest triangles, which the current rest mesh
 // already stitches with zero misfit: the rest shape is returned unchanged (zero
 // iterations). This is what makes a settled garment a fixed point.
-#include <vector>
-
 #include <Eigen/Core>
 
 #include "adapt/arap_stitch.h"
@@ -30,11 +28,11 @@ struct AdaptOptions {
   // positions, until no triangle is clipped: the smoothing lets one stitching
   // meet its targets only in part.
   int rounds = 4;
-  // A face's target area is kept within this multiple of its design area
-  // (cap_face_growth). Where the body holds the cloth (a skirt caught on a
-  // hand), no growth relieves the stretch, and without a bound those faces
-  // grow every adaptation into a balloon (the shared-body dress: x1.92 at its
-  // own design pose). The verification still sees the stretch that remains.
+  // A face's target area is kept within this multiple of its design area.
+  // Where the body holds the cloth (a skirt caught on a hand), no growth
+  // relieves the stretch, and without a bound those faces grow every
+  // adaptation into a balloon (the shared-body dress: x1.92 at its own design
+  // pose). The verification still sees the stretch that remains there.
   double max_face_growth = 4.0;
   ArapOptions arap;    // stitching tolerance and iteration cap
 };
@@ -48,21 +46,6 @@ struct AdaptReport {
   int rounds = 0;            // clip-and-stitch rounds done
   int capped_faces = 0;      // faces whose target was held at max_face_growth (last round)
 };
-
-// Holds a rest target within max_area_growth times the design triangle's
-// area without making it shorter than the design in any direction. T: the
-// target edge matrix (2D, columns t1-t0, t2-t0, as clipped_target), in/out;
-// D_design: the design triangle's. With the edge Gram matrices G = T^T T and
-// G_d = D^T D = L L^T, the principal stretches against the design are
-// s_i = sqrt(eig(L^-1 G L^-T)); a target whose area ratio s1 s2 exceeds the
-// bound gets s_i' = max(s_i, 1)^t with t chosen so that s1' s2' is the bound,
-// laid out as an upper triangular edge matrix (x0 -> x1 along the first axis).
-// A uniform scale, the obvious cap, shrinks the short direction of a face
-// stretched one way below the design (to 0.74 of it for a face stretched 7.4
-// times along one direction), and the cloth is then stretched across where
-// the design had room. Returns whether T was capped; T is left as it is
-// otherwise, and for a degenerate design or a non-finite target.
-bool cap_face_growth(const Eigen::Matrix2d& D_design, double max_area_growth, Eigen::Matrix2d& T);
 
 class RestShapeAdapter {
  public:
@@ -84,7 +67,7 @@ class RestShapeAdapter {
   Eigen::MatrixXi F_;
   AdaptOptions options_;
   ArapStitcher stitcher_;
-  std::vector<Eigen::Matrix2d> reference_edges_;  // design edge matrices (stretch_clip.h frames)
+  Eigen::VectorXd reference_areas_;  // design face areas [m^2]
 };
 
 // Total area of the mesh (V, F) [m^2].

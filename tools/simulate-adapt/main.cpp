@@ -138,6 +138,11 @@ int main(int argc, char** argv) {
   app.add_option("--contact-thickness", options.contact.thickness,
                  "Separation kept between the cloth and body vertices and edges by the continuous contact [m]")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--pin-clearance", options.pin_clearance,
+                 "Keep the pinned vertices' targets at least this fraction of the comfort offset from the body in "
+                 "every frame, moving them out where another body part rises beside their bound point; 0: they "
+                 "follow their binding alone [fraction]")
+      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
   std::string hand_hulls = "on";
   app.add_option("--hand-hulls", hand_hulls,
                  "Collide the cloth also with the convex hull of each hand (each thin body part at least "
@@ -354,6 +359,7 @@ int main(int argc, char** argv) {
                          {"contact_band_m", options.contact_band},
                          {"continuous_contact", continuous},
                          {"contact_thickness_m", options.contact.thickness},
+                         {"pin_clearance", options.pin_clearance},
                          {"hand_hulls", hand_hulls},
                          {"hull_thin_m", options.contact_surface.thin},
                          {"hull_min_extent_m", options.contact_surface.min_extent},
@@ -413,6 +419,10 @@ int main(int argc, char** argv) {
                      {"initial_min_distance_m", result.initial_min_distance},
                      {"initial_crossings", gp::collision::to_json(result.initial_crossings)},
                      {"continuous_contact_active", result.continuous_contact},
+                     {"pin_targets_moved", result.pins.pushed},
+                     {"largest_pin_move_m", result.pins.largest_push},
+                     {"closest_pin_target_m", result.pins.pushed ? gp::OrderedJson(result.pins.closest_before)
+                                                                 : gp::OrderedJson(nullptr)},
                      {"adaptations", result.adaptations},
                      {"arap_converged", result.arap.converged},
                      {"all_settled", result.all_settled},
