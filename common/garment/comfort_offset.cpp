@@ -160,7 +160,14 @@ Eigen::Vector3d OffsetSurface::to_exact_offset(const Eigen::Vector3d& x) const {
 }
 
 Eigen::Vector3d OffsetSurface::project(const Eigen::Vector3d& x) const {
-  if (!outer_) return to_exact_offset(x);
+  if (!outer_) {
+    // The exact surface, in one step: out along the closest-point direction
+    // (inside the body: the way out that is nearest).
+    const SurfaceLocator::Hit hit = body_.closest(x);
+    if (hit.distance < 1e-12) return hit.point + offset_ * evaluate_normal(N_body_, body_.F(), hit.at);
+    const double side = sided_->query(x).signed_distance < 0.0 ? -1.0 : 1.0;
+    return hit.point + side * offset_ * (x - hit.point) / hit.distance;
+  }
   const collision::Proximity at = sided_->query(x);
   // Outside the closed region between the body and the outer surface the
   // direction to the outer surface does not say which side x belongs to;

@@ -86,7 +86,9 @@ class OffsetSurface {
   // outer surface {d = offset + R} for x between it and the body; from the
   // closest body point for x inside the body or beyond the outer surface.
   // A body point x goes to the surface point over it, continuously across a
-  // pinch (torso and arm sides of an armpit stay apart, in order).
+  // pinch (torso and arm sides of an armpit stay apart, in order). Without
+  // fillet: one closest-point step onto the exact surface (apply_comfort_offset
+  // iterates it).
   Eigen::Vector3d project(const Eigen::Vector3d& x) const;
 
   double offset() const { return offset_; }

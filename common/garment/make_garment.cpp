@@ -132,8 +132,12 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
       near[static_cast<size_t>(v)] = cut_surface.closest(V_body.row(v).transpose()).distance <= reach;
   }
   const OffsetSurface surface(body, N_body, spec.offset, spec.offset_fillet, offset_options, near);
-  for (Eigen::Index v = 0; v < V_cut.rows(); ++v)
-    if (!cut_fixed[static_cast<size_t>(v)]) V_cut.row(v) = surface.project(V_cut.row(v).transpose()).transpose();
+  if (spec.offset_fillet > 0) {
+    for (Eigen::Index v = 0; v < V_cut.rows(); ++v)
+      if (!cut_fixed[static_cast<size_t>(v)]) V_cut.row(v) = surface.project(V_cut.row(v).transpose()).transpose();
+  } else {
+    apply_comfort_offset(V_cut, body, N_body, offset_options, cut_fixed);
+  }
   result.timing["offset_region"] = seconds_since(t0);
 
   // Resolution: for a near-equilateral mesh of N vertices (about 2N
@@ -249,14 +253,20 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
   result.timing["bind_paint"] = seconds_since(t0);
 
   // Remeshing moved interior vertices on the dense offset surface; they are
-  // put exactly on it from where they are. Boundary vertices start at their
+  // put exactly on it from where they are (on the exact surface: by
+  // closest-point corrections). Boundary vertices start at their
   // binding-rule position and get the same projection: in concave places
   // (armpits) the normal offset of the rule can come closer to another body
   // part than the offset; the deviation from the rule is reported.
   t0 = Clock::now();
   Eigen::MatrixXd V_rule = V;
-  for (Eigen::Index v = 0; v < V.rows(); ++v) V.row(v) = surface.project(V.row(v).transpose()).transpose();
-  result.offset_error = measure_offset(V, body, spec.offset);
+  if (spec.offset_fillet > 0) {
+    for (Eigen::Index v = 0; v < V.rows(); ++v) V.row(v) = surface.project(V.row(v).transpose()).transpose();
+    result.offset_error = measure_offset(V, body, spec.offset);
+  } else {
+    offset_options.start_along_normal = false;
+    result.offset_error = apply_comfort_offset(V, body, N_body, offset_options);
+  }
   for (Eigen::Index v = 0; v < V.rows(); ++v)
     if (on_boundary[static_cast<size_t>(v)])
       result.binding_max_deviation = std::max(result.binding_max_deviation, (V.row(v) - V_rule.row(v)).norm());
