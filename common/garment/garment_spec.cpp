@@ -58,6 +58,7 @@ GarmentSpec parse_garment_spec(const Json& j, const std::string& file) {
   resolution.finish();
 
   s.offset = root.number("offset", 0.0, Range::between(0.0, 0.5));
+  s.offset_fillet = root.number("offset_fillet", s.offset_fillet, Range::between(0.0, 0.5));
   if (const auto paint = root.optional_array("paint")) {
     for (size_t i = 0; i < paint->size(); ++i) {
       const SpecObject p = paint->object(i);
@@ -129,6 +130,7 @@ OrderedJson to_json(const GarmentSpec& s) {
   if (s.edge_length > 0) j["resolution"] = {{"edge_length", s.edge_length}};
   else j["resolution"] = {{"vertex_count", s.vertex_count}};
   j["offset"] = s.offset;
+  j["offset_fillet"] = s.offset_fillet;
   OrderedJson paint = OrderedJson::array();
   for (const auto& r : s.paint) {
     OrderedJson p;

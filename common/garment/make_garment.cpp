@@ -8,7 +8,6 @@
 
 #include <Eigen/Geometry>
 
-#include "collision/body_collider.h"
 #include "core/error.h"
 #include "garment/surface_path.h"
 #include "garment/surface_point.h"
@@ -100,7 +99,7 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
   // T4 first: the cut region is pushed off the body before remeshing, so that
   // the even triangles are made on the offset surface (on a forearm a 1.5 cm
   // offset would otherwise stretch them by 40 %). Curve points follow the
-  // binding rule of garment_file.h, interior points the exact-distance offset.
+  // binding rule of garment_file.h, interior points the offset surface.
   t0 = Clock::now();
   const Eigen::MatrixXd N_body = vertex_normals(V_body, F_body);
   Eigen::MatrixXd V_cut = result.cut.V;
@@ -118,9 +117,27 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
     }
     curves.push_back(P);
   }
+  // The target surface: the offset surface with its creases rounded, so that
+  // the body inside a pinch (an armpit) keeps an image, in order, instead of
+  // collapsing onto the crease. Every cut vertex goes to the point over it.
   ComfortOffsetOptions offset_options;
   offset_options.offset = spec.offset;
-  apply_comfort_offset(V_cut, body, N_body, offset_options, cut_fixed);
+  // The outer surface of the fillet is needed near the cut region only.
+  std::vector<char> near;
+  if (spec.offset_fillet > 0) {
+    near.assign(static_cast<size_t>(V_body.rows()), 0);
+    const SurfaceLocator cut_surface(result.cut.V, result.cut.F);
+    const double reach = 3.0 * (spec.offset + spec.offset_fillet);
+    for (Eigen::Index v = 0; v < V_body.rows(); ++v)
+      near[static_cast<size_t>(v)] = cut_surface.closest(V_body.row(v).transpose()).distance <= reach;
+  }
+  const OffsetSurface surface(body, N_body, spec.offset, spec.offset_fillet, offset_options, near);
+  if (spec.offset_fillet > 0) {
+    for (Eigen::Index v = 0; v < V_cut.rows(); ++v)
+      if (!cut_fixed[static_cast<size_t>(v)]) V_cut.row(v) = surface.project(V_cut.row(v).transpose()).transpose();
+  } else {
+    apply_comfort_offset(V_cut, body, N_body, offset_options, cut_fixed);
+  }
   result.timing["offset_region"] = seconds_since(t0);
 
   // Resolution: for a near-equilateral mesh of N vertices (about 2N
@@ -135,17 +152,7 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
   Eigen::MatrixXd V;
   Eigen::MatrixXi F;
   RemeshOptions remesh = spec.remesh;
-  const double offset = spec.offset;
-  // Onto the offset surface outside the body (a point inside goes out the
-  // way it is nearest to).
-  collision::BodyCollider sided(F_body);
-  sided.set_body(V_body);
-  const PointProjection project_to_offset_surface = [&](const Eigen::Vector3d& x) {
-    const SurfaceLocator::Hit hit = body.closest(x);
-    if (hit.distance < 1e-12) return Eigen::Vector3d(hit.point + offset * evaluate_normal(N_body, F_body, hit.at));
-    const double side = sided.query(x).signed_distance < 0.0 ? -1.0 : 1.0;
-    return Eigen::Vector3d(hit.point + side * offset * (x - hit.point) / hit.distance);
-  };
+  const PointProjection project_to_offset_surface = [&](const Eigen::Vector3d& x) { return surface.project(x); };
   for (int pass = 0; pass < (spec.edge_length > 0 ? 1 : 2); ++pass) {
     if (pass == 1)
       result.target_edge_length *= std::sqrt(static_cast<double>(V.rows()) / static_cast<double>(spec.vertex_count));
@@ -245,16 +252,21 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
   }
   result.timing["bind_paint"] = seconds_since(t0);
 
-  // Remeshing moved interior vertices on the dense offset surface; the exact
-  // distance is restored by closest-point corrections from where they are.
+  // Remeshing moved interior vertices on the dense offset surface; they are
+  // put exactly on it from where they are (on the exact surface: by
+  // closest-point corrections). Boundary vertices start at their
+  // binding-rule position and get the same projection: in concave places
+  // (armpits) the normal offset of the rule can come closer to another body
+  // part than the offset; the deviation from the rule is reported.
   t0 = Clock::now();
-  // Boundary vertices start at their binding-rule position and get the same
-  // correction: in concave places (armpits) the normal offset of the rule can
-  // come closer to another body part than the offset; the deviation from the
-  // rule is reported.
-  offset_options.start_along_normal = false;
   Eigen::MatrixXd V_rule = V;
-  result.offset_error = apply_comfort_offset(V, body, N_body, offset_options);
+  if (spec.offset_fillet > 0) {
+    for (Eigen::Index v = 0; v < V.rows(); ++v) V.row(v) = surface.project(V.row(v).transpose()).transpose();
+    result.offset_error = measure_offset(V, body, spec.offset);
+  } else {
+    offset_options.start_along_normal = false;
+    result.offset_error = apply_comfort_offset(V, body, N_body, offset_options);
+  }
   for (Eigen::Index v = 0; v < V.rows(); ++v)
     if (on_boundary[static_cast<size_t>(v)])
       result.binding_max_deviation = std::max(result.binding_max_deviation, (V.row(v) - V_rule.row(v)).norm());

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/math.h"
 #include "garment/surface_point.h"
+#include "mesh/measures.h"
 #include "mesh/topology.h"
 
 namespace gp {
@@ -223,6 +224,18 @@ MeshQuality measure_quality(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     }
     q.min_angle_deg = std::min(q.min_angle_deg, smallest);
     if (smallest > 20.0) ++good;
+    if (smallest < 5.0) ++q.faces_min_angle_under_5;
+  }
+  std::vector<char> inner(static_cast<size_t>(V.rows()), 1);
+  for (const auto& loop : boundary_loops(F))
+    for (int v : loop) inner[static_cast<size_t>(v)] = 0;
+  const Eigen::VectorXd defect = angle_defects(V, F);
+  for (Eigen::Index v = 0; v < V.rows(); ++v) {
+    if (!inner[static_cast<size_t>(v)]) continue;
+    const double k = std::abs(defect[v]) * 180.0 / M_PI;
+    q.abs_angle_defect_sum += std::abs(defect[v]);
+    q.max_abs_angle_defect_deg = std::max(q.max_abs_angle_defect_deg, k);
+    if (k >= kConeDefectDeg) ++q.cone_vertices;
   }
   q.fraction_min_angle_over_20 = static_cast<double>(good) / static_cast<double>(F.rows());
   const Eigen::MatrixXi E = unique_edges(F);

@@ -51,8 +51,16 @@ struct MeshQuality {
   double min_edge_ratio = 0.0;              // shortest edge / target
   double max_edge_ratio = 0.0;              // longest edge / target
   double fraction_edges_within_30 = 0.0;    // edges within 30 % of the target length
+  int faces_min_angle_under_5 = 0;          // slivers: triangles with an angle below 5 degrees
+  // Inner vertices whose |angle defect| (mesh/measures.h) is 18 degrees or
+  // more: cone points, where the mesh folds or pinches; none on a smooth garment.
+  int cone_vertices = 0;
+  double max_abs_angle_defect_deg = 0.0;    // inner vertices
+  double abs_angle_defect_sum = 0.0;        // radians, over inner vertices
 };
 MeshQuality measure_quality(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                             double target_edge_length);
+// The threshold of MeshQuality::cone_vertices, degrees.
+constexpr double kConeDefectDeg = 18.0;
 
 }  // namespace gp

@@ -1,6 +1,10 @@
 #include "mesh/measures.h"
 
+#include <cmath>
+
 #include <Eigen/Geometry>
+
+#include "core/math.h"
 
 namespace gp {
 
@@ -56,6 +60,18 @@ Eigen::VectorXd edge_lengths(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E)
   Eigen::VectorXd L(E.rows());
   for (Eigen::Index e = 0; e < E.rows(); ++e) L(e) = (V.row(E(e, 0)) - V.row(E(e, 1))).norm();
   return L;
+}
+
+Eigen::VectorXd angle_defects(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  Eigen::VectorXd defect = Eigen::VectorXd::Constant(V.rows(), 2.0 * M_PI);
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d a = (V.row(F(f, (k + 1) % 3)) - V.row(F(f, k))).transpose();
+      const Eigen::Vector3d b = (V.row(F(f, (k + 2) % 3)) - V.row(F(f, k))).transpose();
+      // atan2 of |a x b| and a . b: accurate for slivers, where acos is not.
+      defect[F(f, k)] -= math::atan2(a.cross(b).norm(), a.dot(b));
+    }
+  return defect;
 }
 
 Eigen::Vector3d area_centroid(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {

@@ -124,6 +124,56 @@ Mesh make_open_cylinder(int nu, int nv, double radius, double height) {
   return from_lists(V, F);
 }
 
+Mesh make_bent_tube(int nu, double radius, double leg, double bend_radius, double turn) {
+  // Stations along the centreline: position, and the unit normal N in the
+  // xy-plane (towards the inside of the bend); the ring is N, +z.
+  struct Station {
+    Eigen::Vector3d p, n;
+  };
+  std::vector<Station> stations;
+  const double spacing = 2.0 * M_PI * radius / nu;
+  const int n_leg = std::max(1, static_cast<int>(std::ceil(leg / spacing)));
+  const int n_arc = std::max(1, static_cast<int>(std::ceil(turn * (bend_radius + radius) / spacing)));
+  for (int j = 0; j < n_leg; ++j) stations.push_back({{0.0, -leg + leg * j / n_leg, 0.0}, {1.0, 0.0, 0.0}});
+  const Eigen::Vector3d centre(bend_radius, 0.0, 0.0);
+  for (int j = 0; j <= n_arc; ++j) {
+    const double a = turn * j / n_arc;
+    const Eigen::Vector3d n(std::cos(a), -std::sin(a), 0.0);
+    stations.push_back({centre - bend_radius * n, n});
+  }
+  const Eigen::Vector3d end = stations.back().p, n_end = stations.back().n;
+  const Eigen::Vector3d t_end(std::sin(turn), std::cos(turn), 0.0);
+  for (int j = 1; j <= n_leg; ++j) stations.push_back({end + leg * j / n_leg * t_end, n_end});
+
+  std::vector<Eigen::Vector3d> V;
+  std::vector<Eigen::Vector3i> F;
+  for (const Station& s : stations)
+    for (int i = 0; i < nu; ++i) {
+      const double u = 2.0 * M_PI * i / nu;
+      V.push_back(s.p + radius * (std::cos(u) * s.n + std::sin(u) * Eigen::Vector3d::UnitZ()));
+    }
+  const int rows = static_cast<int>(stations.size());
+  auto id = [&](int i, int j) { return j * nu + (i % nu); };
+  for (int j = 0; j + 1 < rows; ++j)
+    for (int i = 0; i < nu; ++i) {
+      F.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      F.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  const int first = static_cast<int>(V.size());
+  V.push_back(stations.front().p);
+  V.push_back(stations.back().p);
+  for (int i = 0; i < nu; ++i) {
+    F.push_back({first, id(i + 1, 0), id(i, 0)});
+    F.push_back({first + 1, id(i, rows - 1), id(i + 1, rows - 1)});
+  }
+  // Outward normals: positive enclosed volume.
+  double volume = 0.0;
+  for (const auto& f : F) volume += V[f[0]].dot(V[f[1]].cross(V[f[2]]));
+  if (volume < 0)
+    for (auto& f : F) std::swap(f[1], f[2]);
+  return from_lists(V, F);
+}
+
 Mesh make_grid(int nx, int nz, double sx, double sz) {
   std::vector<Eigen::Vector3d> V;
   std::vector<Eigen::Vector3i> F;

@@ -24,6 +24,17 @@ Mesh make_torus(int nu, int nv, double ring_radius = 1.0, double tube_radius = 0
 // split into triangles. Two boundary loops.
 Mesh make_open_cylinder(int nu, int nv, double radius = 1.0, double height = 2.0);
 
+// A closed tube of radius `radius` bent like an arm hanging from a torso: its
+// centreline climbs along +y from (0, -leg, 0) to the origin (the torso),
+// turns towards +x by `turn` radians on an arc of radius `bend_radius` centred
+// at (bend_radius, 0, 0) in the xy-plane, and runs straight for `leg` metres
+// again (the arm). With bend_radius a little above radius, the inner side of
+// the bend is a pinch like an A-pose armpit: a saddle whose two sides meet in
+// a wedge (the angle between the legs is pi - turn). `nu` vertices per ring,
+// rings about as far apart as on the outer side of the tube; the ends are
+// closed by flat fans.
+Mesh make_bent_tube(int nu, double radius, double leg, double bend_radius, double turn);
+
 // A box-shaped grid patch in the xz-plane (open, one boundary loop),
 // (nx+1)*(nz+1) vertices, spanning [0,sx] x [0,sz].
 Mesh make_grid(int nx, int nz, double sx = 1.0, double sz = 1.0);

@@ -107,9 +107,15 @@ int main(int argc, char** argv) {
                          {"fraction_edges_within_30_percent", q.fraction_edges_within_30},
                          {"min_angle_deg", q.min_angle_deg},
                          {"fraction_min_angle_over_20_deg", q.fraction_min_angle_over_20},
+                         {"faces_min_angle_under_5_deg", q.faces_min_angle_under_5},
+                         {"cone_vertices", q.cone_vertices},
+                         {"max_abs_angle_defect_deg", q.max_abs_angle_defect_deg},
+                         {"abs_angle_defect_sum_rad", q.abs_angle_defect_sum},
                          {"boundary_curve_error", result.boundary_curve_error},
                          {"offset_max_error", result.offset_error.max_error},
                          {"offset_mean_error", result.offset_error.mean_error},
+                         {"offset_max_below", result.offset_error.max_below},
+                         {"offset_max_above", result.offset_error.max_above},
                          {"binding_max_deviation", result.binding_max_deviation},
                          {"curves", curves}};
     report["body_clearance"] = gp::to_json(result.clearance);
