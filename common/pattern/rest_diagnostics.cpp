@@ -9,21 +9,19 @@
 
 #include "core/error.h"
 #include "core/math.h"
+#include "mesh/measures.h"
 #include "mesh/topology.h"
 
 namespace gp {
 namespace {
 
-std::vector<double> angle_defects(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<char>& inner) {
-  std::vector<double> defect(static_cast<size_t>(V.rows()), 2.0 * M_PI);
-  for (int f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d a = (V.row(F(f, (k + 1) % 3)) - V.row(F(f, k))).transpose();
-      const Eigen::Vector3d b = (V.row(F(f, (k + 2) % 3)) - V.row(F(f, k))).transpose();
-      defect[static_cast<size_t>(F(f, k))] -= gp::math::atan2(a.cross(b).norm(), a.dot(b));
-    }
+// Angle defects of the inner vertices (mesh/measures.h), 0 on the boundary.
+std::vector<double> inner_angle_defects(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                        const std::vector<char>& inner) {
+  const Eigen::VectorXd all = angle_defects(V, F);
+  std::vector<double> defect(static_cast<size_t>(V.rows()), 0.0);
   for (size_t v = 0; v < defect.size(); ++v)
-    if (!inner[v]) defect[v] = 0.0;
+    if (inner[v]) defect[v] = all(static_cast<Eigen::Index>(v));
   return defect;
 }
 
@@ -87,7 +85,8 @@ RestShapeDiagnostics diagnose_rest_shape(const Eigen::MatrixXd& V_design, const 
   std::vector<char> inner(static_cast<size_t>(V_rest.rows()), 1);
   for (const auto& loop : boundary_loops(F))
     for (int v : loop) inner[static_cast<size_t>(v)] = 0;
-  const std::vector<double> K_rest = angle_defects(V_rest, F, inner), K_design = angle_defects(V_design, F, inner);
+  const std::vector<double> K_rest = inner_angle_defects(V_rest, F, inner),
+                            K_design = inner_angle_defects(V_design, F, inner);
   for (size_t v = 0; v < K_rest.size(); ++v) {
     d.abs_defect_sum += std::abs(K_rest[v]);
     d.abs_defect_sum_design += std::abs(K_design[v]);
