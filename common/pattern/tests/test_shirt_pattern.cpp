@@ -4,12 +4,14 @@
 // does not change.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <random>
 #include <sstream>
 
 #include "io/mesh_io.h"
+#include "pattern/piece_names.h"
 #include "spec/json_file.h"
 #include "testing/command.h"
 #include "testing/files.h"
@@ -193,4 +195,34 @@ TEST_CASE("noise of 1e-7 m on the rest shape changes no cut", "[cli][shirt][repr
       CHECK(std::max(one_sided_hausdorff(a, b), one_sided_hausdorff(b, a)) < 1e-4);
     }
   }
+}
+
+TEST_CASE("a nearly symmetric shirt gives mirrored pairs of pieces", "[cli][shirt]") {
+  const Shirt& s = shirt();
+  INFO(s.error);
+  REQUIRE(s.ok);
+  const auto r = s.cut(s.dir / "garment" / "garment.ply", "mirror");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const Json report = read_json_file(s.dir / "mirror" / "report.json");
+  std::map<std::string, const Json*> pieces;
+  for (const auto& p : report["pieces"]) pieces[p["name"].get<std::string>()] = &p;
+  // Every piece on one side has its mirror image on the other, of about the
+  // same size (the generated body is symmetric, the garment's clicked loops
+  // and its remeshing nearly so).
+  int pairs = 0;
+  for (const auto& [name, p] : pieces) {
+    if (!is_left(name)) continue;
+    INFO(name);
+    REQUIRE(pieces.count(mirror_name(name)) == 1);
+    const Json& q = *pieces.at(mirror_name(name));
+    const double a = (*p)["area_3d"].get<double>(), b = q["area_3d"].get<double>();
+    CHECK(std::abs(a - b) <= 0.1 * std::max(a, b));
+    const double la = (*p)["outline_length"].get<double>(), lb = q["outline_length"].get<double>();
+    CHECK(std::abs(la - lb) <= 0.08 * std::max(la, lb));
+    ++pairs;
+  }
+  for (const auto& [name, p] : pieces)
+    if (name.find("right") != std::string::npos) CHECK(pieces.count(mirror_name(name)) == 1);
+  CHECK(pairs >= 2);  // the sleeves at least
 }
