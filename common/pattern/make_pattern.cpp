@@ -21,7 +21,6 @@
 #include "mesh/measures.h"
 #include "mesh/topology.h"
 #include "pattern/dart_placement.h"
-#include "pattern/piece_names.h"
 
 namespace gp {
 namespace {
@@ -554,16 +553,7 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options) {
     return pattern.pieces[a].stats.area_3d > pattern.pieces[b].stats.area_3d;
   });
   int pieces = static_cast<int>(pattern.pieces.size());
-  // A piece's mirror image (piece_names.h), if the pattern has one.
-  auto mirror_of = [&](size_t c) {
-    const std::string m = mirror_name(pattern.pieces[c].name);
-    for (size_t o = 0; o < pattern.pieces.size(); ++o)
-      if (o != c && pattern.pieces[o].name == m) return o;
-    return pattern.pieces.size();
-  };
-  std::set<size_t> touched;  // pieces given a dart or panel seam this round
   for (size_t c : order) {
-    if (touched.count(c)) continue;  // its mirror image's panel seam put one in it
     const PatternPiece& p = pattern.pieces[c];
     const std::string over = "piece " + p.name + " exceeds the limit (compression " +
                              percent(p.stats.worst1_compression) + " over its worst 1 %, ease " +
@@ -593,42 +583,17 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options) {
                       metres(curve_length(p.V, p.F, *curve)) + " long";
         seams.push_back(seam);
         curves.push_back(piece_to_mesh(p, *curve));
-        touched.insert(c);
         placed = true;
       }
-    // A piece with a mirror image gets its panel seam only together with
-    // the mirror image's (placed by the same rule in it, whether or not it
-    // meets the limit), so that the pattern stays a set of mirrored pairs.
-    const size_t mirror = mirror_of(c);
-    const int need = mirror < pattern.pieces.size() ? 2 : 1;
-    if (!placed && pieces + need <= options.max_pieces && !(need == 2 && touched.count(mirror))) {
-      std::vector<size_t> targets{c};
-      if (need == 2) targets.push_back(mirror);
-      std::vector<PatternSeam> pair_seams;
-      std::vector<SurfaceCurve> pair_curves;
-      for (size_t t : targets) {
-        const PatternPiece& q = pattern.pieces[t];
-        std::string where;
-        std::optional<SurfaceCurve> curve;
-        try {
-          curve = panel_curve(pattern, t, t == c ? chart : conformal_chart(q), options, &where);
-        } catch (const NumericalError&) {
-        }
-        if (!curve) break;
-        PatternSeam seam{"", "panel", "", {}, false, true};
-        seam.reason = (t == c ? over : "piece " + q.name + " mirrors " + p.name + ": ") + where + ", " +
-                      metres(curve_length(q.V, q.F, *curve)) + " long";
-        pair_seams.push_back(seam);
-        pair_curves.push_back(piece_to_mesh(q, *curve));
-      }
-      if (pair_seams.size() == targets.size()) {
-        for (size_t k = 0; k < pair_seams.size(); ++k) {
-          pair_seams[k].name = "panel" + std::to_string(++panels);
-          seams.push_back(pair_seams[k]);
-          curves.push_back(pair_curves[k]);
-          touched.insert(targets[k]);
-          ++pieces;
-        }
+    if (!placed && pieces < options.max_pieces) {
+      std::string where;
+      const auto curve = panel_curve(pattern, c, chart, options, &where);
+      if (curve) {
+        PatternSeam seam{"panel" + std::to_string(++panels), "panel", "", {}, false, true};
+        seam.reason = over + where + ", " + metres(curve_length(p.V, p.F, *curve)) + " long";
+        seams.push_back(seam);
+        curves.push_back(piece_to_mesh(p, *curve));
+        ++pieces;
         placed = true;
       }
     }

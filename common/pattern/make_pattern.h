@@ -17,9 +17,7 @@
 //      as cone points are placed in boundary-first flattening, Sawhney and
 //      Crane 2017), at most `max_darts` per piece; a piece still over the
 //      limit with its darts is split by a panel seam along or across the
-//      grain through the concentration of its compression; a piece with a
-//      mirror image (piece_names.h) is split only together with it, each by
-//      the same rule, so that the pattern keeps its mirrored pairs;
+//      grain through the concentration of its compression;
 //   6. merge: an added cut that leaves a piece smaller than `min_piece_area`
 //      is removed again.
 // Phases 3-5 repeat until every piece meets the limit or nothing more can be
@@ -154,8 +152,7 @@ void flatten_pieces(Pattern& pattern, const PatternOptions& options, FlattenCach
 bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
 
 // Phase 5: one dart or panel seam in every piece over the limit that can
-// take one (a panel seam in its mirror image too); returns how many cuts
-// were added.
+// take one; returns how many cuts were added.
 int place_darts_and_panels(Pattern& pattern, const PatternOptions& options);
 
 // Phase 6: removes added cuts (panel or topology seams whose removal keeps
