@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/math.h"
+#include "pattern/piece_names.h"
 
 namespace gp {
 namespace {
@@ -155,16 +156,15 @@ Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options) {
     if (grouped[i]) continue;
     grouped[i] = 1;
     std::vector<size_t> g{i};
-    const std::string& name = pattern.pieces[i].name;
-    for (const auto& [from, to] : {std::pair<std::string, std::string>{"left ", "right "}, {"right ", "left "}})
-      if (name.rfind(from, 0) == 0)
-        for (size_t j = 0; j < count; ++j)
-          if (!grouped[j] && pattern.pieces[j].name == to + name.substr(from.size())) {
-            grouped[j] = 1;
-            g.push_back(j);
-            break;
-          }
-    if (g.size() == 2 && pattern.pieces[g[0]].name.rfind("left ", 0) == 0) std::swap(g[0], g[1]);
+    const std::string mirrored = mirror_name(pattern.pieces[i].name);
+    if (mirrored != pattern.pieces[i].name)
+      for (size_t j = 0; j < count; ++j)
+        if (!grouped[j] && pattern.pieces[j].name == mirrored) {
+          grouped[j] = 1;
+          g.push_back(j);
+          break;
+        }
+    if (g.size() == 2 && is_left(pattern.pieces[g[0]].name)) std::swap(g[0], g[1]);
     groups.push_back(g);
   }
   auto height = [&](const std::vector<size_t>& g) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <sstream>
 
 #include <Eigen/Geometry>
 
@@ -58,10 +59,20 @@ void name_pieces(Pattern& pattern) {
     const std::string face = facing(fr);
     if (fr.limb >= 0) {
       const std::string side = pattern.limbs[static_cast<size_t>(fr.limb)].left ? "left" : "right";
-      // A sleeve cut into halves: its front or back half.
-      int halves = 0;
-      for (const PieceFrame& other : frames) halves += other.limb == fr.limb ? 1 : 0;
-      names[c] = side + " sleeve" + (halves > 1 ? " " + face : "");
+      // A sleeve cut into parts: named after how they lie against each other
+      // (front to back by centroid), not after where each faces on its own,
+      // which on an arm held out sideways is "side" for both halves of one
+      // sleeve and front / back for the other's.
+      std::vector<size_t> parts;
+      for (size_t o = 0; o < frames.size(); ++o)
+        if (frames[o].limb == fr.limb) parts.push_back(o);
+      std::stable_sort(parts.begin(), parts.end(),
+                       [&](size_t a, size_t b) { return frames[a].centroid.z() > frames[b].centroid.z(); });
+      const size_t rank = static_cast<size_t>(std::find(parts.begin(), parts.end(), c) - parts.begin());
+      std::string part;
+      if (parts.size() == 2) part = rank == 0 ? " front" : " back";
+      else if (parts.size() > 2) part = " " + std::to_string(rank + 1);
+      names[c] = side + " sleeve" + part;
       continue;
     }
     int same = 0;
@@ -73,16 +84,40 @@ void name_pieces(Pattern& pattern) {
     const double dx = fr.centroid.x() - axis.x();
     names[c] = (dx > 0.04 ? "left " : dx < -0.04 ? "right " : "centre ") + face;
   }
-  // Pieces that still share a name: upper and lower, then numbers.
+  // Pieces that still share a name: two are told apart along the axis on
+  // which they lie farther apart, front / back or upper / lower; more by
+  // numbers. The axis is chosen once for a name and its mirror image ("left
+  // side" and "right side" together), so that mirrored pieces get mirrored
+  // names and are laid out side by side.
+  auto mirror_free = [](const std::string& n) {
+    for (const char* prefix : {"left ", "right "})
+      if (n.rfind(prefix, 0) == 0) return n.substr(std::string(prefix).size());
+    return n;
+  };
+  std::map<std::string, Eigen::Vector2d> spread;  // mirror-free name -> (|dy|, |dz|) summed over its pairs
+  for (size_t c = 0; c < names.size(); ++c)
+    for (size_t o = c + 1; o < names.size(); ++o)
+      if (names[o] == names[c]) {
+        const Eigen::Vector3d d = frames[o].centroid - frames[c].centroid;
+        auto it = spread.emplace(mirror_free(names[c]), Eigen::Vector2d::Zero()).first;
+        it->second += Eigen::Vector2d(std::abs(d.y()), std::abs(d.z()));
+      }
+  const std::vector<std::string> before = names;
   for (size_t c = 0; c < names.size(); ++c) {
     std::vector<size_t> group;
-    for (size_t o = 0; o < names.size(); ++o)
-      if (names[o] == names[c]) group.push_back(o);
-    if (group.size() < 2) continue;
-    std::stable_sort(group.begin(), group.end(),
-                     [&](size_t a, size_t b) { return frames[a].centroid.y() > frames[b].centroid.y(); });
-    const std::string base = names[c];
-    if (group.size() == 2) {
+    for (size_t o = 0; o < before.size(); ++o)
+      if (before[o] == before[c]) group.push_back(o);
+    if (group.size() < 2 || group.front() != c) continue;
+    const std::string base = before[c];
+    const Eigen::Vector2d s = spread.at(mirror_free(base));
+    const bool by_depth = group.size() == 2 && s.y() > s.x();
+    std::stable_sort(group.begin(), group.end(), [&](size_t a, size_t b) {
+      return by_depth ? frames[a].centroid.z() > frames[b].centroid.z() : frames[a].centroid.y() > frames[b].centroid.y();
+    });
+    if (by_depth) {
+      names[group[0]] = base + " front";
+      names[group[1]] = base + " back";
+    } else if (group.size() == 2) {
       names[group[0]] = "upper " + base;
       names[group[1]] = "lower " + base;
     } else {
@@ -90,6 +125,25 @@ void name_pieces(Pattern& pattern) {
     }
   }
   for (size_t c = 0; c < names.size(); ++c) pattern.pieces[c].name = names[c];
+}
+
+std::string mirror_name(const std::string& name) {
+  std::istringstream words(name);
+  std::string word, out;
+  while (words >> word) {
+    if (word == "left") word = "right";
+    else if (word == "right") word = "left";
+    out += (out.empty() ? "" : " ") + word;
+  }
+  return out;
+}
+
+bool is_left(const std::string& name) {
+  std::istringstream words(name);
+  std::string word;
+  while (words >> word)
+    if (word == "left") return true;
+  return false;
 }
 
 }  // namespace gp

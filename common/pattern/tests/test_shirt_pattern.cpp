@@ -4,12 +4,14 @@
 // does not change.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <random>
 #include <sstream>
 
 #include "io/mesh_io.h"
+#include "pattern/piece_names.h"
 #include "spec/json_file.h"
 #include "testing/command.h"
 #include "testing/files.h"
@@ -193,4 +195,37 @@ TEST_CASE("noise of 1e-7 m on the rest shape changes no cut", "[cli][shirt][repr
       CHECK(std::max(one_sided_hausdorff(a, b), one_sided_hausdorff(b, a)) < 1e-4);
     }
   }
+}
+
+TEST_CASE("a nearly symmetric shirt's sleeves are mirrored pairs", "[cli][shirt]") {
+  const Shirt& s = shirt();
+  INFO(s.error);
+  REQUIRE(s.ok);
+  const auto r = s.cut(s.dir / "garment" / "garment.ply", "mirror");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const Json report = read_json_file(s.dir / "mirror" / "report.json");
+  std::map<std::string, const Json*> pieces;
+  for (const auto& p : report["pieces"]) pieces[p["name"].get<std::string>()] = &p;
+  // Every sleeve part on one side has its mirror image, named alike, on the
+  // other, of about the same size (the generated body is symmetric, the
+  // garment's clicked loops and its remeshing nearly so). Its parts are
+  // named front and back by how they lie, not by where each faces: with the
+  // arms held out, both halves of one sleeve used to face sideways.
+  int pairs = 0;
+  for (const auto& [name, p] : pieces) {
+    if (name.find("sleeve") == std::string::npos) continue;
+    INFO(name);
+    REQUIRE(pieces.count(mirror_name(name)) == 1);
+    CHECK(mirror_name(name) != name);
+    const Json& q = *pieces.at(mirror_name(name));
+    const double a = (*p)["area_3d"].get<double>(), b = q["area_3d"].get<double>();
+    CHECK(std::abs(a - b) <= 0.05 * std::max(a, b));
+    const double la = (*p)["outline_length"].get<double>(), lb = q["outline_length"].get<double>();
+    CHECK(std::abs(la - lb) <= 0.05 * std::max(la, lb));
+    ++pairs;
+  }
+  CHECK(pairs == 4);  // two halves of each short sleeve
+  CHECK(pieces.count("left sleeve front") == 1);
+  CHECK(pieces.count("right sleeve back") == 1);
 }
