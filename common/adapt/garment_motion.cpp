@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <future>
 #include <memory>
-#include <numeric>
 #include <optional>
 #include <set>
 #include <string>
