@@ -21,6 +21,9 @@ RestShapeAdapter::RestShapeAdapter(const Eigen::MatrixXd& V_reference, const Eig
                                    AdaptOptions options)
     : F_(F), options_(options), stitcher_(V_reference, F, options.smoothing_length), reference_areas_(F.rows()) {
   if (!(options.delta >= 0.0)) throw UsageError("stretch limit delta must be non-negative");
+  if (!(options.margin >= 0.0 && options.hysteresis >= 0.0 && options.margin + options.hysteresis <= options.delta)) {
+    throw UsageError("the adaptation's margin and hysteresis must be non-negative with a sum of at most delta");
+  }
   if (!(options.arap.tolerance > 0.0) || options.arap.max_iterations < 1) {
     throw UsageError("ARAP tolerance must be positive and the iteration cap at least 1");
   }
@@ -39,7 +42,8 @@ AdaptReport RestShapeAdapter::adapt(const Eigen::MatrixXd& V_sim, Eigen::MatrixX
   AdaptReport report;
   report.area_before = mesh_area(V_rest, F_);
   const std::vector<Eigen::Matrix2d> targets =
-      clipped_targets(V_rest, V_sim, F_, options_.delta, area_factors, &report.clip, options_.hysteresis);
+      clipped_targets(V_rest, V_sim, F_, options_.delta - options_.margin, area_factors, &report.clip,
+                      options_.hysteresis);
   if (report.clip.clipped_faces == 0 && area_factors == nullptr) {
     report.area_after = report.area_before;
     return report;
@@ -61,7 +65,8 @@ AdaptReport RestShapeAdapter::adapt(const Eigen::MatrixXd& V_sim, Eigen::MatrixX
   for (int round = 0; round < options_.rounds; ++round) {
     if (round > 0) {
       ClipStats clip;
-      next = clipped_targets(V_rest, V_sim, F_, options_.delta, nullptr, &clip, options_.hysteresis);
+      next = clipped_targets(V_rest, V_sim, F_, options_.delta - options_.margin, nullptr, &clip,
+                             options_.hysteresis);
       if (clip.clipped_faces == 0) break;
     }
     cap(next);

@@ -16,10 +16,16 @@
 namespace gp::adapt {
 
 struct AdaptOptions {
-  double delta = 0.1;  // stretch limit: principal stretches above 1 + delta are clipped (paper value)
-  // Clipped stretches are set to 1 + delta - hysteresis (0: the paper's rule):
-  // a margin below the limit for the poses the rest shape is not adapted in.
-  double hysteresis = 0.02;
+  double delta = 0.1;  // stretch limit 1 + delta of the fit (paper value)
+  // The adaptation's own limit is 1 + delta - margin: a face stretched beyond
+  // it has its principal stretches above 1 + delta - margin - hysteresis
+  // clipped to that value (margin and hysteresis 0: the paper's rule). The
+  // margin is room for the drape of a fresh simulation of the rest shape,
+  // which differs from the adapting run's; the hysteresis keeps a face that
+  // the body holds stretched from being adapted again by every hair it
+  // creeps back over the limit (see README.md).
+  double margin = 0.02;
+  double hysteresis = 0.005;
   // m: the stitching resists changes of the rest shape's form shorter than
   // this (a bilaplacian term, see arap_stitch.h), so that growth makes smooth
   // bulges instead of tucks; 0: plain ARAP (the paper).

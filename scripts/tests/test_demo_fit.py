@@ -74,7 +74,7 @@ class DemoFitTest(unittest.TestCase):
         sim = run([os.path.join(BIN, "simulate-adapt"), "--poses", os.path.join(self.out, "poses", "poses.json"),
                    "--motion", os.path.join(CUSTOMER, "motion.json"), "--garment", garment,
                    "--adapt-during-transitions", "--smoothing-length", "0", "--adapt-rounds", "1",
-                   "--hysteresis", "0", "--no-verify", "--out", os.path.join(paper, "fit"), "--quiet"])
+                   "--margin", "0", "--hysteresis", "0", "--no-verify", "--out", os.path.join(paper, "fit"), "--quiet"])
         self.assertEqual(sim.returncode, 0, sim.stderr)
         exp = run([os.path.join(BIN, "export-rest"), os.path.join(paper, "fit", "rest.ply"), "--garment", garment,
                    "--out", os.path.join(paper, "pattern"), "--quiet"])

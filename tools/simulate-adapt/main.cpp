@@ -73,8 +73,13 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(1, 100000));
   app.add_option("--delta", options.adaptation.delta, "Stretch limit: principal stretch above 1+delta is clipped [1]")
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
+  app.add_option("--margin", options.adaptation.margin,
+                 "The adaptation clips stretch at 1+delta-margin, below the fit's limit, so that a fresh simulation "
+                 "of the rest shape stays within 1+delta (0: the paper's rule at 1+delta) [1]")
+      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
   app.add_option("--hysteresis", options.adaptation.hysteresis,
-                 "Clipped stretch is set to 1+delta-hysteresis (0: exactly the limit) [1]")
+                 "A face stretched beyond 1+delta-margin is clipped to 1+delta-margin-hysteresis, so that cloth "
+                 "the body holds stretched is not adapted again at every hair above the limit [1]")
       ->capture_default_str()->check(CLI::Range(0.0, 1.0));
   app.add_option("--arap-tolerance", options.adaptation.arap.tolerance,
                  "ARAP stitching tolerance: largest edge-length change per iteration / mean edge length [1]")
@@ -337,6 +342,7 @@ int main(int argc, char** argv) {
                          {"adapt_every", options.adapt_every},
                          {"adaptation_lag", gp::adapt::applied_adaptation_lag(options)},
                          {"delta", options.adaptation.delta},
+                         {"margin", options.adaptation.margin},
                          {"hysteresis", options.adaptation.hysteresis},
                          {"smoothing_length_m", options.adaptation.smoothing_length},
                          {"adapt_rounds", options.adaptation.rounds},

@@ -46,10 +46,9 @@ inline gp::MotionSpec motion_of(const gp::PoseSet& poses, const std::vector<std:
   return gp::parse_motion_spec(j, "motion.json", poses);
 }
 
-// simulate-adapt's defaults (1 % hysteresis) with a settling cap.
+// simulate-adapt's defaults with a settling cap.
 inline MotionRunOptions run_options(int settle_max_steps) {
   MotionRunOptions o;
-  o.adaptation.hysteresis = 0.01;
   o.settle_max_steps = settle_max_steps;
   return o;
 }

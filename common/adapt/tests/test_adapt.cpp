@@ -47,7 +47,8 @@ double max_relative_edge_error(const Eigen::MatrixXd& V, const Eigen::MatrixXd& 
 // Tight stitching for tests that check exact reproduction.
 AdaptOptions exact_options() {
   AdaptOptions options;
-  options.hysteresis = 0.0;  // the paper's rule: clipped to exactly 1 + delta
+  options.margin = 0.0;  // the paper's rule: clipped to exactly 1 + delta
+  options.hysteresis = 0.0;
   options.arap.tolerance = 1e-10;
   return options;
 }
@@ -75,25 +76,40 @@ TEST_CASE("a uniformly stretched patch gets a rest shape with stretch clipped to
   CHECK(r.area_after / r.area_before == Approx(1.3 / 1.1).epsilon(1e-6));
 }
 
-TEST_CASE("hysteresis clips a triggered patch below the limit", "[adapt]") {
+TEST_CASE("the margin clips a patch below the fit's limit", "[adapt]") {
   const gp::Mesh grid = gp::testing::make_grid(6, 6, 0.3, 0.3);
   Eigen::MatrixXd V_sim = grid.V;
   V_sim.col(0) *= 1.3;
   AdaptOptions options = exact_options();
-  options.hysteresis = 0.01;
+  options.margin = 0.01;
   RestShapeAdapter adapter(grid.V, grid.F, options);
   Eigen::MatrixXd V_rest = grid.V;
   adapter.adapt(V_sim, V_rest);
   const Eigen::MatrixXd S = principal_stretches(V_rest, V_sim, grid.F);
   CHECK(S.col(0).maxCoeff() == Approx(1.09).epsilon(1e-6));
   CHECK(S.col(0).minCoeff() == Approx(1.09).epsilon(1e-6));
-  // Within the band (1.09, 1.1]: not triggered, untouched.
+  // Between 1 + delta - margin and 1 + delta: clipped too, to 1.09.
   V_sim = grid.V;
   V_sim.col(0) *= 1.095;
   Eigen::MatrixXd W = grid.V;
+  CHECK(adapter.adapt(V_sim, W).changed);
+  CHECK(principal_stretches(W, V_sim, grid.F).col(0).maxCoeff() == Approx(1.09).epsilon(1e-6));
+  // At or below it: untouched (the fixed point).
+  V_sim = grid.V;
+  V_sim.col(0) *= 1.085;
+  W = grid.V;
   CHECK_FALSE(adapter.adapt(V_sim, W).changed);
-  options.hysteresis = -1.0;
-  CHECK_THROWS_AS(RestShapeAdapter(grid.V, grid.F, options).adapt(V_sim, W), gp::UsageError);
+  // With a hysteresis, a face beyond the limit is clipped below it.
+  options.hysteresis = 0.005;
+  V_sim = grid.V;
+  V_sim.col(0) *= 1.095;
+  W = grid.V;
+  CHECK(RestShapeAdapter(grid.V, grid.F, options).adapt(V_sim, W).changed);
+  CHECK(principal_stretches(W, V_sim, grid.F).col(0).maxCoeff() == Approx(1.085).epsilon(1e-6));
+  options.margin = -1.0;
+  CHECK_THROWS_AS(RestShapeAdapter(grid.V, grid.F, options), gp::UsageError);
+  options.margin = 0.1;  // with the hysteresis above delta: the clip would fall below 1
+  CHECK_THROWS_AS(RestShapeAdapter(grid.V, grid.F, options), gp::UsageError);
 }
 
 TEST_CASE("a compressed patch is left alone", "[adapt]") {
@@ -110,7 +126,7 @@ TEST_CASE("a compressed patch is left alone", "[adapt]") {
   CHECK(r.arap.iterations == 0);
   CHECK(V_rest == grid.V);
   V_sim = grid.V;
-  V_sim.col(2) *= 1.09;
+  V_sim.col(2) *= 1.075;  // under the adaptation's limit 1 + delta - margin
   CHECK_FALSE(adapter.adapt(V_sim, V_rest).changed);
   // Single-triangle level: targets equal the rest triangle bit for bit.
   const Eigen::Matrix2d D = triangle_frame_edges(face(grid.V, grid.F, 3));
