@@ -25,7 +25,7 @@ struct AdaptOptions {
   // the body holds stretched from being adapted again by every hair it
   // creeps back over the limit (see README.md).
   double margin = 0.02;
-  double hysteresis = 0.005;
+  double hysteresis = 0.01;
   // m: the stitching resists changes of the rest shape's form shorter than
   // this (a bilaplacian term, see arap_stitch.h), so that growth makes smooth
   // bulges instead of tucks; 0: plain ARAP (the paper).
