@@ -222,7 +222,10 @@ TriangleBvh::TriangleBvh(int triangles) : impl_(std::make_unique<Impl>()) {
   s.corners.setZero(triangles, 9);
   const RTCDevice dev = device();
   s.scene = rtcNewScene(dev);
+  // A refit needs Embree's dynamic (low quality) builder: with the default
+  // scene quality every commit rebuilds the tree from scratch (README: cost).
   rtcSetSceneFlags(s.scene, RTC_SCENE_FLAG_DYNAMIC);
+  rtcSetSceneBuildQuality(s.scene, RTC_BUILD_QUALITY_LOW);
   s.geometry = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_USER);
   rtcSetGeometryUserPrimitiveCount(s.geometry, static_cast<unsigned>(triangles));
   rtcSetGeometryUserData(s.geometry, &s);
