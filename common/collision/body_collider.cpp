@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <future>
-#include <iterator>
 #include <limits>
 #include <mutex>
 #include <string>
