@@ -12,6 +12,7 @@ packages=(
   libopenblas-dev          # BLAS for CHOLMOD's supernodal factorization (reference BLAS is ~70 % slower)
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev  # CGAL and what its headers need
   libassimp-dev            # mesh formats besides OBJ and PLY
+  libembree-dev            # Embree 3: the BVH of the body's closest-point and ray queries
   nlohmann-json3-dev       # JSON specs and reports
   libcli11-dev             # command-line parsing
   catch2                   # unit tests (v2)

@@ -5,18 +5,16 @@
 #include <chrono>
 #include <cmath>
 #include <future>
-#include <iterator>
 #include <limits>
+#include <mutex>
 #include <string>
 #include <tuple>
 
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Intersections_3/Bbox_3_Triangle_3.h>
 #include <CGAL/Simple_cartesian.h>
 #include <Eigen/Dense>
 
+#include "collision/triangle_bvh.h"
 #include "core/error.h"
 #include "core/math.h"
 #include "mesh/topology.h"
@@ -27,8 +25,6 @@ namespace {
 using Kernel = CGAL::Simple_cartesian<double>;
 using Point = Kernel::Point_3;
 using Triangle = Kernel::Triangle_3;
-using TriangleIterator = std::vector<Triangle>::const_iterator;
-using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) {
@@ -36,82 +32,6 @@ double seconds_since(Clock::time_point t0) {
 }
 
 Point to_point(const Eigen::Vector3d& p) { return Point(p.x(), p.y(), p.z()); }
-
-// Closest point on triangle (a, b, c) and the feature it lies on (Ericson,
-// "Real-Time Collision Detection", 5.1.5): 0..2 the corners, 3 + k the edge from
-// corner k to corner k+1, 6 the interior.
-struct TriangleClosest {
-  Eigen::Vector3d point;
-  int feature;
-};
-
-TriangleClosest closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                    const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return {a, 0};
-  const Eigen::Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0.0 && d4 <= d3) return {b, 1};
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return {a + (d1 / (d1 - d3)) * ab, 3};
-  const Eigen::Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0.0 && d5 <= d6) return {c, 2};
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return {a + (d2 / (d2 - d6)) * ac, 5};
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
-    return {b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b), 4};
-  }
-  const double denom = 1.0 / (va + vb + vc);
-  return {a + ab * (vb * denom) + ac * (vc * denom), 6};
-}
-
-// The AABB traits of the body tree, with the two predicates of a closest-point
-// traversal (CGAL's AABBTraits concept: Closest_point and Compare_distance)
-// written for triangles of doubles. The kernel's projection constructs the
-// triangle's plane for every candidate, 11 % of simulate-adapt's samples on the
-// shared-body shirt (perf, 3,829 vertices, T -> A). With these, the full motion
-// T -> A -> arms up -> arms bent -> T spends 4.6 us of collision time per exact
-// query against 5.3, 13.4 against 15.3 ms per step. The answers are the same
-// closest points up to rounding: the run is identical through the A-pose and
-// differs in the last bits from there (ties between far-apart faces).
-struct BodyTraits : CGAL::AABB_traits<Kernel, Primitive> {
-  class Closest_point {
-   public:
-    explicit Closest_point(const BodyTraits&) {}
-    // The closer to p of `bound` and the closest point of the primitive's triangle.
-    Point operator()(const Point& p, const Primitive& primitive, const Point& bound) const {
-      const Triangle& t = *primitive.id();
-      const Eigen::Vector3d q(p.x(), p.y(), p.z());
-      const Eigen::Vector3d c = closest_on_triangle(q, to_vector(t[0]), to_vector(t[1]), to_vector(t[2])).point;
-      return (c - q).squaredNorm() > CGAL::squared_distance(p, bound) ? bound : Point(c.x(), c.y(), c.z());
-    }
-  };
-
-  class Compare_distance {
-   public:
-    // SMALLER when the box meets the closed ball around p through `bound` (the
-    // kernel's sphere-box test, as a point-box distance).
-    CGAL::Comparison_result operator()(const Point& p, const CGAL::Bbox_3& box, const Point& bound) const {
-      double d2 = 0.0;
-      for (int k = 0; k < 3; ++k) {
-        const double below = box.min(k) - p[k], above = p[k] - box.max(k);
-        if (below > 0.0) d2 += below * below;
-        else if (above > 0.0) d2 += above * above;
-      }
-      return d2 <= CGAL::squared_distance(p, bound) ? CGAL::SMALLER : CGAL::LARGER;
-    }
-  };
-
-  Closest_point closest_point_object() const { return Closest_point(*this); }
-  Compare_distance compare_distance_object() const { return Compare_distance(); }
-
- private:
-  static Eigen::Vector3d to_vector(const Point& p) { return Eigen::Vector3d(p.x(), p.y(), p.z()); }
-};
-using Tree = CGAL::AABB_tree<BodyTraits>;
 
 Eigen::Vector3d barycentric(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                             const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
@@ -284,8 +204,11 @@ struct BodyCollider::Impl {
   mutable std::vector<long> vertex_normal_version;
   bool all_vertex_normals = false;        // the current frame's are all computed
   int threads = 1;      // contacts() and resolve() split their vertices over up to two threads
-  std::vector<Triangle> triangles;
-  Tree tree;
+  std::unique_ptr<TriangleBvh> bvh;  // over the culled faces (index k: faces[k]) of the current frame
+  // Hierarchies of earlier frames, refitted by the next prepare() rather
+  // than built anew (prepare() may run on another thread).
+  mutable std::mutex spare_mutex;
+  mutable std::vector<std::unique_ptr<TriangleBvh>> spare;
   bool built = false;
   long version = 0;     // body frames set so far
   double travel = 0.0;  // accumulated largest body vertex motion between frames
@@ -333,11 +256,12 @@ struct BodyCollider::Impl {
   }
 
   // A closest point on an edge or a corner is shared by every face around that
-  // feature, and which of them the tree returns depends on its traversal, i.e.
-  // on which faces it holds: with and without culling the answers differed in
-  // the last bits, which adaptation amplified to centimetres over a motion
-  // (make bench). The face with the lowest id among those at the same distance
-  // is taken instead, so the answer depends on the body alone.
+  // feature, but each face computes it with its own rounding, so their
+  // distances may differ in the last bits, and which face wins would depend on
+  // which faces are culled: answers differing in the last bits were amplified
+  // by adaptation to centimetres over a motion (make bench). The face with the
+  // lowest id among those around the feature within a relative 1e-12 of the
+  // closest distance is taken instead, so the answer depends on the body alone.
   void resolve_tie(const Eigen::Vector3d& p, int& f, TriangleClosest& c) const {
     if (c.feature == 6) return;
     const double d = (p - c.point).squaredNorm();
@@ -358,23 +282,14 @@ struct BodyCollider::Impl {
     }
   }
 
+  // The closest culled face: exact distances, the lowest id among equal
+  // ones (TriangleBvh), then the tie rule above.
   Proximity query(const Eigen::Vector3d& p, int hint_face) const {
     if (!built) throw UsageError("BodyCollider::query before set_body");
-    Tree::Point_and_primitive_id result;
-    const Point q = to_point(p);
     const int hint_local = (hint_face >= 0 && hint_face < static_cast<int>(local_of_face.size()))
                                ? local_of_face[hint_face]
                                : -1;
-    if (hint_local >= 0) {
-      const int f = faces[hint_local];
-      const TriangleClosest h = closest_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2));
-      result = tree.closest_point_and_primitive(
-          q, Tree::Point_and_primitive_id(to_point(h.point), triangles.cbegin() + hint_local));
-    } else {
-      result = tree.closest_point_and_primitive(q);
-    }
-    const int local = static_cast<int>(result.second - triangles.cbegin());
-    return proximity_on(p, faces[local]);
+    return proximity_on(p, faces[bvh->closest(p, hint_local).triangle]);
   }
 
   // The answer for p whose closest body face is f (before the tie rule).
@@ -403,11 +318,9 @@ struct BodyCollider::Impl {
     if (!built) throw UsageError("BodyCollider::gap before set_body");
     const Eigen::Vector3d origin = q.closest + kGapRayLift * q.outward;
     const int skip_local = q.face >= 0 ? local_of_face[q.face] : -1;
-    const Kernel::Ray_3 ray(to_point(origin), Kernel::Vector_3(q.outward.x(), q.outward.y(), q.outward.z()));
-    const auto hit = tree.first_intersected_primitive(
-        ray, [&](const TriangleIterator& id) { return id - triangles.cbegin() == skip_local; });
-    if (!hit) return std::numeric_limits<double>::infinity();
-    const int f = faces[*hit - triangles.cbegin()];
+    const TriangleBvh::Hit hit = bvh->first_hit(origin, q.outward, skip_local);
+    if (hit.triangle < 0) return std::numeric_limits<double>::infinity();
+    const int f = faces[hit.triangle];
     return kGapRayLift + ray_triangle_distance(origin, q.outward, corner(f, 0), corner(f, 1), corner(f, 2));
   }
 
@@ -442,17 +355,8 @@ struct BodyCollider::Impl {
   }
   // Culled faces (body ids, ascending) within `radius` of p.
   std::vector<int> faces_within(const Eigen::Vector3d& p, double radius) const {
-    std::vector<TriangleIterator> hits;
-    const CGAL::Bbox_3 box(p.x() - radius, p.y() - radius, p.z() - radius, p.x() + radius, p.y() + radius,
-                           p.z() + radius);
-    tree.all_intersected_primitives(box, std::back_inserter(hits));
-    std::vector<int> ids;
-    for (const TriangleIterator& it : hits) {
-      const int f = faces[it - triangles.cbegin()];
-      const TriangleClosest c = closest_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2));
-      if ((p - c.point).squaredNorm() <= radius * radius) ids.push_back(f);
-    }
-    std::sort(ids.begin(), ids.end());
+    std::vector<int> ids = bvh->within(p, radius);
+    for (int& k : ids) k = faces[k];  // faces ascend, so the ids do
     return ids;
   }
 
@@ -477,6 +381,9 @@ struct BodyCollider::Impl {
   // since that query. Updates the cache and warm-starts from its face.
   std::optional<Proximity> cached_query(int i, const Eigen::Vector3d& x, double reach, int& previous_face,
                                        CollisionStats& st) {
+    // A non-finite position (a diverged solve, which the step's own checks
+    // reject and retry) has no closest point; the vertex is left alone.
+    if (!x.allFinite()) return std::nullopt;
     VertexCache& c = cache[i];
     if (c.valid && c.outside && c.distance - (x - c.x).norm() - (travel - c.travel) > reach) {
       ++st.skipped;
@@ -728,10 +635,8 @@ BodyCollider::BodyCollider(const Eigen::MatrixXi& F_body, std::vector<int> face_
   for (int f = 0; f < F_body.rows(); ++f) {
     if (face_used[f]) s.normal_faces.push_back(f);
   }
-  s.triangles.resize(s.faces.size());
   s.vertex_normal.resize(nv, 3);
   s.vertex_normal_version.assign(nv, -1);
-  s.tree.do_not_accelerate_distance_queries();
 }
 
 BodyCollider::~BodyCollider() = default;
@@ -744,8 +649,7 @@ struct BodyFrame::Data {
   bool has_velocity = false;
   Eigen::MatrixXd face_normal;  // #Fb by 3 (rows of the collider's normal_faces filled)
   Eigen::MatrixXd vertex_normal;  // #Vb by 3 (rows of the collider's culled_vertices filled)
-  std::vector<Triangle> triangles;
-  Tree tree;                    // over `triangles`, whose buffer moves with it into the collider
+  std::unique_ptr<TriangleBvh> bvh;  // over the collider's culled faces at V
   double seconds = 0.0;         // wall time of prepare()
 };
 
@@ -783,13 +687,19 @@ BodyFrame BodyCollider::prepare(const Eigen::MatrixXd& V_body, const Eigen::Matr
     d.vertex_normal.resize(V_body.rows(), 3);
     for (int v : s.culled_vertices) d.vertex_normal.row(v) = s.angle_weighted_normal(v, V_body, d.face_normal).transpose();
   }
-  d.triangles.resize(s.faces.size());
-  for (size_t k = 0; k < s.faces.size(); ++k) {
-    const int f = s.faces[k];
-    d.triangles[k] = Triangle(to_point(corner(f, 0)), to_point(corner(f, 1)), to_point(corner(f, 2)));
+  {
+    std::lock_guard<std::mutex> lock(s.spare_mutex);
+    if (!s.spare.empty()) {
+      d.bvh = std::move(s.spare.back());
+      s.spare.pop_back();
+    }
   }
-  d.tree.rebuild(d.triangles.cbegin(), d.triangles.cend());
-  d.tree.do_not_accelerate_distance_queries();
+  if (!d.bvh) d.bvh = std::make_unique<TriangleBvh>(static_cast<int>(s.faces.size()));
+  Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor> corners(s.faces.size(), 9);
+  for (size_t k = 0; k < s.faces.size(); ++k) {
+    for (int c = 0; c < 3; ++c) corners.row(k).segment<3>(3 * c) = V_body.row(s.F(s.faces[k], c));
+  }
+  d.bvh->set_corners(corners);
   d.seconds = seconds_since(t0);
   return frame;
 }
@@ -805,10 +715,11 @@ void BodyCollider::set_body(BodyFrame frame) {
     s.travel += largest;
     s.still = largest == 0.0;
   }
-  // Moving the tree and its triangles keeps the triangles' buffer, which the
-  // tree's primitives point into.
-  s.tree = std::move(d.tree);
-  s.triangles = std::move(d.triangles);
+  if (s.bvh) {
+    std::lock_guard<std::mutex> lock(s.spare_mutex);
+    s.spare.push_back(std::move(s.bvh));
+  }
+  s.bvh = std::move(d.bvh);
   s.V = std::move(d.V);
   s.V_dot = std::move(d.V_dot);
   s.has_velocity = d.has_velocity;

@@ -4,12 +4,19 @@
 //
 // The body (V_body #Vb by 3 metres, F_body #Fb by 3, closed and outward
 // oriented) is culled once per motion to the faces the garment can reach
-// (reachable_body_faces), and a CGAL AABB tree over those faces is rebuilt for
-// each body frame (set_body). Queries return the closest body point and a signed
-// distance whose sign comes from the angle-weighted pseudo-normal of the closest
-// feature (face, edge or vertex; Baerentzen & Aanaes 2005, "Signed distance
-// computation using the angle weighted pseudonormal"), which is robust at edges
-// and vertices where the face normal alone gives the wrong sign.
+// (reachable_body_faces). One bounding volume hierarchy over those faces
+// (triangle_bvh.h, Embree) is refitted to each body frame (set_body). Queries
+// return the exact closest body point and a signed distance whose sign comes
+// from the angle-weighted pseudo-normal of the closest feature (face, edge or
+// vertex; Baerentzen & Aanaes 2005, "Signed distance computation using the
+// angle weighted pseudonormal"), which is robust at edges and vertices where
+// the face normal alone gives the wrong sign.
+//
+// Answers depend on the body and the query point alone (not on the culling,
+// the hierarchy, the thread count or the CPU): among faces at exactly the same
+// distance the lowest face id wins, and among the faces around a shared edge
+// or corner whose distances differ only by rounding (within a relative 1e-12)
+// also the lowest id.
 //
 // resolve() is the collision response of one cloth step: every cloth vertex
 // closer than the comfort offset (or inside the body) is moved to the offset
@@ -21,15 +28,11 @@
 // are skipped. A vertex that has not moved since its last query on the same body
 // frame gets that answer again: while the body stands still, every vertex the
 // step's resolve() left in place is asked again by the next step's contacts().
-// Measured on the shared-body shirt (3,829 vertices, T -> A -> arms up -> arms
-// bent -> T): 1.29 million answers reused against 3.79 million queries, 15.3
-// against 18.1 ms of collisions per step, every output byte-identical.
 // While the body stands still (settling at a key pose), a vertex queried a
 // third time on the same body frame collects the faces that can hold its
 // closest point while it stays within a few millimetres, and later queries
-// search only those (exactly, see cached_query). Same run: 1.53 million tree
-// queries against 3.15 million, 8.4 against 10.8 ms of collisions per step,
-// 35.4 to 37.1 s against 39.2 s for the run, every output byte-identical.
+// search only those (exactly, see cached_query). None of this changes an
+// answer; the README has the measured gains.
 //
 // Pinches: where two body parts come closer than twice the comfort offset
 // (armpit, between the legs, an arm against the torso) the two offset shells
@@ -37,10 +40,8 @@
 // offset of the other and is pushed back on the next step. The usable offset at
 // a closest point c with outward direction n is therefore limited to half the
 // gap, the distance from c along n to the next body surface (a ray cast through
-// the tree): the vertex is pushed to the middle of the gap, which both parts
-// agree on. Measured on the shared-body shirt (1,085 vertices) moving T -> A
-// without adaptation: the largest stretch in the armpit after 400 settling
-// steps fell from 4.13 to 3.14.
+// the hierarchy): the vertex is pushed to the middle of the gap, which both
+// parts agree on (README: the armpit's stretch).
 #include <memory>
 #include <vector>
 
@@ -72,7 +73,7 @@ struct Contact {
 };
 
 // One body frame's geometry made ready for BodyCollider::set_body: positions,
-// velocities, face normals and the AABB tree (see BodyCollider::prepare).
+// velocities, face normals and the refitted hierarchy (see BodyCollider::prepare).
 class BodyFrame {
  public:
   BodyFrame();  // empty: set_body rejects it
@@ -87,7 +88,7 @@ class BodyFrame {
 };
 
 struct CollisionStats {
-  long queries = 0;           // exact closest-point queries of the tree
+  long queries = 0;           // exact closest-point queries of the hierarchy
   long local = 0;             // exact closest-point answers from a vertex's candidate faces (body standing still)
   long skipped = 0;           // vertices skipped by the motion bound
   long reused = 0;            // answers reused for a vertex that had not moved on an unchanged body
@@ -96,7 +97,7 @@ struct CollisionStats {
   long pinched = 0;           // contacts or projections whose offset was limited to half the gap
   long creases = 0;           // second contacts of vertices in a crease (see contacts())
   double deepest_penetration = 0.0;  // largest depth inside the body seen by resolve() [m], before projection
-  double rebuild_seconds = 0.0;      // tree rebuilds and face normals (prepare, counted when set)
+  double rebuild_seconds = 0.0;      // hierarchy refits and face normals (prepare, counted when set)
   double query_seconds = 0.0;        // resolve()
 };
 
@@ -109,20 +110,20 @@ class BodyCollider {
   BodyCollider& operator=(BodyCollider&&) noexcept;
 
   // Body positions of the current frame (#Vb by 3) and, optionally, the body
-  // velocities [m/s] (#Vb by 3; zero when omitted). Rebuilds the tree.
+  // velocities [m/s] (#Vb by 3; zero when omitted). Refits the hierarchy.
   // Throws UsageError on a size mismatch, GeometryError on non-finite positions.
   void set_body(const Eigen::MatrixXd& V_body, const Eigen::MatrixXd* body_velocity = nullptr);
-  // The same in two halves. prepare() builds a frame's normals and tree and
+  // The same in two halves. prepare() builds a frame's normals and hierarchy and
   // reads nothing but the culling fixed at construction, so it may run on
   // another thread while this collider answers queries on its current frame
-  // (simulate-adapt builds the next frame's tree during a step); it throws as
+  // (simulate-adapt prepares the next frame during a step); it throws as
   // set_body. set_body(frame) makes a frame prepared by this collider current
   // (UsageError for an empty frame or one of another collider).
   BodyFrame prepare(const Eigen::MatrixXd& V_body, const Eigen::MatrixXd* body_velocity = nullptr) const;
   void set_body(BodyFrame frame);
 
-  // Closest point and signed distance of p; `hint_face` (a culled face id or -1)
-  // warm-starts the search.
+  // Closest point and signed distance of p (finite; NumericalError otherwise);
+  // `hint_face` (a culled face id or -1) warm-starts the search.
   Proximity query(const Eigen::Vector3d& p, int hint_face = -1) const;
 
   // Distance [m] from the closest point of q along q.outward to the next body
@@ -131,7 +132,9 @@ class BodyCollider {
 
   // Collision response for cloth positions X and velocities Vel (#V by 3; row i is
   // cloth vertex i across calls, for warm starts). offset [m] >= 0; in a pinch
-  // at most half the gap (see above).
+  // at most half the gap (see above). Vertices at non-finite positions (a
+  // diverged solve, rejected by the step's own checks) are left alone, here
+  // and in contacts().
   void resolve(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, double offset);
   // Same with a per-vertex offset (#V) [m]; an offset may be negative: the vertex
   // may then be that deep inside the body (used to push a garment that starts

@@ -1,0 +1,80 @@
+#pragma once
+// A bounding volume hierarchy over moving triangles (the body's culled faces,
+// see body_collider.h): exact closest points, first hits of rays and the
+// triangles within a ball, over a fixed list of triangles whose corners move
+// from frame to frame.
+//
+// The hierarchy is Embree's (Wald et al. 2014, "Embree: a kernel framework for
+// efficient CPU ray tracing"), over user primitives: Embree only culls boxes,
+// in single precision, against boxes grown so that the culling is conservative;
+// every distance and hit is computed here in double precision, by
+// closest_on_triangle and CGAL's ray-triangle intersection. The first
+// set_corners() builds the hierarchy, later ones refit its boxes to the new
+// corners (the same tree, new bounds).
+//
+// Answers depend on the triangles and the query alone, never on the tree, the
+// order Embree visits it in, the thread count or the CPU: among exactly equal
+// distances (or ray parameters) the lowest triangle index wins.
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace gp::collision {
+
+// Closest point on triangle (a, b, c) to p and the feature it lies on (Ericson,
+// "Real-Time Collision Detection", 5.1.5): 0..2 the corners, 3 + k the edge from
+// corner k to corner k+1, 6 the interior. A degenerate triangle (collinear or
+// coincident corners) answers with the closest point of its three edges.
+struct TriangleClosest {
+  Eigen::Vector3d point;
+  int feature;
+};
+TriangleClosest closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                    const Eigen::Vector3d& c);
+
+class TriangleBvh {
+ public:
+  // A hierarchy over `triangles` triangles (at least one), indexed 0..triangles-1.
+  explicit TriangleBvh(int triangles);
+  ~TriangleBvh();
+  TriangleBvh(const TriangleBvh&) = delete;
+  TriangleBvh& operator=(const TriangleBvh&) = delete;
+
+  // Corners of every triangle: #T by 9 (a, b, c; metres), finite. Builds the
+  // hierarchy the first time, refits it after. Throws UsageError on a size
+  // mismatch, GeometryError on non-finite corners.
+  void set_corners(const Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor>& corners);
+
+  struct Closest {
+    int triangle = -1;             // -1 only for an empty answer
+    double squared_distance = 0.0;  // m^2, as closest_on_triangle gives it
+  };
+  // The triangle closest to p (finite; NumericalError otherwise): the smallest
+  // squared distance, the lowest index among equal ones. `hint` (an index or -1)
+  // only speeds the search up.
+  Closest closest(const Eigen::Vector3d& p, int hint = -1) const;
+
+  struct Hit {
+    int triangle = -1;  // -1: the ray leaves without a hit
+    double t = 0.0;     // ray parameter of the first intersection point (CGAL's Ray_3/Triangle_3 intersection)
+  };
+  // The first triangle (smallest parameter, then lowest index) hit by the ray
+  // origin + t direction, t >= 0, ignoring triangle `skip` (or -1) and
+  // triangles of zero area. Origin and direction finite, direction non-zero
+  // (NumericalError otherwise).
+  Hit first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, int skip = -1) const;
+
+  // Indices (ascending) of the triangles within `radius` [m] of p.
+  std::vector<int> within(const Eigen::Vector3d& p, double radius) const;
+
+  int size() const;
+  // Corners of triangle i (row i of the last set_corners).
+  Eigen::Vector3d corner(int i, int k) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace gp::collision
