@@ -609,16 +609,27 @@ struct ClothSimulator::Impl {
   }
 
   // Factorizes the current matrix and solves with it. A membrane-pattern factor
-  // that leaves CG short of the tolerance (measured: the bending stencils of
-  // near-degenerate rest triangles, whose couplings are far from small) is
-  // given up for the whole matrix, for the rest of the run.
+  // that leaves CG short of the tolerance, or twice needs more than
+  // options.membrane_max_iterations (the bending stencils of near-degenerate
+  // rest triangles, whose couplings are far from small), is given up for the
+  // whole matrix, for the rest of the run.
   void solve_with_fresh_factor(bool& converged) {
     factorize();
     warp_active = false;
     auto t0 = Clock::now();
+    const long iterations_before = counters.cg_iterations;
     direct_solve(converged);
     times.solve += seconds_since(t0);
-    if (converged || !membrane_active) return;
+    if (!membrane_active) return;
+    if (converged) {
+      if (counters.cg_iterations - iterations_before > options.membrane_max_iterations) ++counters.slow_membrane_solves;
+      // The solution stands; the next step factors the whole matrix.
+      if (counters.slow_membrane_solves >= 2) {
+        membrane_active = false;
+        ++counters.membrane_fallbacks;
+      }
+      return;
+    }
     membrane_active = false;
     ++counters.membrane_fallbacks;
     factorize();

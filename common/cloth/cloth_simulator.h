@@ -117,6 +117,16 @@ struct SimulatorOptions {
   // a fresh membrane factor leaves CG short of the tolerance, the simulator
   // switches to the whole matrix for good (counters().membrane_fallbacks).
   bool membrane_pattern_preconditioner = true;
+  // The membrane pattern is also given up when a fresh factor of it needs more
+  // CG iterations than this, for the second time in a run (in counters, so
+  // reset_statistics() restarts the count). A whole-matrix factorization costs
+  // about 15 iterations more than a membrane one; on well-shaped garments a
+  // fresh membrane factor needs 3-10 (the 3,829-vertex shirt, T -> A: at most
+  // 10). The 4,172-vertex dress of the benchmark, whose design mesh has a
+  // cluster of rest triangles 0.1 mm across (2A/L^2 down to 2e-3, vertex masses
+  // 8,000 times below the median), needed 40-90 per solve with it and 2-3 with
+  // the whole matrix.
+  int membrane_max_iterations = 30;
 };
 
 // Wall time per phase [s], accumulated over steps.
@@ -141,6 +151,7 @@ struct SolverCounters {
   long released = 0;           // constraints released because the body pulled
   int last_cg_iterations = 0;
   long membrane_fallbacks = 0;  // membrane-pattern factors given up for the whole matrix (0 or 1)
+  long slow_membrane_solves = 0;  // fresh membrane-pattern solves above options.membrane_max_iterations
 };
 
 // Called after each (sub)step with the new positions and velocities of all
