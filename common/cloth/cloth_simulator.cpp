@@ -114,7 +114,9 @@ struct ClothSimulator::Impl {
   Eigen::MatrixXd G, V_prescribed;
   Eigen::VectorXd b, sol, r, z, p, Ap;
   Eigen::MatrixXd rhs_buffer, sol_buffer;
+  std::vector<int> flipped_faces;  // the faces the last (sub)step turned over
   std::string last_failure;
+  long RejectionCounts::*last_reason = nullptr;  // the counter of last_failure
 
   int value_position(int row, int col) const { return entry_index(A, row, col); }
 
@@ -717,6 +719,7 @@ struct ClothSimulator::Impl {
       solve_system();
     } catch (const NumericalError& e) {
       factor_valid = false;
+      last_reason = &RejectionCounts::solve_failed;
       return std::string("linear solve failed: ") + e.what();
     }
     const std::vector<char> released_before = released, in_contact_before = in_contact;
@@ -759,10 +762,13 @@ struct ClothSimulator::Impl {
 
     t0 = Clock::now();
     std::string failure;
+    flipped_faces.clear();
     if (!X_new.allFinite() || !V_new.allFinite()) {
       failure = "non-finite positions or velocities";
+      last_reason = &RejectionCounts::non_finite;
     } else if (V_new.rowwise().norm().maxCoeff() > options.max_speed) {
       failure = "vertex speed above " + std::to_string(options.max_speed) + " m/s";
+      last_reason = &RejectionCounts::too_fast;
     } else {
       int flipped = 0, first_flipped = -1;
       for (int f = 0; f < F.rows(); ++f) {
@@ -770,7 +776,10 @@ struct ClothSimulator::Impl {
         const Eigen::Vector3d y0 = X_new.row(F(f, 0)), y1 = X_new.row(F(f, 1)), y2 = X_new.row(F(f, 2));
         const Eigen::Vector3d n_old = (x1 - x0).cross(x2 - x0);
         const Eigen::Vector3d n_new = (y1 - y0).cross(y2 - y0);
-        if (n_old.dot(n_new) < 0.0 && ++flipped == 1) first_flipped = f;
+        if (n_old.dot(n_new) < 0.0) {
+          if (++flipped == 1) first_flipped = f;
+          flipped_faces.push_back(f);
+        }
       }
       // A triangle turned over within one step is a symptom of a too large step
       // and is retried; if it survives the smallest step, it is a fold forced by
@@ -778,6 +787,7 @@ struct ClothSimulator::Impl {
       // is accepted and counted rather than ending the run.
       if (flipped > 0 && !accept_flips) {
         failure = std::to_string(flipped) + " triangle(s) inverted, first " + std::to_string(first_flipped);
+        last_reason = &RejectionCounts::inverted;
       } else if (flipped > 0) {
         counters.accepted_flips += flipped;
       }
@@ -787,6 +797,7 @@ struct ClothSimulator::Impl {
         if (energy_after > options.energy_growth_limit * energy_before + floor) {
           failure = "energy exploded (" + std::to_string(energy_before) + " J -> " +
                     std::to_string(energy_after) + " J)";
+          last_reason = &RejectionCounts::energy_growth;
         }
       }
     }
@@ -809,6 +820,11 @@ struct ClothSimulator::Impl {
         h, pin_end, depth >= std::min(options.max_step_halvings, options.max_fold_halvings), s_start, s_end);
     if (failure.empty()) return true;
     ++counters.rejected;
+    ++(counters.rejections.*last_reason);
+    if (last_reason == &RejectionCounts::inverted) {
+      counters.inverted_faces.resize(F.rows(), 0);
+      for (int f : flipped_faces) ++counters.inverted_faces[f];
+    }
     X = X_saved;
     Vel = V_saved;
     last_failure = failure;

@@ -139,10 +139,25 @@ struct PhaseTimes {
   double total() const { return forces_assembly + factorization + solve + collisions + checks; }
 };
 
+// Why (sub)steps were rejected, one count per rejected attempt (the checks of
+// step(), in the order they are made; the first that fails is counted).
+struct RejectionCounts {
+  long solve_failed = 0;      // the linear solve threw (CHOLMOD, or CG did not converge)
+  long non_finite = 0;        // positions or velocities not finite
+  long too_fast = 0;          // a vertex above options.max_speed
+  long inverted = 0;          // a triangle turned over within the step
+  long energy_growth = 0;     // kinetic plus elastic energy grew beyond options.energy_growth_limit
+  long total() const { return solve_failed + non_finite + too_fast + inverted + energy_growth; }
+};
+
 struct SolverCounters {
   long steps = 0;            // accepted calls to step()
   long substeps = 0;         // linear solves that were accepted (>= steps when halving)
   long rejected = 0;         // rejected (sub)steps
+  RejectionCounts rejections;  // the rejected (sub)steps by reason (sums to `rejected`)
+  // Per face, how often a rejected (sub)step found it inverted (#F once a
+  // step was rejected for that, empty before): recurring faces point at a cause.
+  std::vector<long> inverted_faces;
   long accepted_flips = 0;   // triangles that turned over even in the smallest substep (folds)
   long factorizations = 0;
   long cg_iterations = 0;

@@ -3,11 +3,13 @@
 // 1 + delta (Wolff et al. 2023); --no-adapt evaluates the fixed design instead.
 // Writes rest.ply, draped_<k>_<pose>.ply (face field max_stretch), timing.json
 // and report.json (written last) into --out.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <thread>
+#include <vector>
 
 #include "adapt/fit_verification.h"
 #include "adapt/garment_fit.h"
@@ -470,6 +472,28 @@ int main(int argc, char** argv) {
                       {"contact_fail_safe_calls", result.contact.fail_safe_calls},
                       {"contact_fail_safe_vertices", result.contact.fail_safe_vertices},
                       {"contact_unresolved", result.contact.unresolved}};
+    // Why steps were rejected: each retry refactors and re-collides, so the
+    // reasons (and the faces that keep turning over) say where steps are lost.
+    const gp::cloth::RejectionCounts& rc = result.solver.rejections;
+    gp::OrderedJson faces = gp::OrderedJson::array();
+    {
+      std::vector<int> order;
+      for (size_t f = 0; f < result.solver.inverted_faces.size(); ++f) {
+        if (result.solver.inverted_faces[f] > 0) order.push_back(static_cast<int>(f));
+      }
+      std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+        return result.solver.inverted_faces[a] > result.solver.inverted_faces[b];
+      });
+      if (order.size() > 10) order.resize(10);
+      for (int f : order) faces.push_back({{"face", f}, {"rejections", result.solver.inverted_faces[f]}});
+    }
+    timing["rejections"] = {{"total", result.solver.rejected},
+                            {"inverted_triangle", rc.inverted},
+                            {"too_fast", rc.too_fast},
+                            {"energy_growth", rc.energy_growth},
+                            {"non_finite", rc.non_finite},
+                            {"solve_failed", rc.solve_failed},
+                            {"most_inverted_faces", faces}};
     timing["verification_s"] = verification ? verification->seconds : 0.0;
     timing["threads"] = options.threads;
     timing["setup_s"] = t.setup;
