@@ -457,6 +457,7 @@ int main(int argc, char** argv) {
     // decisions that shape the result (steps, rejections, settling).
     timing["work"] = {{"factorizations", result.solver.factorizations},
                       {"cg_iterations", result.solver.cg_iterations},
+                      {"membrane_fallbacks", result.solver.membrane_fallbacks},
                       {"arap_iterations", result.arap.iterations},
                       {"arap_max_iterations", result.arap.max_iterations},
                       {"arap_max_residual", result.arap.max_residual},
