@@ -41,8 +41,9 @@
 // triangle may flip (its normal turning by more than 90 degrees within the step),
 // no vertex may exceed `max_speed`, and kinetic plus elastic energy may not grow by
 // more than `energy_growth_limit` times (plus a floor of 10 J/kg of cloth mass).
-// A failed step is rejected and retried as two steps of half the size, at most
-// `max_step_halvings` times deep; then NumericalError is thrown and the state is left
+// A failed step is rejected (counted by reason in counters().rejections, and
+// the faces it found inverted in counters().inverted_faces) and retried as two
+// steps of half the size, at most `max_step_halvings` times deep; then NumericalError is thrown and the state is left
 // as it was before the step. Triangles that still turn over after
 // `max_fold_halvings` halvings are folds forced by contact; they are accepted and
 // counted (counters().accepted_flips), since cloth may fold.
@@ -114,8 +115,9 @@ struct SimulatorOptions {
   // while at the default material they weigh about 1e-3 of the membrane terms.
   // Measured on the shared-body shirt (3,829 vertices) moving T -> A: 25 ms per
   // factorization against 57, 36 % more CG iterations, 36 s against 44 s. Where
-  // a fresh membrane factor leaves CG short of the tolerance, the simulator
-  // switches to the whole matrix for good (counters().membrane_fallbacks).
+  // a fresh membrane factor leaves CG short of the tolerance, or twice needs
+  // more than membrane_max_iterations, the simulator switches to the whole
+  // matrix for good (counters().membrane_fallbacks).
   bool membrane_pattern_preconditioner = true;
   // The membrane pattern is also given up when a fresh factor of it needs more
   // CG iterations than this, for the second time in a run (in counters, so
