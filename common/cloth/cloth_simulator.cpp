@@ -49,6 +49,17 @@ const char* solver_strategy_name(SolverStrategy s) {
   return "unknown";
 }
 
+std::vector<std::pair<int, long>> most_inverted_faces(const SolverCounters& counters, int count) {
+  std::vector<std::pair<int, long>> faces;
+  for (size_t f = 0; f < counters.inverted_faces.size(); ++f) {
+    if (counters.inverted_faces[f] > 0) faces.emplace_back(static_cast<int>(f), counters.inverted_faces[f]);
+  }
+  std::stable_sort(faces.begin(), faces.end(),
+                   [](const std::pair<int, long>& a, const std::pair<int, long>& b) { return a.second > b.second; });
+  if (faces.size() > static_cast<size_t>(std::max(count, 0))) faces.resize(static_cast<size_t>(std::max(count, 0)));
+  return faces;
+}
+
 struct ClothSimulator::Impl {
   Eigen::MatrixXd V_rest, X, Vel;
   Eigen::MatrixXi F;

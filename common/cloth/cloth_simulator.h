@@ -50,6 +50,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -170,6 +171,10 @@ struct SolverCounters {
   long membrane_fallbacks = 0;  // membrane-pattern factors given up for the whole matrix (0 or 1)
   long slow_membrane_solves = 0;  // fresh membrane-pattern solves above options.membrane_max_iterations
 };
+
+// The faces of counters.inverted_faces that rejected (sub)steps found inverted,
+// most often first (ties by face id), at most `count`: (face, rejections).
+std::vector<std::pair<int, long>> most_inverted_faces(const SolverCounters& counters, int count);
 
 // Called after each (sub)step with the new positions and velocities of all
 // vertices (#V by 3); it may move vertices and change velocities (body

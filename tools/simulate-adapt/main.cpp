@@ -3,13 +3,11 @@
 // 1 + delta (Wolff et al. 2023); --no-adapt evaluates the fixed design instead.
 // Writes rest.ply, draped_<k>_<pose>.ply (face field max_stretch), timing.json
 // and report.json (written last) into --out.
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <thread>
-#include <vector>
 
 #include "adapt/fit_verification.h"
 #include "adapt/garment_fit.h"
@@ -477,16 +475,8 @@ int main(int argc, char** argv) {
     // reasons (and the faces that keep turning over) say where steps are lost.
     const gp::cloth::RejectionCounts& rc = result.solver.rejections;
     gp::OrderedJson faces = gp::OrderedJson::array();
-    {
-      std::vector<int> order;
-      for (size_t f = 0; f < result.solver.inverted_faces.size(); ++f) {
-        if (result.solver.inverted_faces[f] > 0) order.push_back(static_cast<int>(f));
-      }
-      std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-        return result.solver.inverted_faces[a] > result.solver.inverted_faces[b];
-      });
-      if (order.size() > 10) order.resize(10);
-      for (int f : order) faces.push_back({{"face", f}, {"rejections", result.solver.inverted_faces[f]}});
+    for (const auto& [face, count] : gp::cloth::most_inverted_faces(result.solver, 10)) {
+      faces.push_back({{"face", face}, {"rejections", count}});
     }
     timing["rejections"] = {{"total", result.solver.rejected},
                             {"inverted_triangle", rc.inverted},

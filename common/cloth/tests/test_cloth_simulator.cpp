@@ -305,6 +305,11 @@ TEST_CASE("a fold that persists in the smallest substep is accepted and counted"
   long inverted = 0;
   for (long c : sim.counters().inverted_faces) inverted += c;
   CHECK(inverted == 2);
+  const auto most = most_inverted_faces(sim.counters(), 10);
+  REQUIRE(most.size() == 2);
+  CHECK(most[0] == std::make_pair(0, 1L));  // ties in face order
+  CHECK(most[1].second == 1);
+  CHECK(most_inverted_faces(sim.counters(), 1).size() == 1);
   CHECK(sim.positions().allFinite());
 }
 
