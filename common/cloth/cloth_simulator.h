@@ -44,9 +44,10 @@
 // A failed step is rejected (counted by reason in counters().rejections, and
 // the faces it found inverted in counters().inverted_faces) and retried as two
 // steps of half the size, at most `max_step_halvings` times deep; then
-// NumericalError is thrown and the state is left as it was before the step. Triangles that still turn over after
-// `max_fold_halvings` halvings are folds forced by contact; they are accepted and
-// counted (counters().accepted_flips), since cloth may fold.
+// NumericalError is thrown and the state is left as it was before the step.
+// Triangles that still turn over after `max_fold_halvings` halvings are folds
+// forced by contact; they are accepted and counted (counters().accepted_flips),
+// since cloth may fold.
 #include <functional>
 #include <memory>
 #include <string>
