@@ -49,6 +49,17 @@ const char* solver_strategy_name(SolverStrategy s) {
   return "unknown";
 }
 
+std::vector<std::pair<int, long>> most_inverted_faces(const SolverCounters& counters, int count) {
+  std::vector<std::pair<int, long>> faces;
+  for (size_t f = 0; f < counters.inverted_faces.size(); ++f) {
+    if (counters.inverted_faces[f] > 0) faces.emplace_back(static_cast<int>(f), counters.inverted_faces[f]);
+  }
+  std::stable_sort(faces.begin(), faces.end(),
+                   [](const std::pair<int, long>& a, const std::pair<int, long>& b) { return a.second > b.second; });
+  if (faces.size() > static_cast<size_t>(std::max(count, 0))) faces.resize(static_cast<size_t>(std::max(count, 0)));
+  return faces;
+}
+
 struct ClothSimulator::Impl {
   Eigen::MatrixXd V_rest, X, Vel;
   Eigen::MatrixXi F;
@@ -114,7 +125,9 @@ struct ClothSimulator::Impl {
   Eigen::MatrixXd G, V_prescribed;
   Eigen::VectorXd b, sol, r, z, p, Ap;
   Eigen::MatrixXd rhs_buffer, sol_buffer;
+  std::vector<int> flipped_faces;  // the faces the last (sub)step turned over
   std::string last_failure;
+  long RejectionCounts::*last_reason = nullptr;  // the counter of last_failure
 
   int value_position(int row, int col) const { return entry_index(A, row, col); }
 
@@ -609,16 +622,27 @@ struct ClothSimulator::Impl {
   }
 
   // Factorizes the current matrix and solves with it. A membrane-pattern factor
-  // that leaves CG short of the tolerance (measured: the bending stencils of
-  // near-degenerate rest triangles, whose couplings are far from small) is
-  // given up for the whole matrix, for the rest of the run.
+  // that leaves CG short of the tolerance, or twice needs more than
+  // options.membrane_max_iterations (the bending stencils of near-degenerate
+  // rest triangles, whose couplings are far from small), is given up for the
+  // whole matrix, for the rest of the run.
   void solve_with_fresh_factor(bool& converged) {
     factorize();
     warp_active = false;
     auto t0 = Clock::now();
+    const long iterations_before = counters.cg_iterations;
     direct_solve(converged);
     times.solve += seconds_since(t0);
-    if (converged || !membrane_active) return;
+    if (!membrane_active) return;
+    if (converged) {
+      if (counters.cg_iterations - iterations_before > options.membrane_max_iterations) ++counters.slow_membrane_solves;
+      // The solution stands; the next step factors the whole matrix.
+      if (counters.slow_membrane_solves >= 2) {
+        membrane_active = false;
+        ++counters.membrane_fallbacks;
+      }
+      return;
+    }
     membrane_active = false;
     ++counters.membrane_fallbacks;
     factorize();
@@ -706,6 +730,7 @@ struct ClothSimulator::Impl {
       solve_system();
     } catch (const NumericalError& e) {
       factor_valid = false;
+      last_reason = &RejectionCounts::solve_failed;
       return std::string("linear solve failed: ") + e.what();
     }
     const std::vector<char> released_before = released, in_contact_before = in_contact;
@@ -748,10 +773,13 @@ struct ClothSimulator::Impl {
 
     t0 = Clock::now();
     std::string failure;
+    flipped_faces.clear();
     if (!X_new.allFinite() || !V_new.allFinite()) {
       failure = "non-finite positions or velocities";
+      last_reason = &RejectionCounts::non_finite;
     } else if (V_new.rowwise().norm().maxCoeff() > options.max_speed) {
       failure = "vertex speed above " + std::to_string(options.max_speed) + " m/s";
+      last_reason = &RejectionCounts::too_fast;
     } else {
       int flipped = 0, first_flipped = -1;
       for (int f = 0; f < F.rows(); ++f) {
@@ -759,7 +787,10 @@ struct ClothSimulator::Impl {
         const Eigen::Vector3d y0 = X_new.row(F(f, 0)), y1 = X_new.row(F(f, 1)), y2 = X_new.row(F(f, 2));
         const Eigen::Vector3d n_old = (x1 - x0).cross(x2 - x0);
         const Eigen::Vector3d n_new = (y1 - y0).cross(y2 - y0);
-        if (n_old.dot(n_new) < 0.0 && ++flipped == 1) first_flipped = f;
+        if (n_old.dot(n_new) < 0.0) {
+          if (++flipped == 1) first_flipped = f;
+          flipped_faces.push_back(f);
+        }
       }
       // A triangle turned over within one step is a symptom of a too large step
       // and is retried; if it survives the smallest step, it is a fold forced by
@@ -767,6 +798,7 @@ struct ClothSimulator::Impl {
       // is accepted and counted rather than ending the run.
       if (flipped > 0 && !accept_flips) {
         failure = std::to_string(flipped) + " triangle(s) inverted, first " + std::to_string(first_flipped);
+        last_reason = &RejectionCounts::inverted;
       } else if (flipped > 0) {
         counters.accepted_flips += flipped;
       }
@@ -776,6 +808,7 @@ struct ClothSimulator::Impl {
         if (energy_after > options.energy_growth_limit * energy_before + floor) {
           failure = "energy exploded (" + std::to_string(energy_before) + " J -> " +
                     std::to_string(energy_after) + " J)";
+          last_reason = &RejectionCounts::energy_growth;
         }
       }
     }
@@ -798,6 +831,11 @@ struct ClothSimulator::Impl {
         h, pin_end, depth >= std::min(options.max_step_halvings, options.max_fold_halvings), s_start, s_end);
     if (failure.empty()) return true;
     ++counters.rejected;
+    ++(counters.rejections.*last_reason);
+    if (last_reason == &RejectionCounts::inverted) {
+      counters.inverted_faces.resize(F.rows(), 0);
+      for (int f : flipped_faces) ++counters.inverted_faces[f];
+    }
     X = X_saved;
     Vel = V_saved;
     last_failure = failure;

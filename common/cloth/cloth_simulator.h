@@ -41,14 +41,17 @@
 // triangle may flip (its normal turning by more than 90 degrees within the step),
 // no vertex may exceed `max_speed`, and kinetic plus elastic energy may not grow by
 // more than `energy_growth_limit` times (plus a floor of 10 J/kg of cloth mass).
-// A failed step is rejected and retried as two steps of half the size, at most
-// `max_step_halvings` times deep; then NumericalError is thrown and the state is left
-// as it was before the step. Triangles that still turn over after
-// `max_fold_halvings` halvings are folds forced by contact; they are accepted and
-// counted (counters().accepted_flips), since cloth may fold.
+// A failed step is rejected (counted by reason in counters().rejections, and
+// the faces it found inverted in counters().inverted_faces) and retried as two
+// steps of half the size, at most `max_step_halvings` times deep; then
+// NumericalError is thrown and the state is left as it was before the step.
+// Triangles that still turn over after `max_fold_halvings` halvings are folds
+// forced by contact; they are accepted and counted (counters().accepted_flips),
+// since cloth may fold.
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -114,9 +117,21 @@ struct SimulatorOptions {
   // while at the default material they weigh about 1e-3 of the membrane terms.
   // Measured on the shared-body shirt (3,829 vertices) moving T -> A: 25 ms per
   // factorization against 57, 36 % more CG iterations, 36 s against 44 s. Where
-  // a fresh membrane factor leaves CG short of the tolerance, the simulator
-  // switches to the whole matrix for good (counters().membrane_fallbacks).
+  // a fresh membrane factor leaves CG short of the tolerance, or twice needs
+  // more than membrane_max_iterations, the simulator switches to the whole
+  // matrix for good (counters().membrane_fallbacks).
   bool membrane_pattern_preconditioner = true;
+  // The membrane pattern is also given up when a fresh factor of it needs more
+  // CG iterations than this, for the second time in a run (in counters, so
+  // reset_statistics() restarts the count). A whole-matrix factorization costs
+  // about 15 iterations more than a membrane one (the dress below: 75 ms more
+  // per factorization, 16 of its iterations); on well-shaped garments a
+  // fresh membrane factor needs 3-10 (the 3,829-vertex shirt, T -> A: at most
+  // 10). The 4,172-vertex dress of the benchmark, whose design mesh has a
+  // cluster of rest triangles 0.1 mm across (2A/L^2 down to 2e-3, vertex masses
+  // 8,000 times below the median), needed 40-90 per solve with it and 2-3 with
+  // the whole matrix.
+  int membrane_max_iterations = 30;
 };
 
 // Wall time per phase [s], accumulated over steps.
@@ -129,10 +144,25 @@ struct PhaseTimes {
   double total() const { return forces_assembly + factorization + solve + collisions + checks; }
 };
 
+// Why (sub)steps were rejected, one count per rejected attempt (the checks of
+// step(), in the order they are made; the first that fails is counted).
+struct RejectionCounts {
+  long solve_failed = 0;      // the linear solve threw (CHOLMOD, or CG did not converge)
+  long non_finite = 0;        // positions or velocities not finite
+  long too_fast = 0;          // a vertex above options.max_speed
+  long inverted = 0;          // a triangle turned over within the step
+  long energy_growth = 0;     // kinetic plus elastic energy grew beyond options.energy_growth_limit
+  long total() const { return solve_failed + non_finite + too_fast + inverted + energy_growth; }
+};
+
 struct SolverCounters {
   long steps = 0;            // accepted calls to step()
   long substeps = 0;         // linear solves that were accepted (>= steps when halving)
   long rejected = 0;         // rejected (sub)steps
+  RejectionCounts rejections;  // the rejected (sub)steps by reason (sums to `rejected`)
+  // Per face, how often a rejected (sub)step found it inverted (#F once a
+  // step was rejected for that, empty before): recurring faces point at a cause.
+  std::vector<long> inverted_faces;
   long accepted_flips = 0;   // triangles that turned over even in the smallest substep (folds)
   long factorizations = 0;
   long cg_iterations = 0;
@@ -141,7 +171,12 @@ struct SolverCounters {
   long released = 0;           // constraints released because the body pulled
   int last_cg_iterations = 0;
   long membrane_fallbacks = 0;  // membrane-pattern factors given up for the whole matrix (0 or 1)
+  long slow_membrane_solves = 0;  // fresh membrane-pattern solves above options.membrane_max_iterations
 };
+
+// The faces of counters.inverted_faces that rejected (sub)steps found inverted,
+// most often first (ties by face id), at most `count`: (face, rejections).
+std::vector<std::pair<int, long>> most_inverted_faces(const SolverCounters& counters, int count);
 
 // Called after each (sub)step with the new positions and velocities of all
 // vertices (#V by 3); it may move vertices and change velocities (body

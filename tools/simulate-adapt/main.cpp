@@ -455,6 +455,7 @@ int main(int argc, char** argv) {
     // decisions that shape the result (steps, rejections, settling).
     timing["work"] = {{"factorizations", result.solver.factorizations},
                       {"cg_iterations", result.solver.cg_iterations},
+                      {"membrane_fallbacks", result.solver.membrane_fallbacks},
                       {"arap_iterations", result.arap.iterations},
                       {"arap_max_iterations", result.arap.max_iterations},
                       {"arap_max_residual", result.arap.max_residual},
@@ -470,6 +471,20 @@ int main(int argc, char** argv) {
                       {"contact_fail_safe_calls", result.contact.fail_safe_calls},
                       {"contact_fail_safe_vertices", result.contact.fail_safe_vertices},
                       {"contact_unresolved", result.contact.unresolved}};
+    // Why steps were rejected: each retry refactors and re-collides, so the
+    // reasons (and the faces that keep turning over) say where steps are lost.
+    const gp::cloth::RejectionCounts& rc = result.solver.rejections;
+    gp::OrderedJson faces = gp::OrderedJson::array();
+    for (const auto& [face, count] : gp::cloth::most_inverted_faces(result.solver, 10)) {
+      faces.push_back({{"face", face}, {"rejections", count}});
+    }
+    timing["rejections"] = {{"total", result.solver.rejected},
+                            {"inverted_triangle", rc.inverted},
+                            {"too_fast", rc.too_fast},
+                            {"energy_growth", rc.energy_growth},
+                            {"non_finite", rc.non_finite},
+                            {"solve_failed", rc.solve_failed},
+                            {"most_inverted_faces", faces}};
     timing["verification_s"] = verification ? verification->seconds : 0.0;
     timing["threads"] = options.threads;
     timing["setup_s"] = t.setup;

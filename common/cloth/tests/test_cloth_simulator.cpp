@@ -182,6 +182,10 @@ TEST_CASE("an unrecoverable step throws NumericalError and leaves the state unto
   CHECK_THROWS_AS(sim.step(), gp::NumericalError);
   CHECK(sim.positions() == X0);
   CHECK(sim.counters().rejected == 5);  // one failing chain, depths 0 to 4
+  // The NaN velocity reaches the right-hand side: CHOLMOD's solve throws first.
+  CHECK(sim.counters().rejections.solve_failed == 5);
+  CHECK(sim.counters().rejections.total() == 5);
+  CHECK(sim.counters().inverted_faces.empty());
 }
 
 TEST_CASE("a rejected step is retried as two half steps", "[simulator]") {
@@ -205,6 +209,8 @@ TEST_CASE("a rejected step is retried as two half steps", "[simulator]") {
   CHECK(sim.positions().allFinite());
   CHECK(sim.counters().steps == 5);
   CHECK(sim.counters().rejected == 5);
+  CHECK(sim.counters().rejections.non_finite == 5);
+  CHECK(sim.counters().rejections.total() == 5);
   CHECK(sim.counters().substeps == 10);
   // The cloth fell 5 cm as a rigid body.
   CHECK((sim.positions() - m.V).col(1).mean() == Approx(-0.05).epsilon(1e-6));
@@ -290,7 +296,39 @@ TEST_CASE("a fold that persists in the smallest substep is accepted and counted"
   CHECK(sim.counters().steps == 1);
   CHECK(sim.counters().accepted_flips >= 1);
   CHECK(sim.counters().rejected == 1);  // one halving (max_fold_halvings), then accepted
+  CHECK(sim.counters().rejections.inverted == 1);
+  CHECK(sim.counters().rejections.total() == 1);
+  // The rejected attempt names the faces it turned over (triangle 0 and one
+  // more face of the mirrored vertex); the accepted fold is not a rejection.
+  REQUIRE(sim.counters().inverted_faces.size() == static_cast<size_t>(m.F.rows()));
+  CHECK(sim.counters().inverted_faces[0] == 1);
+  long inverted = 0;
+  for (long c : sim.counters().inverted_faces) inverted += c;
+  CHECK(inverted == 2);
+  const auto most = most_inverted_faces(sim.counters(), 10);
+  REQUIRE(most.size() == 2);
+  CHECK(most[0] == std::make_pair(0, 1L));  // ties in face order
+  CHECK(most[1].second == 1);
+  CHECK(most_inverted_faces(sim.counters(), 1).size() == 1);
   CHECK(sim.positions().allFinite());
+}
+
+TEST_CASE("rejected steps are counted by reason", "[simulator]") {
+  // A vertex thrown at 30 m/s (above max_speed 20) in every (sub)step: the step
+  // fails at every depth for that reason alone, and throws.
+  const gp::Mesh m = hanging_square(6, 0.3);
+  ClothSimulator sim(m.V, m.F);
+  sim.set_collision_handler([](Eigen::MatrixXd&, Eigen::MatrixXd& Vel) { Vel(3, 0) = 30.0; });
+  CHECK_THROWS_AS(sim.step(), gp::NumericalError);
+  const SolverCounters& c = sim.counters();
+  CHECK(c.rejected == 5);
+  CHECK(c.rejections.too_fast == 5);
+  CHECK(c.rejections.inverted == 0);
+  CHECK(c.rejections.energy_growth == 0);
+  CHECK(c.rejections.non_finite == 0);
+  CHECK(c.rejections.solve_failed == 0);
+  sim.reset_statistics();
+  CHECK(sim.counters().rejections.total() == 0);
 }
 
 namespace {
