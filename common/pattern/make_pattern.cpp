@@ -142,7 +142,49 @@ std::vector<char> boundary_flags(const PatternPiece& p) {
   return b;
 }
 
+// Whether two 2D polylines (#points by 2) cross or touch, shared end points
+// aside.
+bool polylines_cross(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
+  auto orient2 = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+    return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+  };
+  for (int i = 0; i + 1 < A.rows(); ++i)
+    for (int j = 0; j + 1 < B.rows(); ++j) {
+      const Eigen::Vector2d a0 = A.row(i), a1 = A.row(i + 1), b0 = B.row(j), b1 = B.row(j + 1);
+      if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) continue;
+      if (std::max(a0.x(), a1.x()) < std::min(b0.x(), b1.x()) || std::max(b0.x(), b1.x()) < std::min(a0.x(), a1.x()) ||
+          std::max(a0.y(), a1.y()) < std::min(b0.y(), b1.y()) || std::max(b0.y(), b1.y()) < std::min(a0.y(), a1.y()))
+        continue;
+      const double d0 = orient2(a0, a1, b0), d1 = orient2(a0, a1, b1);
+      const double d2 = orient2(b0, b1, a0), d3 = orient2(b0, b1, a1);
+      if (((d0 <= 0.0 && d1 >= 0.0) || (d0 >= 0.0 && d1 <= 0.0)) &&
+          ((d2 <= 0.0 && d3 >= 0.0) || (d2 >= 0.0 && d3 <= 0.0)))
+        return true;
+    }
+  return false;
+}
+
+// The rest faces piece c covers, sorted.
+std::vector<int> piece_rest_faces(const Pattern& pattern, size_t c) {
+  std::vector<int> out;
+  for (int f : pattern.pieces[c].face_ids) out.push_back(pattern.mesh.rest_face[static_cast<size_t>(f)]);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 }  // namespace
+
+double panel_excess(const std::vector<MaterialFace>& faces, const PatternOptions& options) {
+  const double c_lim = options.symmetric ? options.max_limit : options.compression_worst1;
+  const double e_lim = options.symmetric ? options.max_limit : options.ease_worst5;
+  double excess = 0.0;
+  for (const MaterialFace& m : faces) {
+    const double c = 1.0 - m.stretch[1], e = m.stretch[0] - 1.0;
+    excess += m.area * (std::max(0.0, c - c_lim) / c_lim + std::max(0.0, e - e_lim) / e_lim);
+  }
+  return excess;
+}
 
 bool meets_limit(const PatternPiece& piece, const PatternOptions& options) {
   if (piece.flat.stats.flipped_triangles > 0 || piece.flat.boundary_overlaps) return false;
@@ -166,13 +208,16 @@ Pattern cut_user_seams(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
   std::vector<PatternSeam> added;
   std::vector<SurfaceCurve> curves;
   for (const auto& s : seams) {
-    std::vector<int> fixed = s.click_ids;
+    // Clicked points are kept within the smoothing's tolerance (their rest
+    // vertex stands for the click only up to the mesh's resolution); the
+    // ends, shared and boundary vertices are fixed.
+    std::vector<int> fixed;
     for (int v : s.vertex_ids)
       if (uses[static_cast<size_t>(v)] > 1 || on_boundary[static_cast<size_t>(v)]) fixed.push_back(v);
     PatternSeam seam{s.name, "user", "", {}, s.closed, false};
     SurfaceCurve c;
     if (options.smooth) {
-      c = smooth_edge_path(V, F, s.vertex_ids, fixed, s.closed, options.smoothing, &seam.smoothed);
+      c = smooth_edge_path(V, F, s.vertex_ids, fixed, s.closed, options.smoothing, &seam.smoothed, s.click_ids);
     } else {
       for (int v : s.vertex_ids) c.push_back(CurvePoint::at_vertex(v));
       if (s.closed) c.push_back(CurvePoint::at_vertex(s.vertex_ids.front()));
@@ -536,7 +581,7 @@ bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& 
   return again;
 }
 
-int place_darts_and_panels(Pattern& pattern, const PatternOptions& options) {
+int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, PanelLedger* ledger) {
   std::vector<PatternSeam> seams;
   std::vector<SurfaceCurve> curves;
   int darts = 0, panels = 0;
@@ -544,6 +589,9 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options) {
     if (s.kind == "dart") ++darts;
     if (s.kind == "panel") ++panels;
   }
+  // Panel seams removed again keep their names: new ones are numbered on.
+  for (const auto& m : pattern.merged_cuts)
+    if (m.rfind("panel", 0) == 0) ++panels;
   // Failing pieces, the largest first: the piece budget goes where the most
   // cloth is.
   std::vector<size_t> order;
@@ -569,10 +617,33 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options) {
     // Darts first (a tailor darts before adding a seam): every tip strong
     // enough at once, up to the piece's budget.
     const int left = options.max_darts - static_cast<int>(p.dart_seams.size());
-    if (left > 0)
+    if (left > 0) {
+      // Darts already in the piece and those placed now, as chart polylines:
+      // a new dart must not cross one (their curves would cross in a face).
+      std::vector<Eigen::MatrixXd> drawn;
+      {
+        std::map<int, int> local;
+        for (int v = 0; v < p.V.rows(); ++v) local[p.mesh_vertex_ids[v]] = v;
+        for (int d : p.dart_seams) {
+          std::vector<Eigen::Vector2d> pts;
+          for (int v : pattern.seams[static_cast<size_t>(d)].vertex_ids) {
+            const auto it = local.find(v);
+            if (it != local.end()) pts.push_back(chart.row(it->second).transpose());
+          }
+          Eigen::MatrixXd P(static_cast<int>(pts.size()), 2);
+          for (size_t i = 0; i < pts.size(); ++i) P.row(static_cast<int>(i)) = pts[i].transpose();
+          drawn.push_back(P);
+        }
+      }
       for (const DartTip& tip : dart_tips(pattern, c, options, left)) {
         const auto curve = dart_curve(p, chart, tip, options);
         if (!curve) continue;
+        const Eigen::MatrixXd line = curve_positions(chart, p.F, *curve);
+        if (std::any_of(drawn.begin(), drawn.end(), [&](const Eigen::MatrixXd& d) { return polylines_cross(line, d); })) {
+          pattern.notes.push_back("piece " + p.name + ": a dart that would cross another was not placed");
+          continue;
+        }
+        drawn.push_back(line);
         char deg[32];
         std::snprintf(deg, sizeof(deg), "%.1f", tip.curvature * 180.0 / M_PI);
         PatternSeam seam{"dart" + std::to_string(++darts), "dart", "", {}, false, true};
@@ -585,7 +656,10 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options) {
         curves.push_back(piece_to_mesh(p, *curve));
         placed = true;
       }
-    if (!placed && pieces < options.max_pieces) {
+    }
+    const std::vector<int> rest_faces = piece_rest_faces(pattern, c);
+    const bool refused = ledger && ledger->refused.count(rest_faces);
+    if (!placed && pieces < options.max_pieces && !refused) {
       std::string where;
       const auto curve = panel_curve(pattern, c, chart, options, &where);
       if (curve) {
@@ -593,17 +667,65 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options) {
         seam.reason = over + where + ", " + metres(curve_length(p.V, p.F, *curve)) + " long";
         seams.push_back(seam);
         curves.push_back(piece_to_mesh(p, *curve));
+        if (ledger) ledger->trials.push_back({seam.name, rest_faces, panel_excess(material_faces(pattern, c), options)});
         ++pieces;
         placed = true;
       }
     }
     if (!placed)
       pattern.notes.push_back(over + "no further dart or panel seam fits" +
-                              (pieces >= options.max_pieces ? " (the pattern has its most pieces)" : ""));
+                              (refused ? " (a panel seam did not relieve it)"
+                                       : pieces >= options.max_pieces ? " (the pattern has its most pieces)" : ""));
   }
   if (seams.empty()) return 0;
   insert_cuts(pattern, seams, curves);
   return static_cast<int>(seams.size());
+}
+
+int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache& cache, PanelLedger& ledger) {
+  int removed = 0;
+  // In the order they were placed, each judged on the pattern as the
+  // removals before it left it (a removal changes no other piece).
+  const std::vector<PanelTrial> trials = std::move(ledger.trials);
+  ledger.trials.clear();
+  for (const PanelTrial& trial : trials) {
+    size_t seam = pattern.seams.size();
+    for (size_t i = 0; i < pattern.seams.size(); ++i)
+      if (pattern.seams[i].name == trial.seam) seam = i;
+    if (seam >= pattern.seams.size()) continue;
+    // The pieces on either side of the seam: the piece it split.
+    std::set<int> sides;
+    double length = 0.0;
+    for (const CutEdge& e : pattern.cut.edges)
+      if (static_cast<size_t>(e.seam) == seam) {
+        sides.insert(pattern.piece_of_face[static_cast<size_t>(e.left_face)]);
+        sides.insert(pattern.piece_of_face[static_cast<size_t>(e.right_face)]);
+        length += e.length;
+      }
+    double after = 0.0;
+    for (int c : sides) after += panel_excess(material_faces(pattern, static_cast<size_t>(c)), options);
+    const double relief = trial.excess_before - after;
+    char buf[200];
+    std::snprintf(buf, sizeof(buf), "%.1f of the piece's %.1f cm^2 of cloth beyond the limit (%.0f cm^2 per metre of seam)",
+                  1e4 * relief, 1e4 * trial.excess_before, length > 0.0 ? 1e4 * relief / length : 0.0);
+    if (relief >= options.min_panel_relief * length) {
+      pattern.seams[seam].reason += std::string("; it relieved ") + buf;
+      continue;
+    }
+    Pattern without = pattern;
+    const std::string name = without.seams[seam].name;
+    without.seams.erase(without.seams.begin() + static_cast<long>(seam));
+    assemble_pieces(without);
+    if (!std::all_of(without.pieces.begin(), without.pieces.end(), [](const PatternPiece& p) { return is_disk(p); }))
+      continue;
+    flatten_pieces(without, options, cache, true);
+    without.merged_cuts.push_back(name);
+    without.notes.push_back(name + " removed: it relieved only " + buf);
+    ledger.refused.insert(trial.rest_faces);
+    pattern = std::move(without);
+    ++removed;
+  }
+  return removed;
 }
 
 void merge_small_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
@@ -686,18 +808,23 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   cut_to_disks(pattern, options, context);
   lap("disks");
   FlattenCache cache;
+  PanelLedger ledger;
   for (int round = 0; round < options.max_rounds; ++round) {
     ++pattern.rounds;
     flatten_pieces(pattern, options, cache, true);
     while (match_seams(pattern, options, cache)) flatten_pieces(pattern, options, cache, true);
     lap("flatten");
+    if (review_panels(pattern, options, cache, ledger) > 0)
+      while (match_seams(pattern, options, cache)) flatten_pieces(pattern, options, cache, true);
+    lap("review_panels");
     if (pattern.meets_limit) break;
-    const int added = place_darts_and_panels(pattern, options);
+    const int added = place_darts_and_panels(pattern, options, &ledger);
     lap("darts_and_panels");
     if (added == 0) break;
   }
   flatten_pieces(pattern, options, cache, true);
   lap("flatten");
+  review_panels(pattern, options, cache, ledger);
   merge_small_pieces(pattern, options, cache);
   remove_overlapping_darts(pattern, options, cache);
   // The output has no flipped triangle: pieces left with flips are
