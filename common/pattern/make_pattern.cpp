@@ -142,28 +142,6 @@ std::vector<char> boundary_flags(const PatternPiece& p) {
   return b;
 }
 
-// Whether two 2D polylines (#points by 2) cross or touch, shared end points
-// aside.
-bool polylines_cross(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
-  auto orient2 = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
-    return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
-  };
-  for (int i = 0; i + 1 < A.rows(); ++i)
-    for (int j = 0; j + 1 < B.rows(); ++j) {
-      const Eigen::Vector2d a0 = A.row(i), a1 = A.row(i + 1), b0 = B.row(j), b1 = B.row(j + 1);
-      if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) continue;
-      if (std::max(a0.x(), a1.x()) < std::min(b0.x(), b1.x()) || std::max(b0.x(), b1.x()) < std::min(a0.x(), a1.x()) ||
-          std::max(a0.y(), a1.y()) < std::min(b0.y(), b1.y()) || std::max(b0.y(), b1.y()) < std::min(a0.y(), a1.y()))
-        continue;
-      const double d0 = orient2(a0, a1, b0), d1 = orient2(a0, a1, b1);
-      const double d2 = orient2(b0, b1, a0), d3 = orient2(b0, b1, a1);
-      if (((d0 <= 0.0 && d1 >= 0.0) || (d0 >= 0.0 && d1 <= 0.0)) &&
-          ((d2 <= 0.0 && d3 >= 0.0) || (d2 >= 0.0 && d3 <= 0.0)))
-        return true;
-    }
-  return false;
-}
-
 // The rest faces piece c covers, sorted.
 std::vector<int> piece_rest_faces(const Pattern& pattern, size_t c) {
   std::vector<int> out;
@@ -447,6 +425,88 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
   if (!s.empty()) insert_cuts(pattern, s, c);
 }
 
+void merge_armhole_slivers(Pattern& pattern, const PatternOptions& options) {
+  std::set<std::vector<int>> tried;
+  for (int guard = 0; guard < 1000; ++guard) {
+    // The smallest sliver not tried yet.
+    size_t sliver = pattern.pieces.size();
+    double smallest = options.sliver_area;
+    for (size_t c = 0; c < pattern.pieces.size(); ++c) {
+      const double a = face_areas(pattern.pieces[c].V, pattern.pieces[c].F).sum();
+      if (a < smallest && !tried.count(pattern.pieces[c].face_ids)) smallest = a, sliver = c;
+    }
+    if (sliver >= pattern.pieces.size()) return;
+    tried.insert(pattern.pieces[sliver].face_ids);
+    // The armhole and neighbour it shares the most length with.
+    std::map<std::pair<int, int>, double> shared;  // (seam, neighbour) -> length
+    for (const CutEdge& e : pattern.cut.edges) {
+      if (pattern.seams[static_cast<size_t>(e.seam)].kind != "armhole") continue;
+      const int l = pattern.piece_of_face[static_cast<size_t>(e.left_face)];
+      const int r = pattern.piece_of_face[static_cast<size_t>(e.right_face)];
+      if ((l == static_cast<int>(sliver)) == (r == static_cast<int>(sliver))) continue;
+      shared[{e.seam, l == static_cast<int>(sliver) ? r : l}] += e.length;
+    }
+    if (shared.empty()) continue;
+    auto best = shared.begin();
+    for (auto it = shared.begin(); it != shared.end(); ++it)
+      if (it->second > best->second) best = it;
+    const auto [seam, neighbour] = best->first;
+    std::set<std::pair<int, int>> removed;
+    for (const CutEdge& e : pattern.cut.edges) {
+      if (e.seam != seam) continue;
+      const int l = pattern.piece_of_face[static_cast<size_t>(e.left_face)];
+      const int r = pattern.piece_of_face[static_cast<size_t>(e.right_face)];
+      if ((l == static_cast<int>(sliver) && r == neighbour) || (r == static_cast<int>(sliver) && l == neighbour))
+        removed.insert({std::min(e.a, e.b), std::max(e.a, e.b)});
+    }
+    // The seam's path without those edges: its runs of kept edges.
+    const PatternSeam& old = pattern.seams[static_cast<size_t>(seam)];
+    std::vector<int> path = old.vertex_ids;
+    if (old.closed && !path.empty()) path.push_back(path.front());
+    auto gone = [&](size_t i) { return removed.count({std::min(path[i], path[i + 1]), std::max(path[i], path[i + 1])}) > 0; };
+    size_t start = 0;
+    if (old.closed) {
+      // Start after a removed edge, so that no run wraps around.
+      while (start + 1 < path.size() && !gone(start)) ++start;
+      if (start + 1 >= path.size()) continue;
+      std::vector<int> rotated(path.begin() + static_cast<long>(start) + 1, path.end());
+      rotated.insert(rotated.end(), path.begin() + 1, path.begin() + static_cast<long>(start) + 2);
+      path = rotated;
+    }
+    std::vector<std::vector<int>> runs;
+    std::vector<int> run{path.front()};
+    for (size_t i = 0; i + 1 < path.size(); ++i) {
+      if (gone(i)) {
+        if (run.size() > 1) runs.push_back(run);
+        run = {path[i + 1]};
+      } else {
+        run.push_back(path[i + 1]);
+      }
+    }
+    if (run.size() > 1) runs.push_back(run);
+    Pattern trial = pattern;
+    PatternSeam base = old;
+    base.closed = false;
+    trial.seams.erase(trial.seams.begin() + seam);
+    for (size_t k = 0; k < runs.size(); ++k) {
+      PatternSeam part = base;
+      part.vertex_ids = runs[k];
+      if (k > 0) part.name = old.name + "_" + std::to_string(k + 1);
+      trial.seams.insert(trial.seams.begin() + seam + static_cast<long>(k), part);
+    }
+    assemble_pieces(trial);
+    if (trial.pieces.size() >= pattern.pieces.size() ||
+        !std::all_of(trial.pieces.begin(), trial.pieces.end(), [](const PatternPiece& p) { return is_disk(p); }))
+      continue;
+    char buf[200];
+    std::snprintf(buf, sizeof(buf), ": a sliver of %.2f cm^2 between it and a user seam joins the piece across it (%.1f mm of %s not cut)",
+                  1e4 * smallest, 1e3 * best->second, old.name.c_str());
+    trial.notes.push_back(old.name + buf);
+    pattern = std::move(trial);
+    tried.clear();
+  }
+}
+
 void cut_to_disks(Pattern& pattern, const PatternOptions& options, const PatternContext& context) {
   int count = 0;
   for (int round = 0; round < 1000; ++round) {
@@ -636,14 +696,9 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, Pane
         }
       }
       for (const DartTip& tip : dart_tips(pattern, c, options, left)) {
-        const auto curve = dart_curve(p, chart, tip, options);
+        const auto curve = dart_curve(p, chart, tip, options, drawn);
         if (!curve) continue;
-        const Eigen::MatrixXd line = curve_positions(chart, p.F, *curve);
-        if (std::any_of(drawn.begin(), drawn.end(), [&](const Eigen::MatrixXd& d) { return polylines_cross(line, d); })) {
-          pattern.notes.push_back("piece " + p.name + ": a dart that would cross another was not placed");
-          continue;
-        }
-        drawn.push_back(line);
+        drawn.push_back(curve_positions(chart, p.F, *curve));
         char deg[32];
         std::snprintf(deg, sizeof(deg), "%.1f", tip.curvature * 180.0 / M_PI);
         PatternSeam seam{"dart" + std::to_string(++darts), "dart", "", {}, false, true};
@@ -803,7 +858,10 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   };
   Pattern pattern = cut_user_seams(V, F, seams, options);
   lap("user_seams");
-  if (options.armholes) cut_armholes(pattern, options, context);
+  if (options.armholes) {
+    cut_armholes(pattern, options, context);
+    merge_armhole_slivers(pattern, options);
+  }
   lap("armholes");
   cut_to_disks(pattern, options, context);
   lap("disks");

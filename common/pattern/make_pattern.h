@@ -89,6 +89,7 @@ struct PatternOptions {
   double armhole_slope = 2.0;
   double slope_window = 0.03;       // metres
   double limb_offset = 0.12;        // metres
+  double sliver_area = 1e-4;        // m^2: smaller pieces an armhole cuts off join their neighbour
 
   // Topology cuts: cost of a unit of length on a surface whose normal faces
   // front or back (|n_z| = 1) relative to one facing sideways or down.
@@ -140,6 +141,13 @@ Pattern cut_user_seams(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
 
 // Phase 1b: armholes (see PatternOptions::armholes).
 void cut_armholes(Pattern& pattern, const PatternOptions& options, const PatternContext& context);
+
+// Phase 1c: a piece smaller than options.sliver_area that an armhole cut off
+// (where it runs within a hair of a user seam, the two cross back and forth
+// and leave slivers between them) joins the neighbour with which it shares
+// the most armhole: that stretch of the armhole is not cut (the loop becomes
+// an open seam, or several, ending on the user seam). Listed in the notes.
+void merge_armhole_slivers(Pattern& pattern, const PatternOptions& options);
 
 // Phase 2: topology cuts until every piece is a disk. Throws GeometryError
 // for a piece of genus > 0 (seams must cut its handles).
