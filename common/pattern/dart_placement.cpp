@@ -261,9 +261,6 @@ std::vector<DartTip> dart_tips(const Pattern& pattern, size_t c, const PatternOp
 }
 
 bool polylines_cross(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
-  auto orient2 = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
-    return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
-  };
   for (int i = 0; i + 1 < A.rows(); ++i)
     for (int j = 0; j + 1 < B.rows(); ++j) {
       const Eigen::Vector2d a0 = A.row(i), a1 = A.row(i + 1), b0 = B.row(j), b1 = B.row(j + 1);
@@ -271,8 +268,8 @@ bool polylines_cross(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
       if (std::max(a0.x(), a1.x()) < std::min(b0.x(), b1.x()) || std::max(b0.x(), b1.x()) < std::min(a0.x(), a1.x()) ||
           std::max(a0.y(), a1.y()) < std::min(b0.y(), b1.y()) || std::max(b0.y(), b1.y()) < std::min(a0.y(), a1.y()))
         continue;
-      const double d0 = orient2(a0, a1, b0), d1 = orient2(a0, a1, b1);
-      const double d2 = orient2(b0, b1, a0), d3 = orient2(b0, b1, a1);
+      const double d0 = orient(a0, a1, b0), d1 = orient(a0, a1, b1);
+      const double d2 = orient(b0, b1, a0), d3 = orient(b0, b1, a1);
       if (((d0 <= 0.0 && d1 >= 0.0) || (d0 >= 0.0 && d1 <= 0.0)) &&
           ((d2 <= 0.0 && d3 >= 0.0) || (d2 >= 0.0 && d3 <= 0.0)))
         return true;

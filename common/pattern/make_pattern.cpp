@@ -763,8 +763,12 @@ int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache&
     char buf[200];
     std::snprintf(buf, sizeof(buf), "%.1f of the piece's %.1f cm^2 of cloth beyond the limit (%.0f cm^2 per metre of seam)",
                   1e4 * relief, 1e4 * trial.excess_before, length > 0.0 ? 1e4 * relief / length : 0.0);
-    if (relief >= options.min_panel_relief * length) {
-      pattern.seams[seam].reason += std::string("; it relieved ") + buf;
+    // A seam that brings both its pieces within the limit does what the
+    // cutter is for, however little cloth that took.
+    const bool within = std::all_of(sides.begin(), sides.end(),
+                                    [&](int c) { return pattern.pieces[static_cast<size_t>(c)].meets_limit; });
+    if (relief >= options.min_panel_relief * length || within) {
+      pattern.seams[seam].reason += std::string("; it relieved ") + buf + (within ? ", and both its pieces meet the limit" : "");
       continue;
     }
     Pattern without = pattern;

@@ -67,7 +67,8 @@ struct PatternOptions {
   double min_dart_length = 0.05;    // metres
   int max_pieces = 12;              // panel seams stop at this many pieces
   // A panel seam stays only where it relieves at least this much of its
-  // piece's cloth beyond the limit (panel_excess) per metre of its length:
+  // piece's cloth beyond the limit (panel_excess) per metre of its length,
+  // or brings both its pieces within the limit:
   // seam length weighed against distortion, as variational surface cutting
   // weighs them (Sharp and Crane 2018). A seam that only moves the excess
   // from one piece to the other, or leaves a cone point where it was,
@@ -198,7 +199,8 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, Pane
 
 // Phase 5b, after the pieces of the panel seams on trial are flattened: a
 // panel seam that relieved less than `min_panel_relief` times its length of
-// its piece's excess over the limit is removed again (listed under
+// its piece's excess over the limit, and left one of its pieces over the
+// limit, is removed again (listed under
 // merged_cuts with a note) and its piece refused further panel seams; one
 // that stays has the relief added to its reason. Returns how many were
 // removed.

@@ -63,6 +63,19 @@ double curve_length(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Su
 
 namespace {
 
+// Distance from q to the 2D polyline P (#P by 2).
+double distance_to_polyline(const Eigen::MatrixXd& P, const Eigen::Vector2d& q) {
+  double d = std::numeric_limits<double>::infinity();
+  for (int i = 0; i + 1 < P.rows(); ++i) {
+    const Eigen::Vector2d a = P.row(i), ab = P.row(i + 1) - P.row(i);
+    const double l2 = ab.squaredNorm();
+    const double t = l2 > 0.0 ? std::clamp((q - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+    d = std::min(d, (a + t * ab - q).norm());
+  }
+  if (P.rows() == 1) d = (P.row(0).transpose() - q).norm();
+  return d;
+}
+
 double orient(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
   return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
 }
@@ -379,13 +392,8 @@ Eigen::MatrixXd smooth_polyline_2d(const Eigen::MatrixXd& P, const std::vector<i
     X = solve(w);
     for (int i = 0; i < m; ++i) {
       // A kept row's distance is to its own point, any other's to the polyline.
-      double d = cap[static_cast<size_t>(i)] > 1.0 ? (X.row(i) - S.row(i)).norm() : std::numeric_limits<double>::infinity();
-      for (int k = 0; k + 1 < n && cap[static_cast<size_t>(i)] <= 1.0; ++k) {
-        const Eigen::Vector2d a = P.row(k), ab = P.row(k + 1) - P.row(k), q = X.row(i);
-        const double l2 = ab.squaredNorm();
-        const double t = l2 > 0.0 ? std::clamp((q - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-        d = std::min(d, (a + t * ab - q).norm());
-      }
+      const double d = cap[static_cast<size_t>(i)] > 1.0 ? (X.row(i) - S.row(i)).norm()
+                                                         : distance_to_polyline(P, X.row(i).transpose());
       const double r = d / (cap[static_cast<size_t>(i)] > 1.0 ? kept_tolerance : tolerance);
       w[static_cast<size_t>(i)] = std::min(cap[static_cast<size_t>(i)], w[static_cast<size_t>(i)] * std::max(1.0, r * r));
     }
@@ -485,15 +493,7 @@ SurfaceCurve smooth_open_path(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F
       // A path that is smooth already (a straight run of edges) stays on its edges.
       double off = 0.0;
       for (int r = 0; r < X.rows(); ++r) {
-        double d = std::numeric_limits<double>::infinity();
-        for (int i = 0; i + 1 < P.rows(); ++i) {
-          const Eigen::Vector2d a = P.row(i), b = P.row(i + 1), q = X.row(r);
-          const Eigen::Vector2d ab = b - a;
-          const double l2 = ab.squaredNorm();
-          const double t = l2 > 0.0 ? std::clamp((q - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-          d = std::min(d, (a + t * ab - q).norm());
-        }
-        off = std::max(off, d);
+        off = std::max(off, distance_to_polyline(P, X.row(r).transpose()));
       }
       if (off < 1e-6 * scale * spacing) {
         smoothed = true;
