@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
@@ -259,31 +260,50 @@ std::vector<DartTip> dart_tips(const Pattern& pattern, size_t c, const PatternOp
   return tips;
 }
 
+bool polylines_cross(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
+  for (int i = 0; i + 1 < A.rows(); ++i)
+    for (int j = 0; j + 1 < B.rows(); ++j) {
+      const Eigen::Vector2d a0 = A.row(i), a1 = A.row(i + 1), b0 = B.row(j), b1 = B.row(j + 1);
+      if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) continue;
+      if (std::max(a0.x(), a1.x()) < std::min(b0.x(), b1.x()) || std::max(b0.x(), b1.x()) < std::min(a0.x(), a1.x()) ||
+          std::max(a0.y(), a1.y()) < std::min(b0.y(), b1.y()) || std::max(b0.y(), b1.y()) < std::min(a0.y(), a1.y()))
+        continue;
+      const double d0 = orient(a0, a1, b0), d1 = orient(a0, a1, b1);
+      const double d2 = orient(b0, b1, a0), d3 = orient(b0, b1, a1);
+      if (((d0 <= 0.0 && d1 >= 0.0) || (d0 >= 0.0 && d1 <= 0.0)) &&
+          ((d2 <= 0.0 && d3 >= 0.0) || (d2 >= 0.0 && d3 <= 0.0)))
+        return true;
+    }
+  return false;
+}
+
 std::optional<SurfaceCurve> dart_curve(const PatternPiece& p, const Eigen::MatrixXd& chart, const DartTip& tip,
-                                       const PatternOptions& options) {
+                                       const PatternOptions& options, const std::vector<Eigen::MatrixXd>& avoid) {
   // The mouth: the outline's point nearest to the tip (continuous in the
-  // shape, unlike the nearest outline vertex).
+  // shape, unlike the nearest outline vertex); the next nearest outline
+  // segment's where the straight wedge would cross a line to avoid.
   const size_t nb = p.boundary.size();
-  size_t best_k = 0;
-  double best_t = 0.0, best_d = std::numeric_limits<double>::infinity();
+  std::vector<std::tuple<double, size_t, double>> candidates;  // (distance, segment, t)
   for (size_t k = 0; k < nb; ++k) {
     const Eigen::Vector3d a = p.V.row(p.boundary[k]), b = p.V.row(p.boundary[(k + 1) % nb]);
     const Eigen::Vector3d q = closest_on_segment(a, b, tip.point);
-    const double d = (q - tip.point).norm();
-    if (d < best_d) {
-      best_d = d;
-      best_k = k;
-      best_t = (b - a).squaredNorm() > 0.0 ? (q - a).dot(b - a) / (b - a).squaredNorm() : 0.0;
-    }
+    const double t = (b - a).squaredNorm() > 0.0 ? (q - a).dot(b - a) / (b - a).squaredNorm() : 0.0;
+    candidates.emplace_back((q - tip.point).norm(), k, t);
   }
-  if (best_d < options.min_dart_length) return std::nullopt;
-  const CurvePoint mouth = outline_point(p, best_k, best_t, options);
-  Eigen::MatrixXd P(2, 2);
-  P.row(0) = curve_point_position(chart, p.F, mouth).transpose();
-  P.row(1) = chart_position(p, chart, tip.at).transpose();
-  const SurfaceCurve c = trace_polyline(chart, p.F, mouth, tip.at, P, {}, options.smoothing.trace);
-  if (c.size() < 2) return std::nullopt;
-  return c;
+  std::sort(candidates.begin(), candidates.end());
+  for (const auto& [d, k, t] : candidates) {
+    if (d < options.min_dart_length) return std::nullopt;
+    const CurvePoint mouth = outline_point(p, k, t, options);
+    Eigen::MatrixXd P(2, 2);
+    P.row(0) = curve_point_position(chart, p.F, mouth).transpose();
+    P.row(1) = chart_position(p, chart, tip.at).transpose();
+    if (std::any_of(avoid.begin(), avoid.end(), [&](const Eigen::MatrixXd& line) { return polylines_cross(P, line); }))
+      continue;
+    const SurfaceCurve c = trace_polyline(chart, p.F, mouth, tip.at, P, {}, options.smoothing.trace);
+    if (c.size() < 2) return std::nullopt;
+    return c;
+  }
+  return std::nullopt;
 }
 
 std::optional<SurfaceCurve> panel_curve(const Pattern& pattern, size_t c, const Eigen::MatrixXd& chart,

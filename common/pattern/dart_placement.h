@@ -47,11 +47,17 @@ std::vector<DartTip> dart_tips(const Pattern& pattern, size_t c, const PatternOp
 // drawn straight in it does not depend on how the chart was pinned.
 Eigen::MatrixXd conformal_chart(const PatternPiece& piece);
 
-// A dart from the nearest outline vertex (at least min_dart_length away)
-// to the tip, straight in `chart`; the mouth is first. nullopt when no
+// A dart from the nearest outline point (at least min_dart_length away)
+// to the tip, straight in `chart`; the mouth is first. Where that wedge
+// would cross one of the chart polylines `avoid` (the piece's other darts),
+// from the next nearest outline segment that does not. nullopt when no
 // straight wedge stays inside the piece.
 std::optional<SurfaceCurve> dart_curve(const PatternPiece& piece, const Eigen::MatrixXd& chart, const DartTip& tip,
-                                       const PatternOptions& options);
+                                       const PatternOptions& options, const std::vector<Eigen::MatrixXd>& avoid = {});
+
+// Whether two 2D polylines (#points by 2) cross or touch, shared end points
+// aside.
+bool polylines_cross(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 
 // A panel seam (see above) in piece c, leaving no part smaller than
 // min_piece_area;

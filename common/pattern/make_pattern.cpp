@@ -142,7 +142,27 @@ std::vector<char> boundary_flags(const PatternPiece& p) {
   return b;
 }
 
+// The rest faces piece c covers, sorted.
+std::vector<int> piece_rest_faces(const Pattern& pattern, size_t c) {
+  std::vector<int> out;
+  for (int f : pattern.pieces[c].face_ids) out.push_back(pattern.mesh.rest_face[static_cast<size_t>(f)]);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 }  // namespace
+
+double panel_excess(const std::vector<MaterialFace>& faces, const PatternOptions& options) {
+  const double c_lim = options.symmetric ? options.max_limit : options.compression_worst1;
+  const double e_lim = options.symmetric ? options.max_limit : options.ease_worst5;
+  double excess = 0.0;
+  for (const MaterialFace& m : faces) {
+    const double c = 1.0 - m.stretch[1], e = m.stretch[0] - 1.0;
+    excess += m.area * (std::max(0.0, c - c_lim) / c_lim + std::max(0.0, e - e_lim) / e_lim);
+  }
+  return excess;
+}
 
 bool meets_limit(const PatternPiece& piece, const PatternOptions& options) {
   if (piece.flat.stats.flipped_triangles > 0 || piece.flat.boundary_overlaps) return false;
@@ -166,13 +186,16 @@ Pattern cut_user_seams(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
   std::vector<PatternSeam> added;
   std::vector<SurfaceCurve> curves;
   for (const auto& s : seams) {
-    std::vector<int> fixed = s.click_ids;
+    // Clicked points are kept within the smoothing's tolerance (their rest
+    // vertex stands for the click only up to the mesh's resolution); the
+    // ends, shared and boundary vertices are fixed.
+    std::vector<int> fixed;
     for (int v : s.vertex_ids)
       if (uses[static_cast<size_t>(v)] > 1 || on_boundary[static_cast<size_t>(v)]) fixed.push_back(v);
     PatternSeam seam{s.name, "user", "", {}, s.closed, false};
     SurfaceCurve c;
     if (options.smooth) {
-      c = smooth_edge_path(V, F, s.vertex_ids, fixed, s.closed, options.smoothing, &seam.smoothed);
+      c = smooth_edge_path(V, F, s.vertex_ids, fixed, s.closed, options.smoothing, &seam.smoothed, s.click_ids);
     } else {
       for (int v : s.vertex_ids) c.push_back(CurvePoint::at_vertex(v));
       if (s.closed) c.push_back(CurvePoint::at_vertex(s.vertex_ids.front()));
@@ -402,6 +425,88 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
   if (!s.empty()) insert_cuts(pattern, s, c);
 }
 
+void merge_armhole_slivers(Pattern& pattern, const PatternOptions& options) {
+  std::set<std::vector<int>> tried;
+  for (int guard = 0; guard < 1000; ++guard) {
+    // The smallest sliver not tried yet.
+    size_t sliver = pattern.pieces.size();
+    double smallest = options.sliver_area;
+    for (size_t c = 0; c < pattern.pieces.size(); ++c) {
+      const double a = face_areas(pattern.pieces[c].V, pattern.pieces[c].F).sum();
+      if (a < smallest && !tried.count(pattern.pieces[c].face_ids)) smallest = a, sliver = c;
+    }
+    if (sliver >= pattern.pieces.size()) return;
+    tried.insert(pattern.pieces[sliver].face_ids);
+    // The armhole and neighbour it shares the most length with.
+    std::map<std::pair<int, int>, double> shared;  // (seam, neighbour) -> length
+    for (const CutEdge& e : pattern.cut.edges) {
+      if (pattern.seams[static_cast<size_t>(e.seam)].kind != "armhole") continue;
+      const int l = pattern.piece_of_face[static_cast<size_t>(e.left_face)];
+      const int r = pattern.piece_of_face[static_cast<size_t>(e.right_face)];
+      if ((l == static_cast<int>(sliver)) == (r == static_cast<int>(sliver))) continue;
+      shared[{e.seam, l == static_cast<int>(sliver) ? r : l}] += e.length;
+    }
+    if (shared.empty()) continue;
+    auto best = shared.begin();
+    for (auto it = shared.begin(); it != shared.end(); ++it)
+      if (it->second > best->second) best = it;
+    const auto [seam, neighbour] = best->first;
+    std::set<std::pair<int, int>> removed;
+    for (const CutEdge& e : pattern.cut.edges) {
+      if (e.seam != seam) continue;
+      const int l = pattern.piece_of_face[static_cast<size_t>(e.left_face)];
+      const int r = pattern.piece_of_face[static_cast<size_t>(e.right_face)];
+      if ((l == static_cast<int>(sliver) && r == neighbour) || (r == static_cast<int>(sliver) && l == neighbour))
+        removed.insert({std::min(e.a, e.b), std::max(e.a, e.b)});
+    }
+    // The seam's path without those edges: its runs of kept edges.
+    const PatternSeam& old = pattern.seams[static_cast<size_t>(seam)];
+    std::vector<int> path = old.vertex_ids;
+    if (old.closed && !path.empty()) path.push_back(path.front());
+    auto gone = [&](size_t i) { return removed.count({std::min(path[i], path[i + 1]), std::max(path[i], path[i + 1])}) > 0; };
+    size_t start = 0;
+    if (old.closed) {
+      // Start after a removed edge, so that no run wraps around.
+      while (start + 1 < path.size() && !gone(start)) ++start;
+      if (start + 1 >= path.size()) continue;
+      std::vector<int> rotated(path.begin() + static_cast<long>(start) + 1, path.end());
+      rotated.insert(rotated.end(), path.begin() + 1, path.begin() + static_cast<long>(start) + 2);
+      path = rotated;
+    }
+    std::vector<std::vector<int>> runs;
+    std::vector<int> run{path.front()};
+    for (size_t i = 0; i + 1 < path.size(); ++i) {
+      if (gone(i)) {
+        if (run.size() > 1) runs.push_back(run);
+        run = {path[i + 1]};
+      } else {
+        run.push_back(path[i + 1]);
+      }
+    }
+    if (run.size() > 1) runs.push_back(run);
+    Pattern trial = pattern;
+    PatternSeam base = old;
+    base.closed = false;
+    trial.seams.erase(trial.seams.begin() + seam);
+    for (size_t k = 0; k < runs.size(); ++k) {
+      PatternSeam part = base;
+      part.vertex_ids = runs[k];
+      if (k > 0) part.name = old.name + "_" + std::to_string(k + 1);
+      trial.seams.insert(trial.seams.begin() + seam + static_cast<long>(k), part);
+    }
+    assemble_pieces(trial);
+    if (trial.pieces.size() >= pattern.pieces.size() ||
+        !std::all_of(trial.pieces.begin(), trial.pieces.end(), [](const PatternPiece& p) { return is_disk(p); }))
+      continue;
+    char buf[200];
+    std::snprintf(buf, sizeof(buf), ": a sliver of %.2f cm^2 between it and a user seam joins the piece across it (%.1f mm of %s not cut)",
+                  1e4 * smallest, 1e3 * best->second, old.name.c_str());
+    trial.notes.push_back(old.name + buf);
+    pattern = std::move(trial);
+    tried.clear();
+  }
+}
+
 void cut_to_disks(Pattern& pattern, const PatternOptions& options, const PatternContext& context) {
   int count = 0;
   for (int round = 0; round < 1000; ++round) {
@@ -536,7 +641,7 @@ bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& 
   return again;
 }
 
-int place_darts_and_panels(Pattern& pattern, const PatternOptions& options) {
+int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, PanelLedger* ledger) {
   std::vector<PatternSeam> seams;
   std::vector<SurfaceCurve> curves;
   int darts = 0, panels = 0;
@@ -544,6 +649,9 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options) {
     if (s.kind == "dart") ++darts;
     if (s.kind == "panel") ++panels;
   }
+  // Panel seams removed again keep their names: new ones are numbered on.
+  for (const auto& m : pattern.merged_cuts)
+    if (m.rfind("panel", 0) == 0) ++panels;
   // Failing pieces, the largest first: the piece budget goes where the most
   // cloth is.
   std::vector<size_t> order;
@@ -569,10 +677,28 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options) {
     // Darts first (a tailor darts before adding a seam): every tip strong
     // enough at once, up to the piece's budget.
     const int left = options.max_darts - static_cast<int>(p.dart_seams.size());
-    if (left > 0)
+    if (left > 0) {
+      // Darts already in the piece and those placed now, as chart polylines:
+      // a new dart must not cross one (their curves would cross in a face).
+      std::vector<Eigen::MatrixXd> drawn;
+      {
+        std::map<int, int> local;
+        for (int v = 0; v < p.V.rows(); ++v) local[p.mesh_vertex_ids[v]] = v;
+        for (int d : p.dart_seams) {
+          std::vector<Eigen::Vector2d> pts;
+          for (int v : pattern.seams[static_cast<size_t>(d)].vertex_ids) {
+            const auto it = local.find(v);
+            if (it != local.end()) pts.push_back(chart.row(it->second).transpose());
+          }
+          Eigen::MatrixXd P(static_cast<int>(pts.size()), 2);
+          for (size_t i = 0; i < pts.size(); ++i) P.row(static_cast<int>(i)) = pts[i].transpose();
+          drawn.push_back(P);
+        }
+      }
       for (const DartTip& tip : dart_tips(pattern, c, options, left)) {
-        const auto curve = dart_curve(p, chart, tip, options);
+        const auto curve = dart_curve(p, chart, tip, options, drawn);
         if (!curve) continue;
+        drawn.push_back(curve_positions(chart, p.F, *curve));
         char deg[32];
         std::snprintf(deg, sizeof(deg), "%.1f", tip.curvature * 180.0 / M_PI);
         PatternSeam seam{"dart" + std::to_string(++darts), "dart", "", {}, false, true};
@@ -585,7 +711,10 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options) {
         curves.push_back(piece_to_mesh(p, *curve));
         placed = true;
       }
-    if (!placed && pieces < options.max_pieces) {
+    }
+    const std::vector<int> rest_faces = piece_rest_faces(pattern, c);
+    const bool refused = ledger && ledger->refused.count(rest_faces);
+    if (!placed && pieces < options.max_pieces && !refused) {
       std::string where;
       const auto curve = panel_curve(pattern, c, chart, options, &where);
       if (curve) {
@@ -593,17 +722,69 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options) {
         seam.reason = over + where + ", " + metres(curve_length(p.V, p.F, *curve)) + " long";
         seams.push_back(seam);
         curves.push_back(piece_to_mesh(p, *curve));
+        if (ledger) ledger->trials.push_back({seam.name, rest_faces, panel_excess(material_faces(pattern, c), options)});
         ++pieces;
         placed = true;
       }
     }
     if (!placed)
       pattern.notes.push_back(over + "no further dart or panel seam fits" +
-                              (pieces >= options.max_pieces ? " (the pattern has its most pieces)" : ""));
+                              (refused ? " (a panel seam did not relieve it)"
+                                       : pieces >= options.max_pieces ? " (the pattern has its most pieces)" : ""));
   }
   if (seams.empty()) return 0;
   insert_cuts(pattern, seams, curves);
   return static_cast<int>(seams.size());
+}
+
+int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache& cache, PanelLedger& ledger) {
+  int removed = 0;
+  // In the order they were placed, each judged on the pattern as the
+  // removals before it left it (a removal changes no other piece).
+  const std::vector<PanelTrial> trials = std::move(ledger.trials);
+  ledger.trials.clear();
+  for (const PanelTrial& trial : trials) {
+    size_t seam = pattern.seams.size();
+    for (size_t i = 0; i < pattern.seams.size(); ++i)
+      if (pattern.seams[i].name == trial.seam) seam = i;
+    if (seam >= pattern.seams.size()) continue;
+    // The pieces on either side of the seam: the piece it split.
+    std::set<int> sides;
+    double length = 0.0;
+    for (const CutEdge& e : pattern.cut.edges)
+      if (static_cast<size_t>(e.seam) == seam) {
+        sides.insert(pattern.piece_of_face[static_cast<size_t>(e.left_face)]);
+        sides.insert(pattern.piece_of_face[static_cast<size_t>(e.right_face)]);
+        length += e.length;
+      }
+    double after = 0.0;
+    for (int c : sides) after += panel_excess(material_faces(pattern, static_cast<size_t>(c)), options);
+    const double relief = trial.excess_before - after;
+    char buf[200];
+    std::snprintf(buf, sizeof(buf), "%.1f of the piece's %.1f cm^2 of cloth beyond the limit (%.0f cm^2 per metre of seam)",
+                  1e4 * relief, 1e4 * trial.excess_before, length > 0.0 ? 1e4 * relief / length : 0.0);
+    // A seam that brings both its pieces within the limit does what the
+    // cutter is for, however little cloth that took.
+    const bool within = std::all_of(sides.begin(), sides.end(),
+                                    [&](int c) { return pattern.pieces[static_cast<size_t>(c)].meets_limit; });
+    if (relief >= options.min_panel_relief * length || within) {
+      pattern.seams[seam].reason += std::string("; it relieved ") + buf + (within ? ", and both its pieces meet the limit" : "");
+      continue;
+    }
+    Pattern without = pattern;
+    const std::string name = without.seams[seam].name;
+    without.seams.erase(without.seams.begin() + static_cast<long>(seam));
+    assemble_pieces(without);
+    if (!std::all_of(without.pieces.begin(), without.pieces.end(), [](const PatternPiece& p) { return is_disk(p); }))
+      continue;
+    flatten_pieces(without, options, cache, true);
+    without.merged_cuts.push_back(name);
+    without.notes.push_back(name + " removed: it relieved only " + buf);
+    ledger.refused.insert(trial.rest_faces);
+    pattern = std::move(without);
+    ++removed;
+  }
+  return removed;
 }
 
 void merge_small_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
@@ -681,23 +862,31 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   };
   Pattern pattern = cut_user_seams(V, F, seams, options);
   lap("user_seams");
-  if (options.armholes) cut_armholes(pattern, options, context);
+  if (options.armholes) {
+    cut_armholes(pattern, options, context);
+    merge_armhole_slivers(pattern, options);
+  }
   lap("armholes");
   cut_to_disks(pattern, options, context);
   lap("disks");
   FlattenCache cache;
+  PanelLedger ledger;
   for (int round = 0; round < options.max_rounds; ++round) {
     ++pattern.rounds;
     flatten_pieces(pattern, options, cache, true);
     while (match_seams(pattern, options, cache)) flatten_pieces(pattern, options, cache, true);
     lap("flatten");
+    if (review_panels(pattern, options, cache, ledger) > 0)
+      while (match_seams(pattern, options, cache)) flatten_pieces(pattern, options, cache, true);
+    lap("review_panels");
     if (pattern.meets_limit) break;
-    const int added = place_darts_and_panels(pattern, options);
+    const int added = place_darts_and_panels(pattern, options, &ledger);
     lap("darts_and_panels");
     if (added == 0) break;
   }
   flatten_pieces(pattern, options, cache, true);
   lap("flatten");
+  review_panels(pattern, options, cache, ledger);
   merge_small_pieces(pattern, options, cache);
   remove_overlapping_darts(pattern, options, cache);
   // The output has no flipped triangle: pieces left with flips are

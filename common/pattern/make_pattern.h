@@ -26,6 +26,7 @@
 // ids, so that a small change of the rest shape moves cuts a little and
 // changes no count.
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 #include <Eigen/Core>
@@ -65,6 +66,14 @@ struct PatternOptions {
   double tip_margin = 0.05;         // metres: a dart's tip lies at least this far inside its piece
   double min_dart_length = 0.05;    // metres
   int max_pieces = 12;              // panel seams stop at this many pieces
+  // A panel seam stays only where it relieves at least this much of its
+  // piece's cloth beyond the limit (panel_excess) per metre of its length,
+  // or brings both its pieces within the limit:
+  // seam length weighed against distortion, as variational surface cutting
+  // weighs them (Sharp and Crane 2018). A seam that only moves the excess
+  // from one piece to the other, or leaves a cone point where it was,
+  // costs seam length for nothing.
+  double min_panel_relief = 0.01;   // m^2 per metre of seam
 
   double min_piece_area = 0.01;     // m^2: added cuts leave no piece smaller than this
   int max_rounds = 16;              // flatten / place rounds
@@ -81,6 +90,7 @@ struct PatternOptions {
   double armhole_slope = 2.0;
   double slope_window = 0.03;       // metres
   double limb_offset = 0.12;        // metres
+  double sliver_area = 1e-4;        // m^2: smaller pieces an armhole cuts off join their neighbour
 
   // Topology cuts: cost of a unit of length on a surface whose normal faces
   // front or back (|n_z| = 1) relative to one facing sideways or down.
@@ -133,6 +143,13 @@ Pattern cut_user_seams(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
 // Phase 1b: armholes (see PatternOptions::armholes).
 void cut_armholes(Pattern& pattern, const PatternOptions& options, const PatternContext& context);
 
+// Phase 1c: a piece smaller than options.sliver_area that an armhole cut off
+// (where it runs within a hair of a user seam, the two cross back and forth
+// and leave slivers between them) joins the neighbour with which it shares
+// the most armhole: that stretch of the armhole is not cut (the loop becomes
+// an open seam, or several, ending on the user seam). Listed in the notes.
+void merge_armhole_slivers(Pattern& pattern, const PatternOptions& options);
+
 // Phase 2: topology cuts until every piece is a disk. Throws GeometryError
 // for a piece of genus > 0 (seams must cut its handles).
 void cut_to_disks(Pattern& pattern, const PatternOptions& options, const PatternContext& context);
@@ -151,9 +168,43 @@ void flatten_pieces(Pattern& pattern, const PatternOptions& options, FlattenCach
 // Phase 4: whether the pieces on mismatched seams were flattened again.
 bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
 
+// A panel seam on trial: the piece it split (its rest faces, sorted) and
+// that piece's excess over the limit (panel_excess) before the split.
+struct PanelTrial {
+  std::string seam;
+  std::vector<int> rest_faces;
+  double excess_before = 0.0;
+};
+
+// What the cutter has learnt across rounds: panel seams on trial, and the
+// pieces (by their rest faces) whose panel seam did not pay and is not tried
+// again.
+struct PanelLedger {
+  std::vector<PanelTrial> trials;
+  std::set<std::vector<int>> refused;
+};
+
+// The cloth of the rest faces `faces` beyond the limit, as a tailor would
+// weigh a panel seam: sum over the faces of area * (max(0, c - c_lim) / c_lim
+// + max(0, e - e_lim) / e_lim), c = 1 - s2 the compression, e = s1 - 1 the
+// ease, c_lim and e_lim the limit's (compression_worst1, ease_worst5; the
+// symmetric limit: max_limit for both). m^2; taken on rest faces, so that a
+// piece and the two it is split into compare.
+double panel_excess(const std::vector<MaterialFace>& faces, const PatternOptions& options);
+
 // Phase 5: one dart or panel seam in every piece over the limit that can
-// take one; returns how many cuts were added.
-int place_darts_and_panels(Pattern& pattern, const PatternOptions& options);
+// take one (no panel seam in a piece `ledger` refused); returns how many
+// cuts were added and puts the panel seams on trial in `ledger`.
+int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, PanelLedger* ledger = nullptr);
+
+// Phase 5b, after the pieces of the panel seams on trial are flattened: a
+// panel seam that relieved less than `min_panel_relief` times its length of
+// its piece's excess over the limit, and left one of its pieces over the
+// limit, is removed again (listed under
+// merged_cuts with a note) and its piece refused further panel seams; one
+// that stays has the relief added to its reason. Returns how many were
+// removed.
+int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache& cache, PanelLedger& ledger);
 
 // Phase 6: removes added cuts (panel or topology seams whose removal keeps
 // every piece a disk) that border a piece smaller than min_piece_area.

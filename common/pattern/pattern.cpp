@@ -185,7 +185,14 @@ void insert_cuts(Pattern& pattern, std::vector<PatternSeam> seams, const std::ve
     if (s.closed && !path.empty()) path.push_back(path.front());
     carried.push_back(path);
   }
-  const RefinedMesh r = insert_curves(mesh.V, mesh.F, curves, carried);
+  RefinedMesh r;
+  try {
+    r = insert_curves(mesh.V, mesh.F, curves, carried);
+  } catch (const GeometryError& e) {
+    std::string names;
+    for (const PatternSeam& s : seams) names += (names.empty() ? "" : ", ") + s.name;
+    throw GeometryError(std::string(e.what()) + " (cutting " + names + ")");
+  }
   std::vector<int> rest_face(static_cast<size_t>(r.F.rows()));
   for (int f = 0; f < r.F.rows(); ++f) rest_face[static_cast<size_t>(f)] = mesh.rest_face[static_cast<size_t>(r.parent_face[static_cast<size_t>(f)])];
   std::vector<SurfacePoint> rest_point = mesh.rest_point;

@@ -63,6 +63,19 @@ double curve_length(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Su
 
 namespace {
 
+// Distance from q to the 2D polyline P (#P by 2).
+double distance_to_polyline(const Eigen::MatrixXd& P, const Eigen::Vector2d& q) {
+  double d = std::numeric_limits<double>::infinity();
+  for (int i = 0; i + 1 < P.rows(); ++i) {
+    const Eigen::Vector2d a = P.row(i), ab = P.row(i + 1) - P.row(i);
+    const double l2 = ab.squaredNorm();
+    const double t = l2 > 0.0 ? std::clamp((q - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+    d = std::min(d, (a + t * ab - q).norm());
+  }
+  if (P.rows() == 1) d = (P.row(0).transpose() - q).norm();
+  return d;
+}
+
 double orient(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
   return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
 }
@@ -270,23 +283,34 @@ SurfaceCurve snap_to_vertices(const SurfaceCurve& curve, double fraction) {
 }
 
 Eigen::MatrixXd smooth_polyline_2d(const Eigen::MatrixXd& P, const std::vector<int>& fixed_rows, double spacing,
-                                   double wavelength, std::vector<int>* fixed_out) {
+                                   double wavelength, std::vector<int>* fixed_out, double tolerance,
+                                   const std::vector<int>& kept_rows, double kept_tolerance) {
   const int n = static_cast<int>(P.rows());
   std::vector<int> fixed = fixed_rows;
   fixed.push_back(0);
   fixed.push_back(n - 1);
+  // Without a tolerance, kept rows are fixed.
+  if (!(tolerance > 0.0)) fixed.insert(fixed.end(), kept_rows.begin(), kept_rows.end());
   std::sort(fixed.begin(), fixed.end());
   fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
-  // Resample every section between fixed rows at (about) `spacing`.
+  std::vector<char> kept(static_cast<size_t>(n), 0);
+  if (tolerance > 0.0)
+    for (int i : kept_rows)
+      if (!std::binary_search(fixed.begin(), fixed.end(), i)) kept[static_cast<size_t>(i)] = 1;
+  std::vector<int> breaks = fixed;
+  for (int i = 0; i < n; ++i)
+    if (kept[static_cast<size_t>(i)]) breaks.push_back(i);
+  std::sort(breaks.begin(), breaks.end());
+  // Resample every section between fixed (and kept) rows at (about) `spacing`.
   std::vector<Eigen::Vector2d> pts;
-  std::vector<int> fixed_new;
-  for (size_t s = 0; s + 1 < fixed.size(); ++s) {
-    const int i0 = fixed[s], i1 = fixed[s + 1];
+  std::vector<int> fixed_new, kept_new;
+  for (size_t s = 0; s + 1 < breaks.size(); ++s) {
+    const int i0 = breaks[s], i1 = breaks[s + 1];
     std::vector<double> arc{0.0};
     for (int i = i0; i < i1; ++i) arc.push_back(arc.back() + (P.row(i + 1) - P.row(i)).norm());
     const double length = arc.back();
     const int segments = std::max(1, static_cast<int>(std::ceil(length / spacing - 1e-9)));
-    fixed_new.push_back(static_cast<int>(pts.size()));
+    (kept[static_cast<size_t>(i0)] ? kept_new : fixed_new).push_back(static_cast<int>(pts.size()));
     pts.push_back(P.row(i0).transpose());
     int j = 0;
     for (int k = 1; k < segments; ++k) {
@@ -313,36 +337,68 @@ Eigen::MatrixXd smooth_polyline_2d(const Eigen::MatrixXd& P, const std::vector<i
   for (int i = 0; i < m; ++i)
     if (!is_fixed[static_cast<size_t>(i)]) free_index[static_cast<size_t>(i)] = nf++;
   if (nf == 0) return X;
-  std::vector<Eigen::Triplet<double>> trip;
-  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(nf, 2);
-  for (int i = 0; i < m; ++i)
-    if (free_index[static_cast<size_t>(i)] >= 0) {
-      trip.emplace_back(free_index[static_cast<size_t>(i)], free_index[static_cast<size_t>(i)], 1.0);
-      b.row(free_index[static_cast<size_t>(i)]) += X.row(i);
-    }
-  // Second differences X_(i-1) - 2 X_i + X_(i+1), i = 1 .. m-2.
-  for (int i = 1; i + 1 < m; ++i) {
-    const int idx[3] = {i - 1, i, i + 1};
-    const double c[3] = {1.0, -2.0, 1.0};
-    for (int r = 0; r < 3; ++r) {
-      const int fr = free_index[static_cast<size_t>(idx[r])];
-      if (fr < 0) continue;
-      for (int s = 0; s < 3; ++s) {
-        const int fs = free_index[static_cast<size_t>(idx[s])];
-        const double w = lambda * c[r] * c[s];
-        if (fs >= 0) trip.emplace_back(fr, fs, w);
-        else b.row(fr) -= w * X.row(idx[s]);
+  // The minimizer of sum w_i |X_i - S_i|^2 + lambda sum |second differences|^2
+  // for data weights w (the samples S are X's rows on entry).
+  const Eigen::MatrixXd S = X;
+  auto solve = [&](const std::vector<double>& w) {
+    std::vector<Eigen::Triplet<double>> trip;
+    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(nf, 2);
+    for (int i = 0; i < m; ++i)
+      if (free_index[static_cast<size_t>(i)] >= 0) {
+        const double wi = w[static_cast<size_t>(i)];
+        trip.emplace_back(free_index[static_cast<size_t>(i)], free_index[static_cast<size_t>(i)], wi);
+        b.row(free_index[static_cast<size_t>(i)]) += wi * S.row(i);
+      }
+    // Second differences X_(i-1) - 2 X_i + X_(i+1), i = 1 .. m-2.
+    for (int i = 1; i + 1 < m; ++i) {
+      const int idx[3] = {i - 1, i, i + 1};
+      const double c[3] = {1.0, -2.0, 1.0};
+      for (int r = 0; r < 3; ++r) {
+        const int fr = free_index[static_cast<size_t>(idx[r])];
+        if (fr < 0) continue;
+        for (int q = 0; q < 3; ++q) {
+          const int fs = free_index[static_cast<size_t>(idx[q])];
+          const double wq = lambda * c[r] * c[q];
+          if (fs >= 0) trip.emplace_back(fr, fs, wq);
+          else b.row(fr) -= wq * S.row(idx[q]);
+        }
       }
     }
+    Eigen::SparseMatrix<double> A(nf, nf);
+    A.setFromTriplets(trip.begin(), trip.end());
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+    if (solver.info() != Eigen::Success) throw NumericalError("smoothing a seam curve: the solve failed");
+    const Eigen::MatrixXd Y = solver.solve(b);
+    Eigen::MatrixXd out = S;
+    for (int i = 0; i < m; ++i)
+      if (free_index[static_cast<size_t>(i)] >= 0) out.row(i) = Y.row(free_index[static_cast<size_t>(i)]);
+    return out;
+  };
+  std::vector<double> w(static_cast<size_t>(m), 1.0);
+  if (!(tolerance > 0.0)) return solve(w);
+  // Within the tolerance the polyline says nothing: an edge path stands for
+  // its curve only up to the mesh's resolution, and its staircase has every
+  // wavelength, so no wavelength alone removes it. The data weights start
+  // low (a curve stiffer by 1 / min_weight^(1/4) in wavelength) and grow,
+  // continuously in the distance, where the curve leaves the tolerance
+  // (iteratively reweighted least squares, a fixed number of rounds).
+  const double min_weight = 1e-4;
+  std::fill(w.begin(), w.end(), min_weight);
+  // Kept rows (a seam's clicked points) may grow beyond full weight until
+  // the curve passes within their tolerance of them.
+  std::vector<double> cap(static_cast<size_t>(m), 1.0);
+  for (int i : kept_new) cap[static_cast<size_t>(i)] = 1e8;
+  for (int round = 0; round < 12; ++round) {
+    X = solve(w);
+    for (int i = 0; i < m; ++i) {
+      // A kept row's distance is to its own point, any other's to the polyline.
+      const double d = cap[static_cast<size_t>(i)] > 1.0 ? (X.row(i) - S.row(i)).norm()
+                                                         : distance_to_polyline(P, X.row(i).transpose());
+      const double r = d / (cap[static_cast<size_t>(i)] > 1.0 ? kept_tolerance : tolerance);
+      w[static_cast<size_t>(i)] = std::min(cap[static_cast<size_t>(i)], w[static_cast<size_t>(i)] * std::max(1.0, r * r));
+    }
   }
-  Eigen::SparseMatrix<double> A(nf, nf);
-  A.setFromTriplets(trip.begin(), trip.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
-  if (solver.info() != Eigen::Success) throw NumericalError("smoothing a seam curve: the solve failed");
-  const Eigen::MatrixXd Y = solver.solve(b);
-  for (int i = 0; i < m; ++i)
-    if (free_index[static_cast<size_t>(i)] >= 0) X.row(i) = Y.row(free_index[static_cast<size_t>(i)]);
-  return X;
+  return solve(w);
 }
 
 namespace {
@@ -416,10 +472,12 @@ SurfaceCurve smooth_open_path(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F
       UV = flatten_piece(Vb, Fb, o).UV;
     }
     Eigen::MatrixXd P(static_cast<int>(ids.size()), 2);
-    std::vector<int> fixed_rows;
+    std::vector<int> fixed_rows, kept_rows;
     for (size_t i = 0; i < ids.size(); ++i) {
       P.row(static_cast<int>(i)) = UV.row(local[static_cast<size_t>(ids[i])]);
-      if (fixed_vertex[static_cast<size_t>(ids[i])]) fixed_rows.push_back(static_cast<int>(i));
+      const char kind = fixed_vertex[static_cast<size_t>(ids[i])];
+      if (kind == 1) fixed_rows.push_back(static_cast<int>(i));
+      if (kind == 2) kept_rows.push_back(static_cast<int>(i));
     }
     // Chart units: LSCM keeps the band's scale only roughly, so spacing and
     // wavelength are taken in the chart's own length of the path.
@@ -429,19 +487,13 @@ SurfaceCurve smooth_open_path(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F
     for (double wavelength = options.wavelength; wavelength >= 2.0 * spacing; wavelength *= 0.5) {
       std::vector<int> fixed_new;
       const Eigen::MatrixXd X =
-          smooth_polyline_2d(P, fixed_rows, scale * spacing, scale * wavelength, &fixed_new);
+          smooth_polyline_2d(P, fixed_rows, scale * spacing, scale * wavelength, &fixed_new,
+                             scale * 2.0 * spacing * options.tolerance, kept_rows,
+                             scale * 2.0 * spacing * options.click_tolerance);
       // A path that is smooth already (a straight run of edges) stays on its edges.
       double off = 0.0;
       for (int r = 0; r < X.rows(); ++r) {
-        double d = std::numeric_limits<double>::infinity();
-        for (int i = 0; i + 1 < P.rows(); ++i) {
-          const Eigen::Vector2d a = P.row(i), b = P.row(i + 1), q = X.row(r);
-          const Eigen::Vector2d ab = b - a;
-          const double l2 = ab.squaredNorm();
-          const double t = l2 > 0.0 ? std::clamp((q - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-          d = std::min(d, (a + t * ab - q).norm());
-        }
-        off = std::max(off, d);
+        off = std::max(off, distance_to_polyline(P, X.row(r).transpose()));
       }
       if (off < 1e-6 * scale * spacing) {
         smoothed = true;
@@ -491,11 +543,12 @@ SurfaceCurve smooth_open_path(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F
 
 SurfaceCurve smooth_edge_path(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<int>& vertex_ids,
                               const std::vector<int>& fixed_vertex_ids, bool closed, const EdgePathSmoothing& options,
-                              bool* smoothed) {
+                              bool* smoothed, const std::vector<int>& kept_vertex_ids) {
   const int n = static_cast<int>(V.rows());
   const auto neighbors = vertex_neighbors(F, n);
   const auto vf = vertex_faces(F, n);
   std::vector<char> fixed(static_cast<size_t>(n), 0);
+  for (int v : kept_vertex_ids) fixed[static_cast<size_t>(v)] = 2;
   for (int v : fixed_vertex_ids) fixed[static_cast<size_t>(v)] = 1;
   bool ok = true;
   SurfaceCurve out;

@@ -77,14 +77,32 @@ SurfaceCurve snap_to_vertices(const SurfaceCurve& curve, double fraction);
 // the minimizer of sum |X_i - P_i|^2 + lambda sum |X_(i-1) - 2 X_i + X_(i+1)|^2,
 // lambda = (wavelength / (2 pi spacing))^4, which removes wiggles shorter than
 // about `wavelength` and follows the polyline beyond (a smoothing spline).
+// With `tolerance` > 0 (same unit) the polyline is trusted only up to that
+// distance: the weights w_i of |X_i - P_i|^2 start at 1e-4 (a curve stiffer
+// by a factor 10 in wavelength) and grow by (d_i / tolerance)^2 per round, up
+// to 1, where the curve lies farther than the tolerance from the polyline
+// (d_i: distance to it), for 12 rounds (iteratively reweighted least
+// squares), so that wiggles within the tolerance are removed whatever their
+// wavelength, as an edge path's staircase needs. Rows listed in `kept_rows`
+// are kept within `kept_tolerance` of their point rather than fixed (their
+// weight grows without bound); without a tolerance they are fixed.
 // Returns the smoothed polyline; fixed rows keep their exact coordinates and
 // their rows in the result are written to `fixed_out` (in order, first and
 // last included).
 Eigen::MatrixXd smooth_polyline_2d(const Eigen::MatrixXd& P, const std::vector<int>& fixed_rows, double spacing,
-                                   double wavelength, std::vector<int>* fixed_out = nullptr);
+                                   double wavelength, std::vector<int>* fixed_out = nullptr, double tolerance = 0.0,
+                                   const std::vector<int>& kept_rows = {}, double kept_tolerance = 0.0);
 
 struct EdgePathSmoothing {
   double wavelength = 0.12;   // metres: wiggles shorter than this are smoothed away
+  // Fraction of the path's mean edge length within which the curve may leave
+  // the edge path freely: an edge path follows its curve only up to the
+  // mesh's resolution, in a staircase whose steps repeat at any wavelength
+  // (0: the smoothing spline alone).
+  double tolerance = 0.5;
+  // The same for a seam's clicked points: the vertex a click snapped to is a
+  // corner of the face the click lies in, within about one edge of it.
+  double click_tolerance = 1.0;
   int band_rings = 4;         // the chart: faces within this many vertex rings of the path
   TraceOptions trace;
 };
@@ -92,13 +110,16 @@ struct EdgePathSmoothing {
 // The edge path `vertex_ids` (V #V by 3, F #F by 3) as a smooth curve through
 // the triangles near it, passing exactly through its vertices listed in
 // `fixed_vertex_ids` and its two ends (for a closed path, pass closed = true:
-// the first vertex is fixed and the curve returns to it). The chart is the
+// the first vertex is fixed and the curve returns to it), and within the
+// tolerance of those in `kept_vertex_ids` (a seam's clicked points: a vertex
+// names a clicked point only up to the mesh's resolution, and pinning the
+// curve to it puts a kink at every click). The chart is the
 // band of faces around the path, flattened by LSCM (or, where LSCM flips a
 // triangle or the band is no disk with fewer rings, injectively); when no
 // chart holds the smoothed curve, the edge path itself is returned (its
 // points at vertices). `smoothed` tells which.
 SurfaceCurve smooth_edge_path(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<int>& vertex_ids,
                               const std::vector<int>& fixed_vertex_ids, bool closed, const EdgePathSmoothing& options,
-                              bool* smoothed = nullptr);
+                              bool* smoothed = nullptr, const std::vector<int>& kept_vertex_ids = {});
 
 }  // namespace gp

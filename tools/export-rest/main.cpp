@@ -48,6 +48,9 @@ int main(int argc, char** argv) {
   app.add_option("--max-darts", po.max_darts, "Darts per piece [count]")->capture_default_str()->check(CLI::Range(0, 100));
   app.add_option("--max-pieces", po.max_pieces, "Panel seams stop at this many pieces [count]")
       ->capture_default_str()->check(CLI::Range(0, 1000));
+  app.add_option("--min-panel-relief", po.min_panel_relief,
+                 "A panel seam stays only where it relieves this much cloth beyond the limit per metre of its length [m^2/m]")
+      ->capture_default_str()->check(CLI::Range(0.0, 100.0));
   app.add_option("--kernel-radius", po.kernel_radius, "Radius of the curvature and energy kernels [m]")
       ->capture_default_str()->check(CLI::Range(0.005, 1.0));
   app.add_option("--min-dart-angle", po.min_dart_angle, "Least Gaussian curvature around a dart's tip [radians]")
@@ -62,6 +65,9 @@ int main(int argc, char** argv) {
   app.add_flag("--edge-cuts", edge_cuts, "Cut along the rest shape's edges instead of smooth curves through its triangles");
   app.add_option("--smoothing-wavelength", po.smoothing.wavelength, "Seam wiggles shorter than this are smoothed away [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
+  app.add_option("--smoothing-tolerance", po.smoothing.tolerance,
+                 "A cut may leave its edge path freely by this fraction of the path's mean edge length (0: the wavelength alone) [fraction]")
+      ->capture_default_str()->check(CLI::Range(0.0, 2.0));
   app.add_option("--arap-iterations", po.flatten.max_iterations, "Most flattening iterations per piece [count]")
       ->capture_default_str()->check(CLI::Range(1, 1000000));
   app.add_option("--flatten-tolerance", po.flatten.tolerance,

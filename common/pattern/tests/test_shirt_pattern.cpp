@@ -229,3 +229,49 @@ TEST_CASE("a nearly symmetric shirt's sleeves are mirrored pairs", "[cli][shirt]
   CHECK(pieces.count("left sleeve front") == 1);
   CHECK(pieces.count("right sleeve back") == 1);
 }
+
+TEST_CASE("panel seams that relieve too little are taken out again", "[cli][shirt]") {
+  const Shirt& s = shirt();
+  INFO(s.error);
+  REQUIRE(s.ok);
+  // The generated shirt's front and back used to be split into a centre, a
+  // side and an upper and lower back (11 pieces) whose worst distortion was
+  // the same as without them: the seams moved the excess from one piece to
+  // the other. Kept only when they relieve their length's worth (default),
+  // against any relief at all (0).
+  const auto a = s.cut(s.dir / "garment" / "garment.ply", "relief");
+  INFO(a.err);
+  REQUIRE(a.exit_code == 0);
+  const auto b = s.cut(s.dir / "garment" / "garment.ply", "relief0", "--min-panel-relief 0");
+  INFO(b.err);
+  REQUIRE(b.exit_code == 0);
+  const Json ra = read_json_file(s.dir / "relief" / "report.json");
+  const Json rb = read_json_file(s.dir / "relief0" / "report.json");
+  const Json& sa = ra["summary"];
+  const Json& sb = rb["summary"];
+  INFO(sa.dump() << "\n" << sb.dump());
+  CHECK(ra["options"]["min_panel_relief"].get<double>() == Approx(0.01));
+  // Fewer pieces and less seam, no worse at its worst.
+  CHECK(sa["pieces"].get<int>() <= 8);
+  CHECK(sa["pieces"].get<int>() < sb["pieces"].get<int>());
+  CHECK(sa["total_seam_length"].get<double>() < sb["total_seam_length"].get<double>() - 0.5);
+  CHECK(sa["worst_compression"].get<double>() <= sb["worst_compression"].get<double>() + 0.005);
+  CHECK(sa["worst_ease"].get<double>() <= sb["worst_ease"].get<double>() + 0.005);
+  // Every panel seam taken out is listed and says what it relieved; every
+  // one kept says so too.
+  int removed = 0;
+  for (const auto& m : ra["merged_cuts"])
+    if (m.get<std::string>().rfind("panel", 0) == 0) ++removed;
+  CHECK(removed >= 1);
+  int notes = 0;
+  for (const auto& n : ra["notes"])
+    if (n.get<std::string>().find("removed: it relieved only") != std::string::npos) ++notes;
+  CHECK(notes == removed);
+  for (const auto& c : ra["added_cuts"])
+    if (c["kind"] == "panel") CHECK(c["reason"].get<std::string>().find("it relieved") != std::string::npos);
+  // A front and a back, each one piece or a mirrored pair.
+  std::map<std::string, int> names;
+  for (const auto& p : ra["pieces"]) ++names[p["name"].get<std::string>()];
+  CHECK((names.count("front") + names.count("left front") + names.count("right front")) >= 1);
+  CHECK((names.count("back") + names.count("left back") + names.count("right back")) >= 1);
+}

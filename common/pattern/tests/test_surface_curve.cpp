@@ -1,6 +1,8 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Dense>
 
@@ -8,6 +10,7 @@
 #include "mesh/measures.h"
 #include "mesh/topology.h"
 #include "pattern/curve_insertion.h"
+#include "pattern/dart_placement.h"
 #include "pattern/mesh_cut.h"
 #include "pattern/surface_curve.h"
 #include "testing/test_meshes.h"
@@ -160,4 +163,70 @@ TEST_CASE("curve points that coincide are merged into one vertex", "[curve]") {
     for (int k = 0; k < 3; ++k) x += s.bary[k] * grid.V.row(grid.F(s.face, k)).transpose();
     CHECK((x - r.V.row(v).transpose()).norm() < 1e-12);
   }
+}
+
+TEST_CASE("a staircase within the tolerance is straightened whatever its wavelength", "[curve][smoothing]") {
+  // An edge path's staircase along the x axis: steps of 1 cm, repeating every
+  // 30 cm (longer than the 12 cm wavelength), sampled every 5 mm.
+  const int n = 201;
+  Eigen::MatrixXd P(n, 2);
+  for (int i = 0; i < n; ++i) {
+    const double x = 0.005 * i;
+    P.row(i) = Eigen::Vector2d(x, std::fmod(x, 0.3) < 0.15 ? 0.0 : 0.01);
+  }
+  P(n - 1, 1) = 0.0;
+  auto worst_y = [](const Eigen::MatrixXd& X) {
+    double w = 0.0;
+    for (int i = 0; i < X.rows(); ++i) w = std::max(w, std::abs(X(i, 1) - 0.005));
+    return w;
+  };
+  auto distance = [&](const Eigen::MatrixXd& X) {
+    double worst = 0.0;
+    for (int r = 0; r < X.rows(); ++r) {
+      double d = std::numeric_limits<double>::infinity();
+      for (int i = 0; i + 1 < P.rows(); ++i) {
+        const Eigen::Vector2d a = P.row(i), ab = P.row(i + 1) - P.row(i), q = X.row(r);
+        const double t = std::clamp((q - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+        d = std::min(d, (a + t * ab - q).norm());
+      }
+      worst = std::max(worst, d);
+    }
+    return worst;
+  };
+  // The smoothing spline alone keeps the steps (a 30 cm wave passes it).
+  const Eigen::MatrixXd spline = smooth_polyline_2d(P, {}, 0.005, 0.12);
+  // Trusted only to 8 mm, the path is a nearly straight line through the
+  // steps' middle, however long their period.
+  const Eigen::MatrixXd within = smooth_polyline_2d(P, {}, 0.005, 0.12, nullptr, 0.008);
+  INFO("spline leaves the path by " << distance(spline) << " m, the tolerant curve by " << distance(within));
+  CHECK(distance(within) < 0.008 * 1.1);
+  // Away from the pinned ends (at y = 0), it stays within 2.5 mm of y = 5 mm.
+  CHECK(worst_y(within.middleRows(40, n - 80)) < 0.0025);
+  CHECK(worst_y(spline.middleRows(40, n - 80)) > 0.004);
+  // A real bend, ten times the tolerance, is followed within 1.5 times it.
+  Eigen::MatrixXd B(n, 2);
+  for (int i = 0; i < n; ++i) B.row(i) = Eigen::Vector2d(0.005 * i, 0.08 * std::sin(M_PI * 0.005 * i));
+  P = B;
+  const Eigen::MatrixXd bend = smooth_polyline_2d(B, {}, 0.005, 0.12, nullptr, 0.008);
+  CHECK(distance(bend) < 0.008 * 1.5);
+  // Nothing moves with no tolerance on an exact straight line.
+  Eigen::MatrixXd L(n, 2);
+  for (int i = 0; i < n; ++i) L.row(i) = Eigen::Vector2d(0.005 * i, 0.0);
+  CHECK(smooth_polyline_2d(L, {}, 0.005, 0.12, nullptr, 0.008).col(1).cwiseAbs().maxCoeff() < 1e-12);
+}
+
+TEST_CASE("two darts' chart lines cross or not", "[curve][darts]") {
+  auto line = [](double x0, double y0, double x1, double y1) {
+    Eigen::MatrixXd P(2, 2);
+    P << x0, y0, x1, y1;
+    return P;
+  };
+  CHECK(polylines_cross(line(0, 0, 1, 1), line(0, 1, 1, 0)));
+  CHECK(polylines_cross(line(0, 0, 1, 0), line(0.5, 0, 0.5, 1)));  // a tip on the other's leg
+  CHECK_FALSE(polylines_cross(line(0, 0, 1, 0), line(0, 0.1, 1, 0.1)));
+  CHECK_FALSE(polylines_cross(line(0, 0, 1, 0), line(2, 0, 3, 0)));  // collinear, apart
+  CHECK_FALSE(polylines_cross(line(0, 0, 1, 0), line(1, 0, 1, 1)));  // a shared end
+  Eigen::MatrixXd bent(3, 2);
+  bent << 0, -1, 0.5, 0.5, 1, -1;
+  CHECK(polylines_cross(bent, line(0, 0, 1, 0)));
 }
