@@ -41,9 +41,9 @@ AdaptReport RestShapeAdapter::adapt(const Eigen::MatrixXd& V_sim, Eigen::MatrixX
                                     const Eigen::VectorXd* area_factors) const {
   AdaptReport report;
   report.area_before = mesh_area(V_rest, F_);
+  const double clip_delta = options_.delta - options_.margin;  // the adaptation's own limit
   const std::vector<Eigen::Matrix2d> targets =
-      clipped_targets(V_rest, V_sim, F_, options_.delta - options_.margin, area_factors, &report.clip,
-                      options_.hysteresis);
+      clipped_targets(V_rest, V_sim, F_, clip_delta, area_factors, &report.clip, options_.hysteresis);
   if (report.clip.clipped_faces == 0 && area_factors == nullptr) {
     report.area_after = report.area_before;
     return report;
@@ -65,8 +65,7 @@ AdaptReport RestShapeAdapter::adapt(const Eigen::MatrixXd& V_sim, Eigen::MatrixX
   for (int round = 0; round < options_.rounds; ++round) {
     if (round > 0) {
       ClipStats clip;
-      next = clipped_targets(V_rest, V_sim, F_, options_.delta - options_.margin, nullptr, &clip,
-                             options_.hysteresis);
+      next = clipped_targets(V_rest, V_sim, F_, clip_delta, nullptr, &clip, options_.hysteresis);
       if (clip.clipped_faces == 0) break;
     }
     cap(next);

@@ -781,23 +781,20 @@ struct ClothSimulator::Impl {
       failure = "vertex speed above " + std::to_string(options.max_speed) + " m/s";
       last_reason = &RejectionCounts::too_fast;
     } else {
-      int flipped = 0, first_flipped = -1;
       for (int f = 0; f < F.rows(); ++f) {
         const Eigen::Vector3d x0 = X.row(F(f, 0)), x1 = X.row(F(f, 1)), x2 = X.row(F(f, 2));
         const Eigen::Vector3d y0 = X_new.row(F(f, 0)), y1 = X_new.row(F(f, 1)), y2 = X_new.row(F(f, 2));
         const Eigen::Vector3d n_old = (x1 - x0).cross(x2 - x0);
         const Eigen::Vector3d n_new = (y1 - y0).cross(y2 - y0);
-        if (n_old.dot(n_new) < 0.0) {
-          if (++flipped == 1) first_flipped = f;
-          flipped_faces.push_back(f);
-        }
+        if (n_old.dot(n_new) < 0.0) flipped_faces.push_back(f);
       }
       // A triangle turned over within one step is a symptom of a too large step
       // and is retried; if it survives the smallest step, it is a fold forced by
       // the body (cloth squeezed between two body parts), which cloth may do: it
       // is accepted and counted rather than ending the run.
+      const long flipped = static_cast<long>(flipped_faces.size());
       if (flipped > 0 && !accept_flips) {
-        failure = std::to_string(flipped) + " triangle(s) inverted, first " + std::to_string(first_flipped);
+        failure = std::to_string(flipped) + " triangle(s) inverted, first " + std::to_string(flipped_faces.front());
         last_reason = &RejectionCounts::inverted;
       } else if (flipped > 0) {
         counters.accepted_flips += flipped;

@@ -71,7 +71,8 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(1, 1000));
   app.add_option("--adapt-every", options.adapt_every, "Simulation steps between adaptations [count]")
       ->capture_default_str()->check(CLI::Range(1, 100000));
-  app.add_option("--delta", options.adaptation.delta, "Stretch limit: principal stretch above 1+delta is clipped [1]")
+  app.add_option("--delta", options.adaptation.delta, "Stretch limit of the fit: the verification fails cloth above 1+delta; the adaptation clips "
+                 "below it (see --margin) [1]")
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
   app.add_option("--margin", options.adaptation.margin,
                  "The adaptation clips stretch at 1+delta-margin, below the fit's limit, so that a fresh simulation "
