@@ -1,7 +1,6 @@
 #include "avatar/make_avatar.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <set>
 
@@ -13,14 +12,13 @@
 #include "avatar/skinning.h"
 #include "core/error.h"
 #include "core/math.h"
+#include "core/stopwatch.h"
+#include "geometry/self_intersections.h"
 #include "mesh/measures.h"
 #include "mesh/topology.h"
 
 namespace gp {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // Moves every vertex onto the zero set along the field gradient (Newton
 // steps, gradient by central differences). Steps are capped at `max_step`, so
@@ -316,7 +314,7 @@ AvatarResult make_avatar(const AvatarSpec& spec, const AvatarOptions& o) {
   auto t = Clock::now();
   BodyShape shape = build_body_shape(spec.measurements);
   fit_girths(shape);
-  res.timing.fit += since(t);
+  res.timing.fit += seconds_since(t);
 
   // The grid resolves the thinnest parts (finger tips, wrists); decimation
   // then meets the budget. Small budgets start from a coarser grid (faster,
@@ -334,23 +332,23 @@ AvatarResult make_avatar(const AvatarSpec& spec, const AvatarOptions& o) {
   // only specks need removing (the decimated mesh is checked below).
   res.specks_removed = drop_specks(iso);
   res.isosurface_vertices = iso.V.rows();
-  res.timing.polygonize += since(t);
+  res.timing.polygonize += seconds_since(t);
   t = Clock::now();
   Mesh mesh = simplify_mesh(iso, o.target_vertices);
-  res.timing.simplify += since(t);
+  res.timing.simplify += seconds_since(t);
   t = Clock::now();
   project_to_surface(shape, mesh.V, 0.5 * cell_used);
   res.flips = flip_for_angles(mesh.V, mesh.F);
   relax(shape, mesh.V, mesh.F, o.relax_iterations, 0.5 * cell_used);
   res.flips += flip_for_angles(mesh.V, mesh.F);
-  res.timing.project += since(t);
+  res.timing.project += seconds_since(t);
   t = Clock::now();
   check_closed_genus0(mesh.F, "decimated body");
-  res.timing.check += since(t);
+  res.timing.check += seconds_since(t);
 
   t = Clock::now();
   res.weights = skinning_weights(shape, mesh.V, mesh.F, o.skinning);
-  res.timing.skin += since(t);
+  res.timing.skin += seconds_since(t);
 
   // Correct the girths, then remove any local fold; smoothing a fold away can
   // move a girth again, so repeat while folds were found.
@@ -364,12 +362,12 @@ AvatarResult make_avatar(const AvatarSpec& spec, const AvatarOptions& o) {
       correct_girths(shape, res.girths, res.weights, mesh.V);
       ++res.correction_rounds;
     }
-    res.timing.measure += since(t);
+    res.timing.measure += seconds_since(t);
     if (!o.check_self_intersection) break;
     t = Clock::now();
     const int rounds = untangle(mesh.V, mesh.F, 8);
     res.untangle_rounds += rounds;
-    res.timing.check += since(t);
+    res.timing.check += seconds_since(t);
     if (rounds == 0) break;
   }
   res.girths = measure_girths(shape, mesh.V, mesh.F);
@@ -409,8 +407,8 @@ AvatarResult make_avatar(const AvatarSpec& spec, const AvatarOptions& o) {
   }
   for (GirthResult& g : res.girths) g.center.y() -= floor_rest;
   res.height = res.poses.V[0].col(1).maxCoeff();
-  res.timing.pose += since(t);
-  res.timing.total = since(t_start);
+  res.timing.pose += seconds_since(t);
+  res.timing.total = seconds_since(t_start);
   return res;
 }
 

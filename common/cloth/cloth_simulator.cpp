@@ -1,27 +1,21 @@
 #include "cloth/cloth_simulator.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <string>
 
 #include <Eigen/Dense>
 
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "linalg/cholmod_solver.h"
 
 namespace gp::cloth {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 // A vertex's second contact direction is dropped when it is within about 17
 // degrees of the first (the two constraints would be nearly the same).
 constexpr double kSmallestCreaseSine = 0.3;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 // The six 3x3 blocks of a triangle's 9x9 matrix kept in the lower-triangle storage:
 // three diagonal blocks and the three above the diagonal (their transposes are

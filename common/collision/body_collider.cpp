@@ -2,7 +2,6 @@
 
 #include <optional>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <future>
 #include <limits>
@@ -17,6 +16,7 @@
 #include "collision/triangle_bvh.h"
 #include "core/error.h"
 #include "core/math.h"
+#include "core/stopwatch.h"
 #include "mesh/topology.h"
 
 namespace gp::collision {
@@ -25,11 +25,6 @@ namespace {
 using Kernel = CGAL::Simple_cartesian<double>;
 using Point = Kernel::Point_3;
 using Triangle = Kernel::Triangle_3;
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 Point to_point(const Eigen::Vector3d& p) { return Point(p.x(), p.y(), p.z()); }
 

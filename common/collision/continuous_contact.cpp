@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <future>
 #include <limits>
@@ -11,13 +10,13 @@
 
 #include "collision/ccd.h"
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "mesh/topology.h"
 
 namespace gp::collision {
 namespace {
 
 using Eigen::Vector3d;
-using Clock = std::chrono::steady_clock;
 
 // Upper bound on the broad-phase grid's cells; the cell grows beyond the
 // cloth's mean swept triangle where the cloth's box would need more.
@@ -578,7 +577,7 @@ struct ContinuousContact::Impl {
       }
       stats.unresolved += static_cast<long>(impacts.size());
     }
-    stats.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+    stats.seconds += seconds_since(t0);
   }
 };
 

@@ -1,11 +1,11 @@
 #include "registration/register_check.h"
 
 #include <algorithm>
-#include <chrono>
 #include <set>
 #include <sstream>
 #include <thread>
 
+#include "core/stopwatch.h"
 #include "io/mesh_io.h"
 #include "mesh/topology.h"
 #include "pose/pose_set.h"
@@ -14,12 +14,6 @@ namespace fs = std::filesystem;
 
 namespace gp {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 std::string join_ids(const std::vector<int>& ids, size_t most = 5) {
   std::string s;

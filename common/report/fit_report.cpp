@@ -1,7 +1,6 @@
 #include "report/fit_report.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -10,6 +9,7 @@
 #include "core/atomic_file.h"
 #include "core/base64.h"
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "core/text_format.h"
 #include "io/gltf_writer.h"
 #include "io/mesh_io.h"
@@ -22,14 +22,12 @@
 #include "report/svg_to_png.h"
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 namespace gp::report {
 namespace {
 
 const char* kGenerator = "fit-report (custom-fit garment pipeline)";
 
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 
 // The files of three.js the page loads, by their place in the package.
