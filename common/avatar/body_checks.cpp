@@ -1,9 +1,5 @@
 #include "avatar/body_checks.h"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Surface_mesh.h>
-
 #include <algorithm>
 #include <vector>
 
@@ -36,40 +32,6 @@ void check_closed_genus0(const Eigen::MatrixXi& F, const std::string& what) {
   if (chi != 2)
     throw GeometryError(what + " has Euler characteristic " + std::to_string(chi) +
                         ", expected 2 (a sphere)");
-}
-
-namespace {
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
-
-SurfaceMesh to_surface_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
-  SurfaceMesh sm;
-  std::vector<SurfaceMesh::Vertex_index> vid(V.rows());
-  for (Eigen::Index i = 0; i < V.rows(); ++i)
-    vid[i] = sm.add_vertex(Kernel::Point_3(V(i, 0), V(i, 1), V(i, 2)));
-  for (Eigen::Index f = 0; f < F.rows(); ++f)
-    if (sm.add_face(vid[F(f, 0)], vid[F(f, 1)], vid[F(f, 2)]) == SurfaceMesh::null_face())
-      throw GeometryError("mesh is not an oriented 2-manifold (face " + std::to_string(f) + ")");
-  return sm;
-}
-}  // namespace
-
-bool has_self_intersection(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
-  return CGAL::Polygon_mesh_processing::does_self_intersect(to_surface_mesh(V, F));
-}
-
-std::vector<int> self_intersecting_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
-  const SurfaceMesh sm = to_surface_mesh(V, F);
-  std::vector<std::pair<SurfaceMesh::Face_index, SurfaceMesh::Face_index>> pairs;
-  CGAL::Polygon_mesh_processing::self_intersections(sm, std::back_inserter(pairs));
-  std::vector<int> ids;
-  for (const auto& p : pairs) {
-    ids.push_back(static_cast<int>(p.first.idx()));
-    ids.push_back(static_cast<int>(p.second.idx()));
-  }
-  std::sort(ids.begin(), ids.end());
-  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-  return ids;
 }
 
 }  // namespace gp

@@ -1,8 +1,11 @@
 #pragma once
-// Self-intersection test of a closed or open manifold triangle mesh with CGAL
+// Self-intersection tests of a closed or open manifold triangle mesh with CGAL
 // (Polygon_mesh_processing::self_intersections, box-intersection filtered,
 // exact predicates). Triangles sharing a vertex or an edge count only when
 // they overlap beyond that shared part.
+//
+// V is #V by 3, F is #F by 3. The mesh must be manifold and consistently
+// oriented: GeometryError names the first face CGAL's face graph cannot hold.
 #include <utility>
 #include <vector>
 
@@ -15,9 +18,13 @@ struct SelfIntersectionResult {
   std::vector<std::pair<int, int>> first_pairs;  // up to `max_pairs` of them, sorted
 };
 
-// V #V by 3, F #F by 3; the mesh must be manifold and consistently oriented
-// (GeometryError otherwise, since CGAL's face graph cannot hold it).
 SelfIntersectionResult self_intersections(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                           int max_pairs = 20);
+
+// Ids of all triangles that intersect another one (ascending, each once).
+std::vector<int> self_intersecting_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+
+// True if any two triangles intersect; stops at the first pair found.
+bool has_self_intersection(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
 
 }  // namespace gp

@@ -10,6 +10,7 @@
 #include "avatar/girth.h"
 #include "avatar/make_avatar.h"
 #include "core/error.h"
+#include "geometry/self_intersections.h"
 #include "mesh/measures.h"
 #include "mesh/topology.h"
 #include "testing/command.h"

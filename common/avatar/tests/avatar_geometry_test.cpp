@@ -10,6 +10,7 @@
 #include "avatar/skeleton.h"
 #include "avatar/skinning.h"
 #include "core/error.h"
+#include "geometry/self_intersections.h"
 #include "mesh/measures.h"
 #include "mesh/topology.h"
 #include "testing/test_meshes.h"

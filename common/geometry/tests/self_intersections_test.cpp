@@ -1,5 +1,10 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
 #include "geometry/self_intersections.h"
 #include "testing/test_meshes.h"
 
@@ -29,4 +34,43 @@ TEST_CASE("a vertex pushed through the opposite side is found", "[geometry]") {
   // Drag vertex 0 through the centre well past the far side.
   sphere.V.row(0) *= -1.5;
   CHECK(gp::self_intersections(sphere.V, sphere.F).pair_count > 0);
+}
+
+TEST_CASE("the face list and the yes/no test agree with the pair list", "[geometry]") {
+  const gp::Mesh sphere = gp::testing::make_icosphere(2);
+  CHECK_FALSE(gp::has_self_intersection(sphere.V, sphere.F));
+  CHECK(gp::self_intersecting_faces(sphere.V, sphere.F).empty());
+
+  gp::Mesh dented = sphere;
+  dented.V.row(0) *= -1.5;
+  const auto pairs = gp::self_intersections(dented.V, dented.F, 1 << 20);
+  std::vector<int> from_pairs;
+  for (const auto& [a, b] : pairs.first_pairs) {
+    from_pairs.push_back(a);
+    from_pairs.push_back(b);
+  }
+  std::sort(from_pairs.begin(), from_pairs.end());
+  from_pairs.erase(std::unique(from_pairs.begin(), from_pairs.end()), from_pairs.end());
+  const std::vector<int> faces = gp::self_intersecting_faces(dented.V, dented.F);
+  CHECK(faces == from_pairs);
+  CHECK(std::is_sorted(faces.begin(), faces.end()));
+  CHECK(gp::has_self_intersection(dented.V, dented.F));
+}
+
+TEST_CASE("a non-manifold face is named, not guessed", "[geometry]") {
+  gp::Mesh sphere = gp::testing::make_icosphere(1);
+  // Repeat face 3 with its orientation: its edges would be used twice the same way.
+  Eigen::MatrixXi F(sphere.F.rows() + 1, 3);
+  F << sphere.F, sphere.F.row(3);
+  const std::string where = "face " + std::to_string(F.rows() - 1);
+  auto location_of = [&](auto&& call) -> std::string {
+    try {
+      call();
+    } catch (const gp::GeometryError& e) {
+      return e.where();
+    }
+    return "no error";
+  };
+  CHECK(location_of([&] { gp::self_intersecting_faces(sphere.V, F); }) == where);
+  CHECK(location_of([&] { gp::has_self_intersection(sphere.V, F); }) == where);
 }
