@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "core/math.h"
 #include "core/stopwatch.h"
+#include "mesh/point_triangle.h"
 #include "mesh/topology.h"
 
 namespace gp::collision {
@@ -214,16 +215,15 @@ struct BodyCollider::Impl {
 
   Eigen::Vector3d corner(int f, int k) const { return V.row(F(f, k)).transpose(); }
 
-  Eigen::Vector3d pseudo_normal(int f, int feature) const {
-    if (feature == 6) return face_normal.row(f).transpose();
-    if (feature >= 3) {
-      const int k = feature - 3;
-      const int g = adjacency(f, k);
+  Eigen::Vector3d pseudo_normal(int f, TriangleFeature feature) const {
+    if (feature == TriangleFeature::interior) return face_normal.row(f).transpose();
+    if (is_edge(feature)) {
+      const int g = adjacency(f, feature_index(feature));
       Eigen::Vector3d n = face_normal.row(f).transpose();
       if (g >= 0) n += face_normal.row(g).transpose();
       return n;
     }
-    return vertex_pseudo_normal(F(f, feature));
+    return vertex_pseudo_normal(F(f, feature_index(feature)));
   }
 
   // Baerentzen & Aanaes 2005, eq. 3: the incident faces' normals weighted by
@@ -257,23 +257,23 @@ struct BodyCollider::Impl {
   // by adaptation to centimetres over a motion (make bench). The face with the
   // lowest id among those around the feature within a relative 1e-12 of the
   // closest distance is taken instead, so the answer depends on the body alone.
-  void resolve_tie(const Eigen::Vector3d& p, int& f, TriangleClosest& c) const {
-    if (c.feature == 6) return;
+  void resolve_tie(const Eigen::Vector3d& p, int& f, TriangleClosestPoint& c) const {
+    if (c.feature == TriangleFeature::interior) return;
     const double d = (p - c.point).squaredNorm();
     const double tolerance = 1e-12 * std::max(d, 1e-24);
     auto consider = [&](int g) {
       if (g < 0 || g >= f || local_of_face[g] < 0) return;
-      const TriangleClosest cg = closest_on_triangle(p, corner(g, 0), corner(g, 1), corner(g, 2));
+      const TriangleClosestPoint cg = closest_point_on_triangle(p, corner(g, 0), corner(g, 1), corner(g, 2));
       if (std::abs((p - cg.point).squaredNorm() - d) <= tolerance) {
         f = g;
         c = cg;
       }
     };
     const int f0 = f;
-    if (c.feature >= 3) {
-      consider(adjacency(f0, c.feature - 3));
+    if (is_edge(c.feature)) {
+      consider(adjacency(f0, feature_index(c.feature)));
     } else {
-      for (int g : incident[F(f0, c.feature)]) consider(g);
+      for (int g : incident[F(f0, feature_index(c.feature))]) consider(g);
     }
   }
 
@@ -289,7 +289,7 @@ struct BodyCollider::Impl {
 
   // The answer for p whose closest body face is f (before the tie rule).
   Proximity proximity_on(const Eigen::Vector3d& p, int f) const {
-    TriangleClosest c = closest_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2));
+    TriangleClosestPoint c = closest_point_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2));
     resolve_tie(p, f, c);
     const Eigen::Vector3d n = pseudo_normal(f, c.feature);
     const Eigen::Vector3d d = p - c.point;
@@ -361,7 +361,7 @@ struct BodyCollider::Impl {
     int best = -1;
     double best_d2 = std::numeric_limits<double>::infinity();
     for (int f : candidates) {
-      const double d2 = (p - closest_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2)).point).squaredNorm();
+      const double d2 = (p - closest_point_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2)).point).squaredNorm();
       if (d2 < best_d2) {
         best_d2 = d2;
         best = f;
@@ -436,7 +436,7 @@ struct BodyCollider::Impl {
   // Proximity of p to body face f alone (signed by the pseudo-normal of the
   // feature its closest point lies on).
   Proximity face_proximity(const Eigen::Vector3d& p, int f) const {
-    const TriangleClosest c = closest_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2));
+    const TriangleClosestPoint c = closest_point_on_triangle(p, corner(f, 0), corner(f, 1), corner(f, 2));
     const Eigen::Vector3d d = p - c.point;
     const double dist = d.norm();
     Proximity out;

@@ -12,6 +12,7 @@
 #include <embree3/rtcore.h>
 
 #include "core/error.h"
+#include "mesh/point_triangle.h"
 
 namespace gp::collision {
 namespace {
@@ -35,16 +36,6 @@ float culling_radius(double distance) {
   return std::isfinite(distance) ? round_up(distance * (1.0 + kBoxGrowth)) : std::numeric_limits<float>::infinity();
 }
 
-// Closest point of the segment from corner k (at a) to corner k+1 (at b).
-TriangleClosest closest_on_edge(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, int k) {
-  const Eigen::Vector3d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp(ab.dot(p - a) / len2, 0.0, 1.0) : 0.0;
-  if (t <= 0.0) return {a, k};
-  if (t >= 1.0) return {b, (k + 1) % 3};
-  return {a + t * ab, 3 + k};
-}
-
 // One Embree device for the process, with one thread: builds and refits run
 // on the caller's thread (simulate-adapt prepares frames on its own worker).
 RTCDevice device() {
@@ -63,38 +54,6 @@ void check_device(const char* what) {
 
 }  // namespace
 
-TriangleClosest closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                    const Eigen::Vector3d& c) {
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return {a, 0};
-  const Eigen::Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0.0 && d4 <= d3) return {b, 1};
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return {a + (d1 / (d1 - d3)) * ab, 3};
-  const Eigen::Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0.0 && d5 <= d6) return {c, 2};
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return {a + (d2 / (d2 - d6)) * ac, 5};
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
-    return {b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b), 4};
-  }
-  const double sum = va + vb + vc;
-  if (!(sum > 0.0) || !std::isfinite(sum)) {
-    // No interior (collinear or coincident corners): the closest of the edges.
-    TriangleClosest best = closest_on_edge(p, a, b, 0);
-    for (const TriangleClosest& e : {closest_on_edge(p, b, c, 1), closest_on_edge(p, c, a, 2)}) {
-      if ((p - e.point).squaredNorm() < (p - best.point).squaredNorm()) best = e;
-    }
-    return best;
-  }
-  const double denom = 1.0 / sum;
-  return {a + ab * (vb * denom) + ac * (vc * denom), 6};
-}
-
 struct TriangleBvh::Impl {
   Corners corners;
   RTCScene scene = nullptr;
@@ -106,7 +65,7 @@ struct TriangleBvh::Impl {
   }
 
   double squared_distance(const Eigen::Vector3d& p, int i) const {
-    return (p - closest_on_triangle(p, corner(i, 0), corner(i, 1), corner(i, 2)).point).squaredNorm();
+    return (p - closest_point_on_triangle(p, corner(i, 0), corner(i, 1), corner(i, 2)).point).squaredNorm();
   }
 
   static void bounds(const RTCBoundsFunctionArguments* args) {

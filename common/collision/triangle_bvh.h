@@ -8,7 +8,7 @@
 // efficient CPU ray tracing"), over user primitives: Embree only culls boxes,
 // in single precision, against boxes grown so that the culling is conservative;
 // every distance and hit is computed here in double precision, by
-// closest_on_triangle and CGAL's ray-triangle intersection. The first
+// closest_point_on_triangle (mesh/point_triangle.h) and CGAL's ray-triangle intersection. The first
 // set_corners() builds the hierarchy, later ones refit its boxes to the new
 // corners (the same tree, new bounds).
 //
@@ -21,17 +21,6 @@
 #include <Eigen/Core>
 
 namespace gp::collision {
-
-// Closest point on triangle (a, b, c) to p and the feature it lies on (Ericson,
-// "Real-Time Collision Detection", 5.1.5): 0..2 the corners, 3 + k the edge from
-// corner k to corner k+1, 6 the interior. A degenerate triangle (collinear or
-// coincident corners) answers with the closest point of its three edges.
-struct TriangleClosest {
-  Eigen::Vector3d point;
-  int feature;
-};
-TriangleClosest closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                    const Eigen::Vector3d& c);
 
 class TriangleBvh {
  public:
@@ -48,7 +37,7 @@ class TriangleBvh {
 
   struct Closest {
     int triangle = -1;             // -1 only for an empty answer
-    double squared_distance = 0.0;  // m^2, as closest_on_triangle gives it
+    double squared_distance = 0.0;  // m^2, as closest_point_on_triangle gives it
   };
   // The triangle closest to p (finite; NumericalError otherwise): the smallest
   // squared distance, the lowest index among equal ones. `hint` (an index or -1)

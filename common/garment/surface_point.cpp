@@ -8,6 +8,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include "core/error.h"
+#include "mesh/point_triangle.h"
 
 namespace gp {
 
@@ -26,45 +27,10 @@ Eigen::Vector3d evaluate_normal(const Eigen::MatrixXd& N, const Eigen::MatrixXi&
 
 SurfacePoint closest_point_in_face(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int face,
                                    const Eigen::Vector3d& x) {
-  // Closest point of a triangle by region classification (Ericson, Real-Time
-  // Collision Detection, 5.1.5), returned as barycentric coordinates.
   const Eigen::Vector3d a = V.row(F(face, 0)), b = V.row(F(face, 1)), c = V.row(F(face, 2));
   SurfacePoint sp;
   sp.face = face;
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = x - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) { sp.bary = {1, 0, 0}; return sp; }
-  const Eigen::Vector3d bp = x - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) { sp.bary = {0, 1, 0}; return sp; }
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const double v = d1 / (d1 - d3);
-    sp.bary = {1 - v, v, 0};
-    return sp;
-  }
-  const Eigen::Vector3d cp = x - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) { sp.bary = {0, 0, 1}; return sp; }
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const double w = d2 / (d2 - d6);
-    sp.bary = {1 - w, 0, w};
-    return sp;
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    sp.bary = {0, 1 - w, w};
-    return sp;
-  }
-  const double denom = va + vb + vc;
-  if (!(denom > 0)) {  // degenerate triangle: fall back to its first corner
-    sp.bary = {1, 0, 0};
-    return sp;
-  }
-  const double v = vb / denom, w = vc / denom;
-  sp.bary = {1 - v - w, v, w};
+  sp.bary = closest_point_on_triangle(x, a, b, c).bary;
   return sp;
 }
 

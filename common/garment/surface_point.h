@@ -24,7 +24,8 @@ Eigen::Vector3d evaluate_normal(const Eigen::MatrixXd& N, const Eigen::MatrixXi&
                                 const SurfacePoint& p);
 
 // Barycentric coordinates of the projection of `x` onto the plane of face
-// `face`, clamped to the triangle (closest point of the triangle to x).
+// `face`, clamped to the triangle (closest point of the triangle to x; a
+// degenerate face answers with its closest edge).
 SurfacePoint closest_point_in_face(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int face,
                                    const Eigen::Vector3d& x);
 

@@ -15,6 +15,7 @@
 #include "collision/body_collider.h"
 #include "collision/triangle_bvh.h"
 #include "core/error.h"
+#include "mesh/point_triangle.h"
 #include "testing/test_meshes.h"
 
 using namespace gp::collision;
@@ -37,7 +38,7 @@ Eigen::Vector3d corner(const Corners& C, int f, int k) { return C.row(f).segment
 TriangleBvh::Closest brute_closest(const Corners& C, const Eigen::Vector3d& p) {
   TriangleBvh::Closest best{-1, std::numeric_limits<double>::infinity()};
   for (int f = 0; f < C.rows(); ++f) {
-    const double d2 = (p - closest_on_triangle(p, corner(C, f, 0), corner(C, f, 1), corner(C, f, 2)).point).squaredNorm();
+    const double d2 = (p - gp::closest_point_on_triangle(p, corner(C, f, 0), corner(C, f, 1), corner(C, f, 2)).point).squaredNorm();
     if (d2 < best.squared_distance) best = {f, d2};
   }
   return best;
@@ -48,7 +49,7 @@ std::vector<int> exactly_closest(const Corners& C, const Eigen::Vector3d& p) {
   const double d2 = brute_closest(C, p).squared_distance;
   std::vector<int> ids;
   for (int f = 0; f < C.rows(); ++f) {
-    if ((p - closest_on_triangle(p, corner(C, f, 0), corner(C, f, 1), corner(C, f, 2)).point).squaredNorm() == d2) {
+    if ((p - gp::closest_point_on_triangle(p, corner(C, f, 0), corner(C, f, 1), corner(C, f, 2)).point).squaredNorm() == d2) {
       ids.push_back(f);
     }
   }
@@ -219,7 +220,7 @@ TEST_CASE("rays and balls match a brute-force search", "[collision][bvh]") {
     const double radius = r(rng);
     std::vector<int> inside;
     for (int f = 0; f < C.rows(); ++f) {
-      const Eigen::Vector3d c = closest_on_triangle(o, corner(C, f, 0), corner(C, f, 1), corner(C, f, 2)).point;
+      const Eigen::Vector3d c = gp::closest_point_on_triangle(o, corner(C, f, 0), corner(C, f, 1), corner(C, f, 2)).point;
       if ((o - c).squaredNorm() <= radius * radius) inside.push_back(f);
     }
     wrong_balls += bvh.within(o, radius) != inside;
@@ -227,20 +228,6 @@ TEST_CASE("rays and balls match a brute-force search", "[collision][bvh]") {
   CHECK(hits > 30);
   CHECK(wrong_rays == 0);
   CHECK(wrong_balls == 0);
-}
-
-TEST_CASE("degenerate triangles answer with the closest point of their edges", "[collision][bvh]") {
-  const Eigen::Vector3d a(0, 0, 0), b(1, 0, 0), p(0.3, 0.4, 0.0);
-  // Collinear corners, two coincident corners, all three coincident.
-  const TriangleClosest collinear = closest_on_triangle(p, a, b, 0.5 * (a + b));
-  CHECK(collinear.point.isApprox(Eigen::Vector3d(0.3, 0, 0)));
-  const TriangleClosest pair = closest_on_triangle(p, a, b, b);
-  CHECK(pair.point.isApprox(Eigen::Vector3d(0.3, 0, 0)));
-  const TriangleClosest point = closest_on_triangle(p, b, b, b);
-  CHECK(point.point == b);
-  CHECK(point.feature <= 2);
-  // Far beyond an end: the end itself.
-  CHECK(closest_on_triangle(Eigen::Vector3d(3, 1, 0), a, b, 0.5 * (a + b)).point == b);
 }
 
 TEST_CASE("non-finite input is rejected with a clear error, and skipped by the collision response", "[collision][bvh]") {
