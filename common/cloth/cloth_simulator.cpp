@@ -924,13 +924,6 @@ void ClothSimulator::set_step_end_handler(StepEndHandler handler) {
   impl_->step_end_handler = std::move(handler);
 }
 
-void ClothSimulator::set_options(const SimulatorOptions& options) {
-  if (!(options.dt > 0.0)) throw UsageError("time step must be positive");
-  impl_->options = options;
-  impl_->membrane_active = options.membrane_pattern_preconditioner;
-  impl_->refresh_needed = true;
-}
-
 void ClothSimulator::set_damping_scale(double scale) {
   if (!(scale >= 0.0) || !std::isfinite(scale)) throw UsageError("damping scale must be finite and non-negative");
   if (scale == impl_->damping_scale) return;
@@ -956,20 +949,12 @@ void ClothSimulator::step() {
 const Eigen::MatrixXd& ClothSimulator::positions() const { return impl_->X; }
 const Eigen::MatrixXd& ClothSimulator::velocities() const { return impl_->Vel; }
 const Eigen::MatrixXi& ClothSimulator::faces() const { return impl_->F; }
-const Eigen::MatrixXd& ClothSimulator::rest_positions() const { return impl_->V_rest; }
 const ClothRestState& ClothSimulator::rest_state() const { return impl_->rest; }
 const ClothParameters& ClothSimulator::parameters() const { return impl_->params; }
 const SimulatorOptions& ClothSimulator::options() const { return impl_->options; }
 const std::vector<int>& ClothSimulator::pinned() const { return impl_->pinned_ids; }
 const PhaseTimes& ClothSimulator::times() const { return impl_->times; }
 const SolverCounters& ClothSimulator::counters() const { return impl_->counters; }
-
-void ClothSimulator::reset_statistics() {
-  impl_->times = PhaseTimes{};
-  impl_->counters = SolverCounters{};
-}
-
-double ClothSimulator::kinetic_energy() const { return impl_->kinetic(impl_->Vel); }
 
 double ClothSimulator::max_speed() const {
   return impl_->Vel.rows() ? impl_->Vel.rowwise().norm().maxCoeff() : 0.0;

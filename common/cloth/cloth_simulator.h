@@ -122,8 +122,8 @@ struct SimulatorOptions {
   // matrix for good (counters().membrane_fallbacks).
   bool membrane_pattern_preconditioner = true;
   // The membrane pattern is also given up when a fresh factor of it needs more
-  // CG iterations than this, for the second time in a run (in counters, so
-  // reset_statistics() restarts the count). A whole-matrix factorization costs
+  // CG iterations than this, for the second time in a run (counted in
+  // counters()). A whole-matrix factorization costs
   // about 15 iterations more than a membrane one (the dress below: 75 ms more
   // per factorization, 16 of its iterations); on well-shaped garments a
   // fresh membrane factor needs 3-10 (the 3,829-vertex shirt, T -> A: at most
@@ -247,7 +247,6 @@ class ClothSimulator {
   void set_collision_handler(CollisionHandler handler);
   void set_contact_handler(ContactHandler handler);
   void set_step_end_handler(StepEndHandler handler);
-  void set_options(const SimulatorOptions& options);
   // Scales every damping coefficient of the material (stretch, shear, bending)
   // from the next step on; 1 restores the material's damping. Used to relax the
   // cloth to its static equilibrium while the body stands still.
@@ -260,16 +259,13 @@ class ClothSimulator {
   const Eigen::MatrixXd& positions() const;
   const Eigen::MatrixXd& velocities() const;
   const Eigen::MatrixXi& faces() const;
-  const Eigen::MatrixXd& rest_positions() const;
   const ClothRestState& rest_state() const;
   const ClothParameters& parameters() const;
   const SimulatorOptions& options() const;
   const std::vector<int>& pinned() const;
   const PhaseTimes& times() const;
   const SolverCounters& counters() const;
-  void reset_statistics();
-  // Kinetic energy [J] and largest vertex speed [m/s] of the current state.
-  double kinetic_energy() const;
+  // Largest vertex speed [m/s] of the current state.
   double max_speed() const;
 
  private:

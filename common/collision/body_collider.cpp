@@ -765,6 +765,4 @@ void BodyCollider::set_threads(int threads) {
 
 const std::vector<int>& BodyCollider::face_ids() const { return impl_->faces; }
 const CollisionStats& BodyCollider::stats() const { return impl_->stats; }
-void BodyCollider::reset_stats() { impl_->stats = CollisionStats{}; }
-
 }  // namespace gp::collision

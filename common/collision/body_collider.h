@@ -162,7 +162,6 @@ class BodyCollider {
 
   const std::vector<int>& face_ids() const;
   const CollisionStats& stats() const;
-  void reset_stats();
 
  private:
   struct Impl;

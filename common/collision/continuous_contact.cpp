@@ -669,6 +669,5 @@ void ContinuousContact::enforce(const Eigen::MatrixXd& X_start, Eigen::MatrixXd&
 
 const ContinuousContactOptions& ContinuousContact::options() const { return impl_->options; }
 const ContinuousContactStats& ContinuousContact::stats() const { return impl_->stats; }
-void ContinuousContact::reset_stats() { impl_->stats = ContinuousContactStats{}; }
 
 }  // namespace gp::collision

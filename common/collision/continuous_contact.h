@@ -91,7 +91,6 @@ class ContinuousContact {
 
   const ContinuousContactOptions& options() const;
   const ContinuousContactStats& stats() const;
-  void reset_stats();
 
  private:
   struct Impl;
