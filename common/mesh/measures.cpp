@@ -1,6 +1,9 @@
 #include "mesh/measures.h"
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -15,6 +18,30 @@ Eigen::VectorXd face_areas(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
     A(f) = 0.5 * (b - a).cross(c - a).norm();
   }
   return A;
+}
+
+double mesh_area(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  double area = 0.0;
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    area += 0.5 * (b - a).cross(c - a).norm();
+  }
+  return area;
+}
+
+double area_weighted_percentile(const Eigen::VectorXd& values, const Eigen::VectorXd& weights, double fraction) {
+  if (values.size() == 0) return 0.0;
+  double total = 0.0;
+  for (Eigen::Index i = 0; i < weights.size(); ++i) total += weights(i);
+  std::vector<Eigen::Index> order(static_cast<size_t>(values.size()));
+  std::iota(order.begin(), order.end(), Eigen::Index{0});
+  std::stable_sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return values(a) < values(b); });
+  double accumulated = 0.0;
+  for (Eigen::Index i : order) {
+    accumulated += weights(i);
+    if (accumulated >= fraction * total) return values(i);
+  }
+  return values(order.back());
 }
 
 Eigen::MatrixXd face_normals(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {

@@ -7,6 +7,18 @@ namespace gp {
 // Triangle areas, #F.
 Eigen::VectorXd face_areas(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
 
+// Total area, summed face by face in order (the same bits as summing
+// face_areas sequentially).
+double mesh_area(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+
+// The value below which a `fraction` (0..1) of the total weight lies: values
+// sorted ascending (ties by index), the first whose cumulative weight reaches
+// fraction * total weight; the largest value if rounding keeps the sum short,
+// and 0 for no values. values and weights have the same size, weights >= 0
+// (typically face areas, so that a figure does not depend on the mesh's
+// resolution).
+double area_weighted_percentile(const Eigen::VectorXd& values, const Eigen::VectorXd& weights, double fraction);
+
 // Unit face normals (right-hand rule over the corner order), #F by 3; zero rows
 // for degenerate triangles.
 Eigen::MatrixXd face_normals(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
