@@ -6,7 +6,6 @@
 // not grow from being snagged.
 #include <catch2/catch.hpp>
 
-#ifdef GP_HAVE_AVATAR
 #include <filesystem>
 #include <fstream>
 
@@ -68,10 +67,3 @@ TEST_CASE("a skirt through the hands starts outside the body and stays outside t
   CHECK(report["run"]["rest_area_growth"].get<double>() < 1.2);
   fs::remove_all(dir);
 }
-
-#else
-TEST_CASE("a skirt through the hands starts outside the body and stays outside through arms up and back",
-          "[adapt][cli][avatar]") {
-  WARN("skipped: the avatar module (common/avatar) is not part of this build");
-}
-#endif

@@ -1,6 +1,5 @@
 #include <catch2/catch.hpp>
 
-#ifdef GP_HAVE_AVATAR
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -83,9 +82,3 @@ TEST_CASE("a shirt on a generated body: four loops, one manifold piece, binding 
     CHECK(worst < 1e-6);
   }
 }
-
-#else
-TEST_CASE("a shirt on a generated body", "[garment][avatar]") {
-  WARN("skipped: the avatar module (common/avatar) is not part of this build");
-}
-#endif

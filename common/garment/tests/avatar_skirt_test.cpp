@@ -5,7 +5,6 @@
 // about as good as without the push.
 #include <catch2/catch.hpp>
 
-#ifdef GP_HAVE_AVATAR
 #include <cmath>
 
 #include "avatar/make_avatar.h"
@@ -55,9 +54,3 @@ TEST_CASE("a skirt through the hands and the seat of a generated body starts out
   CHECK(q_with.fraction_min_angle_over_20 >= q_without.fraction_min_angle_over_20 - 0.03);
   CHECK(q_with.fraction_edges_within_30 >= q_without.fraction_edges_within_30 - 0.05);
 }
-
-#else
-TEST_CASE("a skirt through the hands and the seat of a generated body starts outside it", "[garment][avatar]") {
-  WARN("skipped: the avatar module (common/avatar) is not part of this build");
-}
-#endif

@@ -13,11 +13,9 @@
 #include "registration/units.h"
 #include "testing/test_meshes.h"
 
-#ifdef GP_HAVE_AVATAR
 #include "avatar/avatar_spec.h"
 #include "avatar/make_avatar.h"
 #include "testing/command.h"
-#endif
 
 namespace {
 
@@ -113,7 +111,6 @@ TEST_CASE("two legs against one head give the sign where there are no soles", "[
   }
 }
 
-#ifdef GP_HAVE_AVATAR
 namespace {
 
 // The faces of `m` that touch no vertex in `drop`, compacted; the stumps left
@@ -240,4 +237,3 @@ TEST_CASE("generated bodies in every pose, turned and mirrored, with and without
   CHECK(right > 0.95 * all);
   WARN(table.str());
 }
-#endif
