@@ -60,8 +60,8 @@ TEST_CASE("two threads give exactly the outputs of one", "[adapt][body][threads]
 TEST_CASE("an adaptation applied two steps late gives the same fit", "[adapt][body][threads]") {
   // A-pose -> T-pose in 10 frames, then settling (cap 400), adaptations
   // applied at once and two steps after their positions. Expectation: the
-  // same fit at both key poses (check_same_fit, any single vertex may differ:
-  // the free hem settles elsewhere), and both settle.
+  // same fit at both key poses (check_same_fit, a vertex of the free
+  // hem may settle a few centimetres elsewhere), and both settle.
   const hc::Loaded l = hc::load(hc::default_scene());
   const gp::MotionSpec motion = hc::motion_of(l.poses, {"apose", "tpose"}, 10);
   MotionRunOptions at_once = hc::run_options(400);
@@ -73,7 +73,8 @@ TEST_CASE("an adaptation applied two steps late gives the same fit", "[adapt][bo
   REQUIRE(a.keys.size() == 2);
   for (const auto* r : {&a, &b})
     for (const KeyPoseResult& k : r->keys) CHECK(k.settled);
-  hc::check_same_fit(a, b, std::numeric_limits<double>::infinity());
+  // Measured: 12.9 mm at most at the T-pose (mean 0.33 mm).
+  hc::check_same_fit(a, b, 0.03);
 }
 
 TEST_CASE("the adaptation lag is cut to the adaptation interval and must not be negative", "[adapt][body]") {

@@ -248,7 +248,7 @@ TEST_CASE("settling with a hundredth of the damping reaches the same fit", "[ada
   // while settling, so the static equilibrium the cloth relaxes to does not
   // depend on the damping, only the way there does.
   // Expectation: both settle, with the same stretch figures (check_same_fit,
-  // any single vertex may differ: the free hem settles elsewhere). The rest
+  // a vertex of the free hem may settle 10-15 cm elsewhere). The rest
   // growth is not unique: the cloth slides along the body into another
   // equilibrium, and the adaptation grows what that one stretches. Measured
   // with the continuous contact and adaptation from adapt_speed on: T-pose
@@ -268,7 +268,8 @@ TEST_CASE("settling with a hundredth of the damping reaches the same fit", "[ada
   REQUIRE(a.keys.size() == 2);
   for (const auto* r : {&a, &b})
     for (const KeyPoseResult& k : r->keys) CHECK(k.settled);
-  check_same_fit(a, b, std::numeric_limits<double>::infinity(), 0.025, 0.06);
+  // Measured: 10.9 cm at most at the T-pose, mean 1.9 cm.
+  check_same_fit(a, b, 0.15, 0.025, 0.06);
 }
 
 TEST_CASE("targets are held within the face growth cap where the cloth is stretched far beyond any fit",
