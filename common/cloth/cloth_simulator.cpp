@@ -32,6 +32,28 @@ int entry_index(const Eigen::SparseMatrix<double>& M, int row, int col) {
   return (it != end && *it == row) ? static_cast<int>(it - inner) : -1;
 }
 
+// Why a (sub)step was rejected; none: it was accepted.
+enum class Rejection { none, solve_failed, non_finite, too_fast, inverted, energy_growth };
+
+struct StepOutcome {
+  Rejection rejection = Rejection::none;
+  std::string detail;  // what was wrong, for the error message when no halving helps
+  bool accepted() const { return rejection == Rejection::none; }
+};
+
+// The counter of `r` in `counts` (r is a rejection, not none).
+long& count_of(RejectionCounts& counts, Rejection r) {
+  switch (r) {
+    case Rejection::solve_failed: return counts.solve_failed;
+    case Rejection::non_finite: return counts.non_finite;
+    case Rejection::too_fast: return counts.too_fast;
+    case Rejection::inverted: return counts.inverted;
+    case Rejection::energy_growth: return counts.energy_growth;
+    case Rejection::none: break;
+  }
+  throw Error(ExitCode::internal, "an accepted step has no rejection counter");
+}
+
 }  // namespace
 
 const char* solver_strategy_name(SolverStrategy s) {
@@ -120,8 +142,7 @@ struct ClothSimulator::Impl {
   Eigen::VectorXd b, sol, r, z, p, Ap;
   Eigen::MatrixXd rhs_buffer, sol_buffer;
   std::vector<int> flipped_faces;  // the faces the last (sub)step turned over
-  std::string last_failure;
-  long RejectionCounts::*last_reason = nullptr;  // the counter of last_failure
+  std::string last_failure;  // the detail of the last rejection, for the error message
 
   int value_position(int row, int col) const { return entry_index(A, row, col); }
 
@@ -706,9 +727,9 @@ struct ClothSimulator::Impl {
     counters.cg_iterations += iterations;
   }
 
-  // One linearized implicit Euler step of size h; returns "" or the reason of rejection.
+  // One linearized implicit Euler step of size h, kept only if accepted.
   // [s_start, s_end]: the part of the step this (sub)step covers.
-  std::string single_step(double h, const Eigen::MatrixXd& pin_end, bool accept_flips, double s_start, double s_end) {
+  StepOutcome single_step(double h, const Eigen::MatrixXd& pin_end, bool accept_flips, double s_start, double s_end) {
     auto t0 = Clock::now();
     V_prescribed.setZero(X.rows(), 3);
     for (size_t k = 0; k < pinned_ids.size(); ++k) {
@@ -724,8 +745,7 @@ struct ClothSimulator::Impl {
       solve_system();
     } catch (const NumericalError& e) {
       factor_valid = false;
-      last_reason = &RejectionCounts::solve_failed;
-      return std::string("linear solve failed: ") + e.what();
+      return {Rejection::solve_failed, std::string("linear solve failed: ") + e.what()};
     }
     const std::vector<char> released_before = released, in_contact_before = in_contact;
     update_released(h);
@@ -766,14 +786,12 @@ struct ClothSimulator::Impl {
     }
 
     t0 = Clock::now();
-    std::string failure;
+    StepOutcome outcome;
     flipped_faces.clear();
     if (!X_new.allFinite() || !V_new.allFinite()) {
-      failure = "non-finite positions or velocities";
-      last_reason = &RejectionCounts::non_finite;
+      outcome = {Rejection::non_finite, "non-finite positions or velocities"};
     } else if (V_new.rowwise().norm().maxCoeff() > options.max_speed) {
-      failure = "vertex speed above " + std::to_string(options.max_speed) + " m/s";
-      last_reason = &RejectionCounts::too_fast;
+      outcome = {Rejection::too_fast, "vertex speed above " + std::to_string(options.max_speed) + " m/s"};
     } else {
       for (int f = 0; f < F.rows(); ++f) {
         const Eigen::Vector3d x0 = X.row(F(f, 0)), x1 = X.row(F(f, 1)), x2 = X.row(F(f, 2));
@@ -788,48 +806,47 @@ struct ClothSimulator::Impl {
       // is accepted and counted rather than ending the run.
       const long flipped = static_cast<long>(flipped_faces.size());
       if (flipped > 0 && !accept_flips) {
-        failure = std::to_string(flipped) + " triangle(s) inverted, first " + std::to_string(flipped_faces.front());
-        last_reason = &RejectionCounts::inverted;
+        outcome = {Rejection::inverted,
+                   std::to_string(flipped) + " triangle(s) inverted, first " + std::to_string(flipped_faces.front())};
       } else if (flipped > 0) {
         counters.accepted_flips += flipped;
       }
-      if (failure.empty()) {
+      if (outcome.accepted()) {
         const double energy_after = membrane_energy(X_new) + bending_energy_total(X_new) + kinetic(V_new);
         const double floor = 10.0 * rest.masses.sum();
         if (energy_after > options.energy_growth_limit * energy_before + floor) {
-          failure = "energy exploded (" + std::to_string(energy_before) + " J -> " +
-                    std::to_string(energy_after) + " J)";
-          last_reason = &RejectionCounts::energy_growth;
+          outcome = {Rejection::energy_growth, "energy exploded (" + std::to_string(energy_before) + " J -> " +
+                                                   std::to_string(energy_after) + " J)"};
         }
       }
     }
     times.checks += seconds_since(t0);
-    if (!failure.empty()) {
+    if (!outcome.accepted()) {
       released = released_before;
       in_contact = in_contact_before;
-      return failure;
+      return outcome;
     }
     X = std::move(X_new);
     Vel = std::move(V_new);
     ++counters.substeps;
-    return "";
+    return outcome;
   }
 
   bool advance(double h, const Eigen::MatrixXd& pin_start, const Eigen::MatrixXd& pin_end, int depth, double s_start,
                double s_end) {
     const Eigen::MatrixXd X_saved = X, V_saved = Vel;
-    const std::string failure = single_step(
+    const StepOutcome outcome = single_step(
         h, pin_end, depth >= std::min(options.max_step_halvings, options.max_fold_halvings), s_start, s_end);
-    if (failure.empty()) return true;
+    if (outcome.accepted()) return true;
     ++counters.rejected;
-    ++(counters.rejections.*last_reason);
-    if (last_reason == &RejectionCounts::inverted) {
+    ++count_of(counters.rejections, outcome.rejection);
+    if (outcome.rejection == Rejection::inverted) {
       counters.inverted_faces.resize(F.rows(), 0);
       for (int f : flipped_faces) ++counters.inverted_faces[f];
     }
     X = X_saved;
     Vel = V_saved;
-    last_failure = failure;
+    last_failure = outcome.detail;
     if (depth >= options.max_step_halvings) return false;
     const Eigen::MatrixXd pin_mid = 0.5 * (pin_start + pin_end);
     const double s_mid = 0.5 * (s_start + s_end);
