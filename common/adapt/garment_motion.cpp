@@ -1,7 +1,6 @@
 #include "adapt/garment_motion.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <future>
@@ -12,12 +11,12 @@
 
 #include "cloth/cloth_model.h"
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "mesh/measures.h"
 
 namespace gp::adapt {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 
 // A vertex within this distance [m] above the comfort offset touches it (the
 // position projection leaves vertices at the offset up to rounding).
@@ -25,10 +24,6 @@ constexpr double kTouchTolerance = 1e-6;
 // Largest speed [m/s] at which a contact constraint pushes a vertex back out to
 // the offset.
 constexpr double kMaxCorrectionSpeed = 0.5;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 cloth::ClothParameters parameters_from(const Material& m) {
   cloth::ClothParameters p;

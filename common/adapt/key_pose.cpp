@@ -1,25 +1,14 @@
 #include "adapt/key_pose.h"
 
-#include <algorithm>
 #include <cstdio>
-#include <numeric>
+
+#include "mesh/measures.h"
 
 namespace gp::adapt {
 
 void stretch_figures(const Eigen::VectorXd& s, const Eigen::VectorXd& area, double limit, KeyPoseResult& k) {
   const double total = area.sum();
-  std::vector<int> order(s.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&s](int a, int b) { return s(a) < s(b); });
-  double accumulated = 0.0;
-  k.p99_stretch = s.size() ? s(order.back()) : 0.0;
-  for (int f : order) {
-    accumulated += area(f);
-    if (accumulated >= 0.99 * total) {
-      k.p99_stretch = s(f);
-      break;
-    }
-  }
+  k.p99_stretch = area_weighted_percentile(s, area, 0.99);
   k.max_stretch = s.size() ? s.maxCoeff() : 0.0;
   k.mean_stretch = total > 0.0 ? s.dot(area) / total : 0.0;
   double above = 0.0;

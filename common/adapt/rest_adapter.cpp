@@ -5,17 +5,9 @@
 #include <Eigen/Dense>
 
 #include "core/error.h"
+#include "mesh/measures.h"
 
 namespace gp::adapt {
-
-double mesh_area(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
-  double area = 0.0;
-  for (int f = 0; f < F.rows(); ++f) {
-    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-    area += 0.5 * (b - a).cross(c - a).norm();
-  }
-  return area;
-}
 
 RestShapeAdapter::RestShapeAdapter(const Eigen::MatrixXd& V_reference, const Eigen::MatrixXi& F,
                                    AdaptOptions options)

@@ -76,7 +76,4 @@ class RestShapeAdapter {
   Eigen::VectorXd reference_areas_;  // design face areas [m^2]
 };
 
-// Total area of the mesh (V, F) [m^2].
-double mesh_area(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
-
 }  // namespace gp::adapt

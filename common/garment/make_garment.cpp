@@ -1,7 +1,6 @@
 #include "garment/make_garment.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -9,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "garment/surface_path.h"
 #include "garment/surface_point.h"
 #include "mesh/edge_distances.h"
@@ -18,15 +18,10 @@
 namespace gp {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 
 // CGAL splits above 4/3 and collapses below 4/5 of its target; its edges come
 // out somewhat short on average, so it is aimed a little above the target.
 constexpr double kCgalLengthFactor = 1.03;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
 int resolve_vertex(const SpecPoint& p, const Eigen::MatrixXd& V, const SurfaceLocator& body,
                    double snap_tolerance) {
   if (p.is_vertex) {

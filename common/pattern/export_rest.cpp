@@ -1,18 +1,18 @@
 #include "pattern/export_rest.h"
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/sha256.h"
+#include "core/stopwatch.h"
+#include "interp/motion_spec.h"
+#include "interp/pose_interpolator.h"
 #include "io/mesh_io.h"
 #include "pattern/dxf_writer.h"
 #include "pattern/rest_diagnostics.h"
 #include "pattern/svg_writer.h"
-#include "interp/motion_spec.h"
-#include "interp/pose_interpolator.h"
 #include "pose/pose_set.h"
 
 namespace gp {
@@ -85,14 +85,9 @@ OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOpti
 }  // namespace
 
 ExportRestResult export_rest(const ExportRestOptions& options) {
-  using Clock = std::chrono::steady_clock;
   ExportRestResult result;
-  auto last = Clock::now();
-  auto lap = [&](const char* phase) {
-    const auto now = Clock::now();
-    result.timing[phase] = std::chrono::duration<double>(now - last).count();
-    last = now;
-  };
+  LapTimer timer;
+  auto lap = [&](const char* phase) { result.timing[phase] = timer.lap(); };
   if (!options.fit.empty() && options.garment.empty())
     throw UsageError("the sewn-fit check (--fit) needs the garment file (--garment): pins, material, design", "--fit");
 

@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/math.h"
 #include "linalg/cholmod_solver.h"
+#include "mesh/measures.h"
 #include "mesh/topology.h"
 
 namespace gp {
@@ -343,18 +344,7 @@ DistortionStats distortion_stats(const Eigen::MatrixXd& S, const Eigen::VectorXd
   }
   st.mean_error = st.area_3d > 0.0 ? weighted / st.area_3d : 0.0;
   auto percentile = [&](const std::vector<double>& value, double fraction) {
-    std::vector<int> order(static_cast<size_t>(m));
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](int a, int b) {
-      return value[static_cast<size_t>(a)] < value[static_cast<size_t>(b)] ||
-             (value[static_cast<size_t>(a)] == value[static_cast<size_t>(b)] && a < b);
-    });
-    double acc = 0.0;
-    for (int f : order) {
-      acc += area_3d[f];
-      if (acc >= fraction * st.area_3d) return value[static_cast<size_t>(f)];
-    }
-    return value[static_cast<size_t>(order.back())];
+    return area_weighted_percentile(Eigen::Map<const Eigen::VectorXd>(value.data(), m), area_3d, fraction);
   };
   // Mean of the values over the worst `fraction` of the area.
   auto worst_mean = [&](const std::vector<double>& value, double fraction) {

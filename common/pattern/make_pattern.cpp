@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -17,6 +16,7 @@
 #include <Eigen/SparseCore>
 
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "mesh/heat_geodesics.h"
 #include "mesh/measures.h"
 #include "mesh/topology.h"
@@ -852,14 +852,9 @@ void remove_overlapping_darts(Pattern& pattern, const PatternOptions& options, F
 
 Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SeamPath>& seams,
                      const PatternOptions& options, const PatternContext& context) {
-  using Clock = std::chrono::steady_clock;
-  auto last = Clock::now();
+  LapTimer timer;
   std::map<std::string, double> seconds;
-  auto lap = [&](const std::string& phase) {
-    const auto now = Clock::now();
-    seconds[phase] += std::chrono::duration<double>(now - last).count();
-    last = now;
-  };
+  auto lap = [&](const std::string& phase) { seconds[phase] += timer.lap(); };
   Pattern pattern = cut_user_seams(V, F, seams, options);
   lap("user_seams");
   if (options.armholes) {

@@ -66,21 +66,9 @@ RestShapeDiagnostics diagnose_rest_shape(const Eigen::MatrixXd& V_design, const 
   }
   d.area_growth = area_design > 0.0 ? area_rest / area_design : 1.0;
   d.turned_area_fraction = area_rest > 0.0 ? area_turned / area_rest : 0.0;
-  std::vector<int> order(static_cast<size_t>(m));
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return growth[static_cast<size_t>(a)] < growth[static_cast<size_t>(b)] ||
-           (growth[static_cast<size_t>(a)] == growth[static_cast<size_t>(b)] && a < b);
-  });
-  double acc = 0.0;
-  for (int f : order) {
-    acc += design_area[static_cast<size_t>(f)];
-    if (acc >= 0.95 * area_design) {
-      d.growth_p95 = growth[static_cast<size_t>(f)];
-      break;
-    }
-  }
-  d.growth_max = m > 0 ? growth[static_cast<size_t>(order.back())] : 1.0;
+  const Eigen::Map<const Eigen::VectorXd> growth_of(growth.data(), m), area_of(design_area.data(), m);
+  if (m > 0) d.growth_p95 = area_weighted_percentile(growth_of, area_of, 0.95);
+  d.growth_max = m > 0 ? growth_of.maxCoeff() : 1.0;
 
   std::vector<char> inner(static_cast<size_t>(V_rest.rows()), 1);
   for (const auto& loop : boundary_loops(F))

@@ -14,6 +14,7 @@
 #include "adapt/rest_adapter.h"
 #include "cloth/cloth_simulator.h"
 #include "core/error.h"
+#include "mesh/measures.h"
 #include "testing/test_meshes.h"
 
 using namespace gp::adapt;
@@ -307,9 +308,9 @@ TEST_CASE("adaptation reaches a fixed point on a settled cloth under gravity", "
         CHECK(r.arap.converged);
       }
     }
-    if (s == settle_steps) area_settled = mesh_area(V_rest, m.F);
+    if (s == settle_steps) area_settled = gp::mesh_area(V_rest, m.F);
   }
-  const double area_final = mesh_area(V_rest, m.F);
+  const double area_final = gp::mesh_area(V_rest, m.F);
   const Eigen::MatrixXd S = principal_stretches(V_rest, sim.positions(), m.F);
   INFO("adaptations " << adaptations << ", ARAP iterations total " << total_iterations << " max "
                       << max_iterations << ", max residual " << max_residual << ", area growth "
