@@ -7,6 +7,7 @@
 #   make demo       fit a garment on a generated body (pipelines/customers/demo); prints the report's path
 #   make fit CUSTOMER=dir [OUT=dir]   one customer's fit (see pipelines/fit.mk)
 #   make -j2 fit-all CUSTOMERS="dir dir ..."   several customers in parallel
+#   make fit-all CUSTOMERS="..." ENGINE=slurm   one Slurm job array on a cluster, summary in fit-batch/
 #   make bench      benchmarks -> BENCHMARKS.md and benchmarks/*.png (under 15 min)
 #   make fuzz       libFuzzer on the mesh and spec readers, FUZZ_SECONDS per target
 #   make update-golden  rewrite testdata/golden/ from the current build, showing what changed
@@ -22,12 +23,12 @@ FUZZ_SECONDS ?= 600
 FUZZ_BUILD ?= build-fuzz
 FUZZ_TARGETS := read_mesh read_spec
 
-.PHONY: all build deps configure test demo fit fit-all bench fuzz update-golden clean help
+.PHONY: all build deps configure test demo fit fit-all fit-summary bench fuzz update-golden clean help
 
 all: build
 
 help:
-	@sed -n '1,12p' Makefile
+	@sed -n '1,13p' Makefile
 
 deps:
 	@scripts/install-deps.sh
@@ -51,9 +52,34 @@ demo: build
 fit: build
 	@$(MAKE) --no-print-directory -f pipelines/fit.mk CUSTOMER=$(CUSTOMER) $(if $(OUT),OUT=$(OUT)) BIN=$(GP_BIN)
 
-# Several customers, in parallel with -j: make -j2 fit-all CUSTOMERS="a b".
+# Several customers. ENGINE=local (the default): on this machine, in parallel
+# with -j: make -j2 fit-all CUSTOMERS="a b". ENGINE=slurm: one Slurm job array
+# on a cluster, one task per customer, and a summary job that writes
+# $(BATCH)/summary.json and summary.html (scripts/fit_batch.py; README.md,
+# "Many customers on a cluster"). The repository, $(BUILD), the customers and
+# $(BATCH) must be on storage that the compute nodes share.
+#   WAIT=1             return when the summary is written, with its exit code
+#   SBATCH_FLAGS=...   more sbatch options, e.g. --partition=cpu --account=shop
+#   OUT_ROOT=dir       fit outputs in dir/<customer name> (default: each customer's out/)
+#   MAX_RUNNING=n      at most n fits at once
+ENGINE ?= local
+BATCH  ?= fit-batch
+ifeq ($(ENGINE),slurm)
+fit-all: build
+	$(PYTHON) scripts/fit_batch.py submit --batch $(BATCH) --bin $(GP_BIN) $(if $(WAIT),--wait) \
+	  $(if $(SBATCH_FLAGS),--sbatch-flags '$(SBATCH_FLAGS)') $(if $(OUT_ROOT),--out-root $(OUT_ROOT)) \
+	  $(if $(MAX_RUNNING),--max-running $(MAX_RUNNING)) $(CUSTOMERS)
+else ifeq ($(ENGINE),local)
 fit-all: build
 	@$(MAKE) --no-print-directory $(addprefix fit-customer/,$(CUSTOMERS))
+else
+fit-all:
+	@echo "fit-all: ENGINE must be local or slurm, not '$(ENGINE)'" >&2; exit 2
+endif
+
+# The summary of a Slurm batch written again (the summary job writes it).
+fit-summary:
+	$(PYTHON) scripts/fit_batch.py summary --batch $(BATCH)
 
 fit-customer/%:
 	@$(MAKE) --no-print-directory -f pipelines/fit.mk CUSTOMER=$* BIN=$(GP_BIN)

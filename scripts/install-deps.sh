@@ -22,6 +22,7 @@ packages=(
   libpng-dev libfreetype-dev fonts-dejavu-core  # fit-report: PNG renders and their labels
   librsvg2-bin             # fit-report: the pattern as a picture (rsvg-convert)
   chromium                 # the fit report's browser test (headless)
+  slurm-wlm munge          # the Slurm batch's test runs its own single-node cluster (scripts/tests/local_slurm.py)
 )
 # Node.js and npm run the report's tests and install three.js (scripts/web/):
 # Debian's packages where the machine has no Node.js of its own.
@@ -49,6 +50,16 @@ else
   echo "deps: missing: ${missing[*]}"
   echo "deps: running: $sudo apt-get update"
   $sudo apt-get update -qq
+  # munge's package starts the system's munged where nothing forbids it (and
+  # Slurm's its daemons where /etc/slurm/slurm.conf exists). The project
+  # starts none at install, only its own in its test: a policy-rc.d for the
+  # duration of the install forbids the start (invoke-rc.d's policy, exit 101).
+  policy=/usr/sbin/policy-rc.d
+  if [ ! -e "$policy" ]; then
+    echo "deps: running: $sudo sh -c 'printf \"#!/bin/sh\\nexit 101\\n\" > $policy' (no service starts during the install)"
+    $sudo sh -c "printf '#!/bin/sh\nexit 101\n' > $policy && chmod 755 $policy"
+    trap '$sudo rm -f "$policy"' EXIT
+  fi
   echo "deps: running: $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends ${missing[*]}"
   $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
