@@ -329,10 +329,30 @@ def exit_code_of(text):
     return 128 + sig if sig else code
 
 
+# Slurm's commands retry for a minute when they cannot reach the controller;
+# the summary gives each query this long and goes on without its answer.
+QUERY_TIMEOUT_S = 30
+
+
+_silent = set()
+
+
+def query(cmd):
+    """A Slurm command's result, or None where it is missing or does not
+    answer (and then it is not asked again)."""
+    if cmd[0] in _silent:
+        return None
+    try:
+        return subprocess.run(cmd, capture_output=True, text=True, timeout=QUERY_TIMEOUT_S)
+    except (OSError, subprocess.TimeoutExpired):
+        _silent.add(cmd[0])
+        return None
+
+
 def states_from_sacct(array_id):
-    r = subprocess.run(["sacct", "--jobs", array_id, "--noheader", "--parsable2",
-                        "--format=JobID,State,ExitCode,Elapsed,NodeList"], capture_output=True, text=True)
-    if r.returncode != 0:
+    r = query(["sacct", "--jobs", array_id, "--noheader", "--parsable2",
+                        "--format=JobID,State,ExitCode,Elapsed,NodeList"])
+    if r is None or r.returncode != 0:
         return None
     states = {}
     for line in r.stdout.splitlines():
@@ -359,14 +379,16 @@ def states_from_records(lines, array_id, state_key):
 
 
 def states_from_scontrol(array_id):
-    r = subprocess.run(["scontrol", "--oneliner", "show", "job", array_id], capture_output=True, text=True)
-    if r.returncode != 0:
+    r = query(["scontrol", "--oneliner", "show", "job", array_id])
+    if r is None or r.returncode != 0:
         return None
     return states_from_records(r.stdout.splitlines(), array_id, "JobState") or None
 
 
 def states_from_jobcomp(array_id):
-    r = subprocess.run(["scontrol", "show", "config"], capture_output=True, text=True)
+    r = query(["scontrol", "show", "config"])
+    if r is None:
+        return None
     kind = re.search(r"^JobCompType\s*=\s*(\S+)", r.stdout, flags=re.M)
     loc = re.search(r"^JobCompLoc\s*=\s*(\S+)", r.stdout, flags=re.M)
     if not kind or kind.group(1) != "jobcomp/filetxt" or not loc or not os.path.isfile(loc.group(1)):
@@ -383,10 +405,7 @@ def slurm_states(array_id, task_ids):
         return states, used
     for source, fetch in (("sacct", states_from_sacct), ("scontrol", states_from_scontrol),
                           ("jobcomp", states_from_jobcomp)):
-        try:
-            found = fetch(array_id) or {}
-        except OSError:  # the command is not installed here
-            found = {}
+        found = fetch(array_id) or {}
         new = {i: v for i, v in found.items() if i in task_ids and i not in states}
         if new:
             states.update(new)
@@ -437,7 +456,9 @@ def fit_figures(out):
             "pieces": pick(pattern, "summary", "pieces"),
             "total_seam_length_m": pick(pattern, "summary", "total_seam_length"),
             "area_2d_m2": pick(pattern, "summary", "area_2d"),
-            "sewn_fit_verdict": pick(pattern, "sewn_fit", "verdict"),
+            # "not checked" where the fit ran with NO_SEW_CHECK=1.
+            "sewn_fit_verdict": (pick(pattern, "sewn_fit", "verdict") if pick(pattern, "sewn_fit", "checked")
+                                 else "not checked"),
         }
     return figures
 
@@ -514,7 +535,7 @@ def fmt(value, digits=3):
 def summary_html(summary):
     e = html.escape
     head = ["#", "customer", "state", "failing stage", "exit", "Slurm", "verdict", "max stretch", "p99 stretch",
-            "rest area", "pieces", "seams (m)", "sewn fit", "report"]
+            "rest area", "pieces", "seams (m)", "sewn fit", "report", "error"]
     rows = []
     for r in summary["rows"]:
         fit, pattern = r["figures"].get("fit", {}), r["figures"].get("pattern", {})
@@ -525,9 +546,9 @@ def summary_html(summary):
                  e(fit.get("verdict") or ""), fmt(fit.get("max_stretch")), fmt(fit.get("p99_stretch")),
                  fmt(fit.get("rest_area_growth")), fmt(pattern.get("pieces")),
                  fmt(pattern.get("total_seam_length_m"), 2), e(pattern.get("sewn_fit_verdict") or ""),
-                 f'<a href="{e(r["report"])}">fit report</a>' if r["report"] else ""]
-        title = f' title="{e(r["error"])}"' if r.get("error") else ""
-        rows.append(f'<tr class="{e(r["state"])}"{title}>' + "".join(f"<td>{c}</td>" for c in cells) + "</tr>")
+                 f'<a href="{e(r["report"])}">fit report</a>' if r["report"] else "",
+                 f'<code>{e(r["error"])}</code>' if r.get("error") else ""]
+        rows.append(f'<tr class="{e(r["state"])}">' + "".join(f"<td>{c}</td>" for c in cells) + "</tr>")
     counts = ", ".join(f"{v} {k}" for k, v in summary["counts"].items())
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>Fit batch {e(os.path.basename(summary['batch']))}</title>
@@ -540,8 +561,8 @@ tr:not(.completed) td:nth-child(3) {{ color: #b00; font-weight: bold; }}
 </style></head><body>
 <h1>Fit batch {e(os.path.basename(summary['batch']))}</h1>
 <p>{summary['customers']} customers: {e(counts)}. Slurm array job {e(str(summary['array_job_id']))}, states from
-{e(', '.join(summary['slurm_state_sources']) or 'nowhere')}. Stretch figures are the verification's worst key pose; hover a failed row for
-its error line.</p>
+{e(', '.join(summary['slurm_state_sources']) or 'nowhere')}. Stretch figures are the verification's worst key pose; rest area is the
+rest shape's area over the design's.</p>
 <table><thead><tr>{''.join(f'<th>{h}</th>' for h in head)}</tr></thead>
 <tbody>
 {chr(10).join(rows)}
@@ -552,8 +573,12 @@ its error line.</p>
 
 def print_summary(summary, batch):
     for r in summary["rows"]:
-        what = r["state"] if r["state"] == "completed" else (
-            f"{r['state']} at {r['failing_stage']} (exit {r['exit_code']})")
+        if r["state"] == "completed":
+            what = "completed"
+        elif r["state"] == "missing":
+            what = "missing: its task left no record and Slurm knows no state of it"
+        else:
+            what = f"{r['state']} at {r['failing_stage'] or 'an unknown stage'} (exit {r['exit_code']})"
         print(f"fit-all: {r['name']}: {what}")
     print(f"fit-all: summary: {batch}/summary.html")
 
