@@ -80,8 +80,8 @@ class SlurmBatchTest(unittest.TestCase):
     def setUpClass(cls):
         cls.dir = tempfile.mkdtemp(prefix="gp_slurm_")
         cls.slurm = local_slurm.LocalSlurm(os.path.join(cls.dir, "slurm"))
-        cls.slurm.__enter__()
         try:
+            cls.slurm.__enter__()
             cls.customers = make_customers(os.path.join(cls.dir, "customers"))
             cls.batch = os.path.join(cls.dir, "batch")
             cls.first, seconds = submit(cls.batch, list(cls.customers.values()))
