@@ -32,6 +32,16 @@ std::vector<Eigen::Matrix2d> own_triangles(const Eigen::MatrixXd& V, const Eigen
   return T;
 }
 
+// The grid's own triangles, each scaled in area by a random factor in
+// [0.8, 1.25]: targets no surface meets exactly.
+std::vector<Eigen::Matrix2d> randomly_scaled_triangles(const gp::Mesh& grid) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(0.8, 1.25);
+  std::vector<Eigen::Matrix2d> T = own_triangles(grid.V, grid.F);
+  for (Eigen::Matrix2d& t : T) t *= std::sqrt(u(rng));
+  return T;
+}
+
 double max_relative_edge_error(const Eigen::MatrixXd& V, const Eigen::MatrixXd& V_ref, const Eigen::MatrixXi& F) {
   double err = 0.0;
   for (int f = 0; f < F.rows(); ++f) {
@@ -237,10 +247,7 @@ TEST_CASE("ARAP stitching reproduces compatible targets exactly", "[adapt][arap]
 
 TEST_CASE("ARAP stitching of incompatible targets converges to a fixed point", "[adapt][arap]") {
   const gp::Mesh grid = gp::testing::make_grid(20, 20, 0.5, 0.5);
-  std::mt19937 rng(4);
-  std::uniform_real_distribution<double> u(0.8, 1.25);
-  std::vector<Eigen::Matrix2d> T = own_triangles(grid.V, grid.F);
-  for (Eigen::Matrix2d& t : T) t *= std::sqrt(u(rng));
+  const std::vector<Eigen::Matrix2d> T = randomly_scaled_triangles(grid);
   const ArapStitcher stitcher(grid.V, grid.F);
   Eigen::MatrixXd V = grid.V;
   ArapOptions options;
@@ -454,10 +461,7 @@ TEST_CASE("the stitching energy's gradient matches finite differences, smoothing
 
 TEST_CASE("the stretch stopping rule stops once no face's stretch changes, and keeps the fixed point", "[adapt][arap]") {
   const gp::Mesh grid = gp::testing::make_grid(20, 20, 0.5, 0.5);
-  std::mt19937 rng(4);
-  std::uniform_real_distribution<double> u(0.8, 1.25);
-  std::vector<Eigen::Matrix2d> T = own_triangles(grid.V, grid.F);
-  for (Eigen::Matrix2d& t : T) t *= std::sqrt(u(rng));
+  const std::vector<Eigen::Matrix2d> T = randomly_scaled_triangles(grid);
   const ArapStitcher stitcher(grid.V, grid.F, 0.02);
   ArapOptions tight;
   tight.tolerance = 1e-9;
