@@ -147,7 +147,12 @@ ArapStitcher::ArapStitcher(const Eigen::MatrixXd& V_reference, const Eigen::Matr
   ++factorizations_;
 }
 
-double ArapStitcher::energy(const std::vector<Eigen::Matrix2d>& targets, const Eigen::MatrixXd& V) const {
+double ArapStitcher::energy(const std::vector<Eigen::Matrix2d>& targets, const Eigen::MatrixXd& V,
+                            const Eigen::MatrixXd* anchor, Eigen::MatrixXd* gradient) const {
+  if (static_cast<int>(targets.size()) != F_.rows()) throw UsageError("one ARAP target per face is needed");
+  if (V.rows() != n_ || V.cols() != 3) throw UsageError("ARAP shape must be #V by 3");
+  if (anchor && (anchor->rows() != n_ || anchor->cols() != 3)) throw UsageError("ARAP anchor must be #V by 3");
+  if (gradient) gradient->setZero(n_, 3);
   double e = 0.0;
   for (int f = 0; f < F_.rows(); ++f) {
     Matrix32d S = Matrix32d::Zero();
@@ -162,8 +167,19 @@ double ArapStitcher::energy(const std::vector<Eigen::Matrix2d>& targets, const E
       const int i = F_(f, k), j = F_(f, (k + 1) % 3);
       const Eigen::Vector3d dx = (V.row(j) - V.row(i)).transpose();
       const Eigen::Vector2d dt = target_corner(targets[f], (k + 1) % 3) - target_corner(targets[f], k);
-      e += weights_(f, k) * (dx - R * dt).squaredNorm();
+      const Eigen::Vector3d misfit = dx - R * dt;
+      e += weights_(f, k) * misfit.squaredNorm();
+      if (gradient) {
+        gradient->row(j) += 2.0 * weights_(f, k) * misfit.transpose();
+        gradient->row(i) -= 2.0 * weights_(f, k) * misfit.transpose();
+      }
     }
+  }
+  if (anchor && smoothing_.nonZeros() > 0) {
+    const Eigen::MatrixXd d = V - *anchor;
+    const Eigen::MatrixXd Sd = smoothing_ * d;
+    e += (d.array() * Sd.array()).sum();
+    if (gradient) *gradient += 2.0 * Sd;
   }
   return e;
 }
@@ -208,6 +224,31 @@ ArapReport ArapStitcher::stitch(const std::vector<Eigen::Matrix2d>& targets, Eig
     }
     return change;
   };
+  // Largest change of a face's principal stretches between two shapes: the
+  // square roots of the eigenvalues of C's triangle metric M_C^-1 M_A, from
+  // det(M_A - l M_C) = 0 (the metrics of edges x1-x0, x2-x0).
+  auto stretch_change = [&](const Eigen::MatrixXd& A, const Eigen::MatrixXd& C) {
+    double change = 0.0;
+    for (int f = 0; f < F_.rows(); ++f) {
+      const int i0 = corners_(f, 0), i1 = corners_(f, 1), i2 = corners_(f, 2);
+      const Eigen::Vector3d a(A(i1, 0) - A(i0, 0), A(i1, 1) - A(i0, 1), A(i1, 2) - A(i0, 2));
+      const Eigen::Vector3d b(A(i2, 0) - A(i0, 0), A(i2, 1) - A(i0, 1), A(i2, 2) - A(i0, 2));
+      const Eigen::Vector3d c(C(i1, 0) - C(i0, 0), C(i1, 1) - C(i0, 1), C(i1, 2) - C(i0, 2));
+      const Eigen::Vector3d d(C(i2, 0) - C(i0, 0), C(i2, 1) - C(i0, 1), C(i2, 2) - C(i0, 2));
+      const double a11 = a.dot(a), a12 = a.dot(b), a22 = b.dot(b);
+      const double c11 = c.dot(c), c12 = c.dot(d), c22 = d.dot(d);
+      const double qa = c11 * c22 - c12 * c12;
+      if (!(qa > 0.0)) return std::numeric_limits<double>::infinity();
+      const double qb = -(a11 * c22 + a22 * c11 - 2.0 * a12 * c12);
+      const double qc = a11 * a22 - a12 * a12;
+      const double root = std::sqrt(std::max(0.0, qb * qb - 4.0 * qa * qc));
+      for (double l : {(-qb + root) / (2.0 * qa), (-qb - root) / (2.0 * qa)}) {
+        change = std::max(change, std::abs(std::sqrt(std::max(l, 0.0)) - 1.0));
+      }
+    }
+    return change;
+  };
+  const bool by_stretch = options.stretch_tolerance > 0.0;
   ArapReport report;
   Eigen::MatrixXd B(n_, 3), G(n_, 3), G_previous;
   // Anderson acceleration of the local/global fixed-point map X -> G(X) (Peng,
@@ -280,8 +321,8 @@ ArapReport ArapStitcher::stitch(const std::vector<Eigen::Matrix2d>& targets, Eig
     energy_previous = e;
     global_step(V, G);
     report.iterations = it + 1;
-    report.residual = edge_change(G, V) / mean_edge;
-    if (report.residual <= options.tolerance) {
+    report.residual = by_stretch ? stretch_change(G, V) : edge_change(G, V) / mean_edge;
+    if (report.residual <= (by_stretch ? options.stretch_tolerance : options.tolerance)) {
       V = G;
       report.converged = true;
       break;

@@ -47,12 +47,16 @@ struct ArapOptions {
   // on the shared-body shirt moving T -> A against 266 at 1e-6, with the same
   // stretch figures and rest-area growth within 0.4 %.
   double tolerance = 1e-5;
+  // > 0: iterate instead until no face's principal stretch changes by more
+  // than this in one iteration (unitless, e.g. 1e-4 = 0.01 % stretch), the
+  // quantity the adaptation's clipping acts on; 0: the edge rule above.
+  double stretch_tolerance = 0.0;
   int max_iterations = 2000;
 };
 
 struct ArapReport {
   int iterations = 0;
-  double residual = 0.0;  // last iteration's max edge-length change / mean target edge length
+  double residual = 0.0;  // last iteration's change: by the edge rule, or the stretch rule's largest stretch change
   double misfit = 0.0;    // sqrt(E / sum w |t_j - t_i|^2): RMS relative edge misfit at the end
   bool converged = false;
 };
@@ -72,9 +76,15 @@ class ArapStitcher {
   ArapReport stitch(const std::vector<Eigen::Matrix2d>& targets, Eigen::MatrixXd& V,
                     const ArapOptions& options = {}) const;
 
-  // E(X, R) at the optimal rotations (without the smoothing term, which needs
-  // the start shape).
-  double energy(const std::vector<Eigen::Matrix2d>& targets, const Eigen::MatrixXd& V) const;
+  // E(X, R) at the optimal rotations, plus the smoothing term when `anchor`
+  // (the shape a stitching starts from, #V by 3) is given. With `gradient`,
+  // also dE/dX (#V by 3; E is in m^2, the weights being unitless): at the
+  // optimal rotations the rotations' own derivative drops out, so it is
+  // sum_f sum_k 2 w_fk ((x_j - x_i) - R_f dt_k) on x_j (minus on x_i), plus
+  // 2 S (X - anchor) for the smoothing matrix S. It is the stitching's
+  // stationarity residual: zero exactly at a converged stitching.
+  double energy(const std::vector<Eigen::Matrix2d>& targets, const Eigen::MatrixXd& V,
+                const Eigen::MatrixXd* anchor = nullptr, Eigen::MatrixXd* gradient = nullptr) const;
 
   const Eigen::MatrixXi& faces() const { return F_; }
   int factorizations() const { return factorizations_; }

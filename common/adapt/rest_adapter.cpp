@@ -16,8 +16,9 @@ RestShapeAdapter::RestShapeAdapter(const Eigen::MatrixXd& V_reference, const Eig
   if (!(options.margin >= 0.0 && options.hysteresis >= 0.0 && options.margin + options.hysteresis <= options.delta)) {
     throw UsageError("the adaptation's margin and hysteresis must be non-negative with a sum of at most delta");
   }
-  if (!(options.arap.tolerance > 0.0) || options.arap.max_iterations < 1) {
-    throw UsageError("ARAP tolerance must be positive and the iteration cap at least 1");
+  if (!(options.arap.tolerance > 0.0) || !(options.arap.stretch_tolerance >= 0.0) ||
+      options.arap.max_iterations < 1) {
+    throw UsageError("ARAP tolerances must be positive (the stretch rule's non-negative) and the iteration cap at least 1");
   }
   if (!(options.smoothing_length >= 0.0) || options.rounds < 1) {
     throw UsageError("the smoothing length must be non-negative and the rounds at least 1");

@@ -85,6 +85,10 @@ int main(int argc, char** argv) {
   app.add_option("--arap-tolerance", options.adaptation.arap.tolerance,
                  "ARAP stitching tolerance: largest edge-length change per iteration / mean edge length [1]")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--arap-stretch-tolerance", options.adaptation.arap.stretch_tolerance,
+                 "ARAP stitching stops instead when no face's principal stretch changes by more than this in one "
+                 "iteration (0: the edge rule of --arap-tolerance) [1]")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_option("--smoothing-length", options.adaptation.smoothing_length,
                  "The rest shape's stitching resists changes of its form shorter than this, so that growth makes "
                  "smooth bulges rather than tucks (0: plain ARAP) [m]")
@@ -354,6 +358,7 @@ int main(int argc, char** argv) {
                          {"verify", fit_options.verify},
                          {"max_cycles", fit_options.max_cycles},
                          {"arap_tolerance", options.adaptation.arap.tolerance},
+                         {"arap_stretch_tolerance", options.adaptation.arap.stretch_tolerance},
                          {"arap_max_iterations", options.adaptation.arap.max_iterations},
                          {"settle_speed_m_per_s", options.settle_speed},
                          {"settle_stretch_change", options.settle_stretch_change},
