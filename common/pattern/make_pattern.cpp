@@ -622,11 +622,9 @@ void flatten_pieces(Pattern& pattern, const PatternOptions& options, FlattenCach
 bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
   std::set<int> within;
   pattern.seams_within_tolerance = seam_sides_match(pattern, options, 1.0, nullptr);
-  // A safety net: the boundary weight keeps seam sides within the tolerance
-  // on the example garments; only a mismatch beyond match_margin times the
-  // tolerance (a decision taken with a margin, so that a small change of the
-  // shape does not flip it) gets its pieces flattened again, with 4 times
-  // the weight up to max_boundary_weight.
+  // The boundary weight keeps most seam sides within the tolerance; a
+  // mismatch beyond match_margin times the tolerance gets its pieces
+  // flattened again, with 4 times the weight up to max_boundary_weight.
   std::set<int> mismatched;
   seam_sides_match(pattern, options, options.match_margin, &mismatched);
   bool again = false;
