@@ -276,6 +276,7 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
       {"line_search_margin", po.flatten.line_search_margin},
       {"boundary_weight", po.flatten.boundary_weight},
       {"max_boundary_weight", po.max_boundary_weight},
+      {"match_margin", po.match_margin},
       {"seam_allowance", lo.seam_allowance},
       {"notch_spacing", lo.notch_spacing},
       {"notch_length", lo.notch_length},
