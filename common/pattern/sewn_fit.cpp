@@ -55,9 +55,11 @@ std::vector<cloth::TriangleRest> sewn_rest_triangles(const Pattern& pattern, con
       // An uncut rest face: its triangle as laid out.
       Eigen::Matrix<double, 2, 3> P;
       for (int k = 0; k < 3; ++k) P.col(k) = sheet(gs.front(), k);
+      // Its rotation: that of its affine map from the face's plane to the sheet.
+      const int g = gs.front();
       Eigen::Matrix2d Q, S;
       for (int k = 1; k < 3; ++k) {
-        Q.col(k - 1) = plane(mesh.V.row(mesh.F(gs.front(), k)).transpose()) - plane(mesh.V.row(mesh.F(gs.front(), 0)).transpose());
+        Q.col(k - 1) = plane(mesh.V.row(mesh.F(g, k)).transpose()) - plane(mesh.V.row(mesh.F(g, 0)).transpose());
         S.col(k - 1) = P.col(k) - P.col(0);
       }
       Eigen::Matrix2d R = Eigen::Matrix2d::Identity();

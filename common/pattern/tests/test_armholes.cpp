@@ -38,10 +38,11 @@ TEST_CASE("slivers between an armhole and a user seam join the piece across the 
     armhole.push_back(CurvePoint::at_vertex(id(i, j)));
   for (int i = 10; i >= 0; --i) armhole.push_back(CurvePoint::at_vertex(id(i, 5)));
 
+  const std::vector<PatternSeam> seams{{"side", "user", "", {}, false, false},
+                                       {"armhole1", "armhole", "", {}, false, true}};
   Pattern pattern;
   pattern.mesh = pattern_mesh_of_rest(grid.V, grid.F);
-  insert_cuts(pattern, {PatternSeam{"side", "user", "", {}, false, false}, PatternSeam{"armhole1", "armhole", "", {}, false, true}},
-              {user, armhole});
+  insert_cuts(pattern, seams, {user, armhole});
   REQUIRE(pattern.pieces.size() == 5);
   std::vector<double> before;
   for (const PatternPiece& p : pattern.pieces) before.push_back(piece_area(p));
@@ -83,8 +84,7 @@ TEST_CASE("slivers between an armhole and a user seam join the piece across the 
   SECTION("below sliver_area nothing merges") {
     Pattern again;
     again.mesh = pattern_mesh_of_rest(grid.V, grid.F);
-    insert_cuts(again, {PatternSeam{"side", "user", "", {}, false, false}, PatternSeam{"armhole1", "armhole", "", {}, false, true}},
-                {user, armhole});
+    insert_cuts(again, seams, {user, armhole});
     options.sliver_area = 1e-4;  // both slivers are larger
     merge_armhole_slivers(again, options);
     CHECK(again.pieces.size() == 5);
