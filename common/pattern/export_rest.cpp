@@ -77,6 +77,7 @@ OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOpti
           {"failure", failed ? OrderedJson(result.sewn_fit_error.empty() ? sewn_fit_failure(sewn, result.pattern)
                                                                          : result.sewn_fit_error)
                              : OrderedJson(nullptr)},
+          {"faces_from_rest_shape", sewn.faces_from_rest_shape.size()},
           {"steps", sewn.verification.steps},
           {"rejected_steps", sewn.verification.rejected_steps},
           {"key_poses", poses}};
@@ -150,7 +151,15 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
   }
   lap("read");
 
-  result.pattern = make_pattern(rest.V, rest.F, result.seams, options.pattern, context);
+  // The fit's stretch budget weighs the panel seams (PatternOptions::stretch_budget).
+  PatternOptions pattern_options = options.pattern;
+  if (!options.fit.empty()) {
+    result.fit = read_fit_settings(options.fit);
+    result.fit.run.threads = options.threads;
+    pattern_options.stretch_budget = result.fit.delta();
+  }
+  result.stretch_budget = pattern_options.stretch_budget;
+  result.pattern = make_pattern(rest.V, rest.F, result.seams, pattern_options, context);
   lap("cut_and_flatten");
   for (const auto& [phase, s] : result.pattern.seconds) result.timing["cut_and_flatten_" + phase] = s;
   LayoutOptions layout = options.layout;
@@ -196,8 +205,6 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
       throw GeometryError("the sewn-fit check starts from the garment as designed, which is missing or has another "
                           "connectivity than the rest shape",
                           (fs::path(options.garment).parent_path() / result.garment.mesh_file).string());
-    result.fit = read_fit_settings(options.fit);
-    result.fit.run.threads = options.threads;
     const PoseSet poses = load_pose_set(result.fit.poses);
     const MotionSpec motion = read_motion_spec(result.fit.motion, poses);
     if (result.garment.body.vertex_count != 0 &&
@@ -252,6 +259,8 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
       {"min_dart_length", po.min_dart_length},
       {"max_pieces", po.max_pieces},
       {"min_panel_relief", po.min_panel_relief},
+      {"stretch_budget", result.stretch_budget},
+      {"budget_share", po.budget_share},
 
       {"min_piece_area", po.min_piece_area},
       {"max_rounds", po.max_rounds},
@@ -267,6 +276,7 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
       {"line_search_margin", po.flatten.line_search_margin},
       {"boundary_weight", po.flatten.boundary_weight},
       {"max_boundary_weight", po.max_boundary_weight},
+      {"match_margin", po.match_margin},
       {"seam_allowance", lo.seam_allowance},
       {"notch_spacing", lo.notch_spacing},
       {"notch_length", lo.notch_length},

@@ -622,11 +622,9 @@ void flatten_pieces(Pattern& pattern, const PatternOptions& options, FlattenCach
 bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
   std::set<int> within;
   pattern.seams_within_tolerance = seam_sides_match(pattern, options, 1.0, nullptr);
-  // A safety net: the boundary weight keeps seam sides within the tolerance
-  // on the example garments; only a mismatch beyond match_margin times the
-  // tolerance (a decision taken with a margin, so that a small change of the
-  // shape does not flip it) gets its pieces flattened again, with 4 times
-  // the weight up to max_boundary_weight.
+  // The boundary weight keeps most seam sides within the tolerance; a
+  // mismatch beyond match_margin times the tolerance gets its pieces
+  // flattened again, with 4 times the weight up to max_boundary_weight.
   std::set<int> mismatched;
   seam_sides_match(pattern, options, options.match_margin, &mismatched);
   bool again = false;
@@ -722,7 +720,9 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, Pane
         seam.reason = over + where + ", " + metres(curve_length(p.V, p.F, *curve)) + " long";
         seams.push_back(seam);
         curves.push_back(piece_to_mesh(p, *curve));
-        if (ledger) ledger->trials.push_back({seam.name, rest_faces, panel_excess(material_faces(pattern, c), options)});
+        if (ledger)
+          ledger->trials.push_back(
+              {seam.name, rest_faces, panel_excess(material_faces(pattern, c), options), p.stats.worst1_compression});
         ++pieces;
         placed = true;
       }
@@ -764,11 +764,19 @@ int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache&
     std::snprintf(buf, sizeof(buf), "%.1f of the piece's %.1f cm^2 of cloth beyond the limit (%.0f cm^2 per metre of seam)",
                   1e4 * relief, 1e4 * trial.excess_before, length > 0.0 ? 1e4 * relief / length : 0.0);
     // A seam that brings both its pieces within the limit does what the
-    // cutter is for, however little cloth that took.
+    // cutter is for, however little cloth that took, where the compression
+    // it relieved ate much of the fit's stretch budget.
     const bool within = std::all_of(sides.begin(), sides.end(),
                                     [&](int c) { return pattern.pieces[static_cast<size_t>(c)].meets_limit; });
-    if (relief >= options.min_panel_relief * length || within) {
-      pattern.seams[seam].reason += std::string("; it relieved ") + buf + (within ? ", and both its pieces meet the limit" : "");
+    const bool tight = trial.compression_before > options.budget_share * options.stretch_budget;
+    if (relief >= options.min_panel_relief * length || (within && tight)) {
+      char budget[160] = "";
+      if (relief < options.min_panel_relief * length)
+        std::snprintf(budget, sizeof(budget),
+                      ", and both its pieces meet the limit (the piece was compressed by %.2f %%, more than %.0f %% of "
+                      "the stretch budget %.3f)",
+                      100.0 * trial.compression_before, 100.0 * options.budget_share, options.stretch_budget);
+      pattern.seams[seam].reason += std::string("; it relieved ") + buf + budget;
       continue;
     }
     Pattern without = pattern;

@@ -10,8 +10,10 @@
 
 namespace gp {
 
-std::vector<cloth::TriangleRest> sewn_rest_triangles(const Pattern& pattern, const Layout& layout, int face_count) {
+std::vector<cloth::TriangleRest> sewn_rest_triangles(const Pattern& pattern, const Layout& layout, int face_count,
+                                                     std::vector<int>* from_rest_shape) {
   const PatternMesh& mesh = pattern.mesh;
+  if (from_rest_shape) from_rest_shape->clear();
   if (face_count != mesh.rest_F.rows()) throw GeometryError("the pattern was not made from this rest shape");
   // Sheet position of pattern-mesh face g's corner k, turned by -90 degrees
   // to (y, -x): the grain (+y) becomes the warp (+u).
@@ -30,21 +32,48 @@ std::vector<cloth::TriangleRest> sewn_rest_triangles(const Pattern& pattern, con
   for (int f = 0; f < face_count; ++f) {
     const auto& gs = parts[static_cast<size_t>(f)];
     if (gs.empty()) throw GeometryError("the pattern does not cover every rest face");
+    const Eigen::Vector3d r0 = mesh.rest_V.row(mesh.rest_F(f, 0)), r1 = mesh.rest_V.row(mesh.rest_F(f, 1)),
+                          r2 = mesh.rest_V.row(mesh.rest_F(f, 2));
+    const Eigen::Vector3d x = (r1 - r0).normalized(), y = (r1 - r0).cross(r2 - r0).normalized().cross(x);
+    auto plane = [&](const Eigen::Vector3d& X) { return Eigen::Vector2d((X - r0).dot(x), (X - r0).dot(y)); };
+    // A sliver of the rest shape that its flattening squeezed below the cloth
+    // model's bound on triangle quality has no usable flat triangle: it keeps
+    // the rest shape's own, turned like the cloth around it (rotation R).
+    auto keep = [&](const Eigen::Matrix<double, 2, 3>& P, const Eigen::Matrix2d& R) {
+      try {
+        rest[static_cast<size_t>(f)] = cloth::triangle_rest_flat(P);
+      } catch (const GeometryError&) {
+        Eigen::Matrix<double, 2, 3> Q;
+        Q.col(0).setZero();
+        Q.col(1) = R * plane(r1);
+        Q.col(2) = R * plane(r2);
+        rest[static_cast<size_t>(f)] = cloth::triangle_rest_flat(Q);
+        if (from_rest_shape) from_rest_shape->push_back(f);
+      }
+    };
     if (gs.size() == 1) {
       // An uncut rest face: its triangle as laid out.
       Eigen::Matrix<double, 2, 3> P;
       for (int k = 0; k < 3; ++k) P.col(k) = sheet(gs.front(), k);
-      rest[static_cast<size_t>(f)] = cloth::triangle_rest_flat(P);
+      // Its rotation: that of its affine map from the face's plane to the sheet.
+      const int g = gs.front();
+      Eigen::Matrix2d Q, S;
+      for (int k = 1; k < 3; ++k) {
+        Q.col(k - 1) = plane(mesh.V.row(mesh.F(g, k)).transpose()) - plane(mesh.V.row(mesh.F(g, 0)).transpose());
+        S.col(k - 1) = P.col(k) - P.col(0);
+      }
+      Eigen::Matrix2d R = Eigen::Matrix2d::Identity();
+      if (std::abs(Q.determinant()) > 0.0) {
+        const Eigen::JacobiSVD<Eigen::Matrix2d> svd(S * Q.inverse(), Eigen::ComputeFullU | Eigen::ComputeFullV);
+        R = svd.matrixU() * svd.matrixV().transpose();
+      }
+      keep(P, R);
       continue;
     }
     // A rest face that a cut crosses is cloth from two pieces (or a piece
     // and a dart): its rest metric is the area-weighted mean of its parts'
     // metrics A^T A, A the affine map of a part from the face's plane to the
     // sheet; the warp is that of its largest part.
-    const Eigen::Vector3d r0 = mesh.rest_V.row(mesh.rest_F(f, 0)), r1 = mesh.rest_V.row(mesh.rest_F(f, 1)),
-                          r2 = mesh.rest_V.row(mesh.rest_F(f, 2));
-    const Eigen::Vector3d x = (r1 - r0).normalized(), y = (r1 - r0).cross(r2 - r0).normalized().cross(x);
-    auto plane = [&](const Eigen::Vector3d& X) { return Eigen::Vector2d((X - r0).dot(x), (X - r0).dot(y)); };
     Eigen::Matrix2d G = Eigen::Matrix2d::Zero(), R = Eigen::Matrix2d::Identity();
     double total = 0.0, largest = -1.0;
     for (int g : gs) {
@@ -76,7 +105,7 @@ std::vector<cloth::TriangleRest> sewn_rest_triangles(const Pattern& pattern, con
     P.col(0).setZero();
     P.col(1) = M * plane(r1);
     P.col(2) = M * plane(r2);
-    rest[static_cast<size_t>(f)] = cloth::triangle_rest_flat(P);
+    keep(P, R);
   }
   return rest;
 }
@@ -167,8 +196,9 @@ SewnFitResult sewn_fit_check(PoseInterpolator& interpolator, const MotionSpec& m
                              const adapt::FitCriteria& criteria, const adapt::ProgressCallback& progress) {
   if (V_start.rows() != pattern.mesh.rest_V.rows() || V_start.cols() != 3)
     throw GeometryError("sewn-fit check: the start positions do not match the rest shape");
-  const std::vector<cloth::TriangleRest> sewn = sewn_rest_triangles(pattern, layout, static_cast<int>(F.rows()));
   SewnFitResult result;
+  const std::vector<cloth::TriangleRest> sewn =
+      sewn_rest_triangles(pattern, layout, static_cast<int>(F.rows()), &result.faces_from_rest_shape);
   result.delta = options.adaptation.delta;
   result.verification = adapt::verify_fit(interpolator, motion, V_start, F, garment, sewn, options, criteria, progress);
   for (const adapt::PoseCheck& check : result.verification.poses)

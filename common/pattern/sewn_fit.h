@@ -29,9 +29,15 @@ namespace gp {
 // A rest face that a cut runs through holds cloth of two pieces: its
 // triangle has the area-weighted mean metric of its parts (and the warp of
 // the largest), the simulation's resolution being the rest shape's.
+// A face whose flat triangle is a sliver below the cloth model's quality
+// bound (cloth::triangle_rest_flat; a sub-millimetre sliver of the rest
+// shape that the flattening squeezed flat) keeps the rest shape's own
+// triangle, turned like its piece; those faces are listed in
+// `from_rest_shape` (rest face ids, ascending).
 // Throws GeometryError when the pattern was not made from a rest shape of
 // face_count faces or leaves a face without area.
-std::vector<cloth::TriangleRest> sewn_rest_triangles(const Pattern& pattern, const Layout& layout, int face_count);
+std::vector<cloth::TriangleRest> sewn_rest_triangles(const Pattern& pattern, const Layout& layout, int face_count,
+                                                     std::vector<int>* from_rest_shape = nullptr);
 
 // The piece each rest face belongs to (#F; the piece holding most of its
 // area when a cut crosses it) and each rest vertex (#V; the lowest piece
@@ -60,6 +66,7 @@ struct SewnFitResult {
   adapt::FitVerification verification;  // one PoseCheck per key pose
   std::vector<SewnPoseWhere> where;      // one per key pose
   double delta = 0.0;
+  std::vector<int> faces_from_rest_shape;  // rest faces sewn with their rest shape's triangle (sewn_rest_triangles)
   bool passed() const { return verification.passed(); }
 };
 

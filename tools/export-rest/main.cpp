@@ -79,6 +79,13 @@ int main(int argc, char** argv) {
   app.add_option("--min-edge-fraction", po.smoothing.trace.min_edge_fraction,
                  "Cut curves cross an edge at least this fraction of its length from its ends [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.5));
+  app.add_option("--match-margin", po.match_margin,
+                 "Pieces on a seam whose sides differ by more than this times the seam tolerance are flattened again [fraction]")
+      ->capture_default_str()->check(CLI::Range(0.1, 100.0));
+  app.add_option("--budget-share", po.budget_share,
+                 "A panel seam relieving less than --min-panel-relief stays, where both its pieces then meet the limit, only if "
+                 "its piece was compressed by more than this share of the stretch budget (the fit's delta with --fit, else 0.10) [fraction]")
+      ->capture_default_str()->check(CLI::Range(0.0, 100.0));
   app.add_option("--max-boundary-weight", po.max_boundary_weight,
                  "Pieces on a seam whose sides differ beyond the tolerance are flattened again with up to this boundary weight [dimensionless]")
       ->capture_default_str()->check(CLI::Range(0.0, 1e6));

@@ -5,7 +5,10 @@
 // not: export-rest exits 8 and names the pose and the piece.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
+
+#include <Eigen/Geometry>
 
 #include "core/error.h"
 #include "core/sha256.h"
@@ -135,6 +138,29 @@ TEST_CASE("the sewn triangles are the flat pieces' and cover every rest face", "
   for (int c : piece_of_rest_face(pattern)) CHECK((c >= 0 && c < static_cast<int>(pattern.pieces.size())));
   for (int c : piece_of_rest_vertex(pattern)) CHECK((c >= 0 && c < static_cast<int>(pattern.pieces.size())));
   CHECK_THROWS_AS(sewn_rest_triangles(pattern, layout, static_cast<int>(s.cap.F.rows()) + 1), GeometryError);
+
+  // A face whose flat triangle is squeezed to a segment (one corner moved
+  // onto the middle of the opposite side) keeps its rest shape's triangle.
+  std::vector<int> parts(static_cast<size_t>(s.cap.F.rows()), 0);
+  for (int g = 0; g < pattern.mesh.F.rows(); ++g) ++parts[static_cast<size_t>(pattern.mesh.rest_face[static_cast<size_t>(g)])];
+  int g = 0;
+  while (parts[static_cast<size_t>(pattern.mesh.rest_face[static_cast<size_t>(g)])] != 1) ++g;
+  const int f = pattern.mesh.rest_face[static_cast<size_t>(g)];
+  const int c = pattern.piece_of_face[static_cast<size_t>(g)];
+  const PatternPiece& piece = pattern.pieces[static_cast<size_t>(c)];
+  const int local = static_cast<int>(std::find(piece.face_ids.begin(), piece.face_ids.end(), g) - piece.face_ids.begin());
+  Layout squeezed = layout;
+  Eigen::MatrixXd& UV = squeezed.pieces[static_cast<size_t>(c)].UV;
+  UV.row(piece.F(local, 2)) = 0.5 * (UV.row(piece.F(local, 0)) + UV.row(piece.F(local, 1)));
+  CHECK_NOTHROW(sewn_rest_triangles(pattern, squeezed, static_cast<int>(s.cap.F.rows())));
+  std::vector<int> from_rest;
+  const auto kept = sewn_rest_triangles(pattern, squeezed, static_cast<int>(s.cap.F.rows()), &from_rest);
+  CHECK(std::find(from_rest.begin(), from_rest.end(), f) != from_rest.end());
+  const Eigen::Vector3d a = s.cap.V.row(s.cap.F(f, 0)), b = s.cap.V.row(s.cap.F(f, 1)), d = s.cap.V.row(s.cap.F(f, 2));
+  CHECK(kept[static_cast<size_t>(f)].area == Approx(0.5 * (b - a).cross(d - a).norm()).epsilon(1e-9));
+  std::vector<int> none;
+  sewn_rest_triangles(pattern, layout, static_cast<int>(s.cap.F.rows()), &none);
+  CHECK(none.empty());
 }
 
 TEST_CASE("the sewn-fit check passes a good pattern and fails one shrunk by 5 %", "[sewn_fit][cli]") {
