@@ -129,12 +129,9 @@ double cotangent(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
 
 // Smallest accepted shape quality 2A / (longest edge)^2 of a rest triangle.
 // A face of quality q is about 1/q^2 times stiffer than a regular one of the
-// same size, and the implicit system's conditioning follows: measured on a
-// swinging 12 x 12 sheet with one sliver and one needle (issue 8, hard
-// cases), the motion after 0.75 s deviates from the well-shaped sheet by
-// 0.13 mm at q = 1e-6, 1.9 mm at 1e-7, 31 mm at 3e-8 and 338 mm at 2e-8,
-// while every step stays finite (the direct fallback is accepted with
-// relative residuals up to 4e-3). Below 1e-6 the face is rejected instead.
+// same size, and the implicit system's conditioning follows: below 1e-6 the
+// motion drifts by millimetres and more (cloth/README.md, "Smallest
+// rest-triangle quality").
 constexpr double kMinRestQuality = 1e-6;
 
 }  // namespace

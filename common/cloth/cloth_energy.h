@@ -1,32 +1,19 @@
 #pragma once
-// Per-element cloth energies with analytic gradients and Hessians.
+// Per-element cloth energies with analytic gradients and Hessians. One triangle's positions are
+// the columns of X = [x0 x1 x2]; gradients are 9-vectors (x0, x1, x2 stacked), Hessians 9x9.
 //
-// Membrane (Baraff & Witkin 1998, "Large steps in cloth simulation", sec. 4.2-4.3):
-// each triangle carries a rest (u,v) frame. With Ds = [x1-x0, x2-x0] (3x2) and the
-// rest edge matrix Dm (2x2, rest edges in the triangle's (u,v) frame),
-// W = Ds Dm^-1 = [w_u w_v]. Written per unit rest area A (so that the energy does
-// not depend on the mesh resolution, unlike BW's C = a(...) whose energy scales
-// with a^2):
-//   stretch_energy = k_stretch * A / 2 * ((|w_u| - 1)^2 + (|w_v| - 1)^2)
+// Membrane (Baraff & Witkin 1998, "Large steps in cloth simulation", sec. 4.2-4.3), per unit rest
+// area A so that it does not depend on the resolution (BW's C = a(...) scales with a^2):
+// W = Ds Dm^-1 = [w_u w_v], Ds = [x1-x0, x2-x0] (3x2), Dm the rest edges in the (u,v) frame (2x2);
+//   stretch_energy = k_stretch * A / 2 * ((|w_u| - 1)^2 + (|w_v| - 1)^2)   [m, m^2; k in J/m^2 = N/m]
 //   shear_energy   = k_shear   * A / 2 * (w_u . w_v)^2
-// Units: positions in m, A in m^2, the strains are dimensionless, so k_stretch and
-// k_shear are energies per unit rest area: J/m^2 = N/m.
-//
-// Bending (Bergou, Wardetzky, Harmon, Zorin, Grinspun 2006, "A quadratic bending
-// model for inextensible surfaces"): per interior edge with stencil (x0,x1 the
-// edge; x2, x3 the opposite vertices) K = [c1+d1, c0+d0, -c0-c1, -d0-d1] with
-// c_k, d_k the cotangents of the rest angles at edge vertex k in the two triangles,
-// and Q_e = 3 / (A_0 + A_1) K K^T. bending_energy = k_bend / 2 * sum_e x^T Q_e x.
-// The model assumes a flat rest state (fabric is flat before it is sewn), so its
-// Hessian k_bend * Q is constant and kept apart from the membrane terms.
-// k_bend is in J = N m.
-//
-// Damping (BW sec. 4.5): for each term with condition C, force -k_d A J^T J v,
-// J = dC/dx; the damping matrix k_d A J^T J is PSD by construction. Stretch and shear
-// damping in N s/m, bending damping in N m s (acting through Q).
-//
-// Positions of one triangle are the columns of a 3x3 matrix X = [x0 x1 x2];
-// gradients are 9-vectors (x0, x1, x2 stacked), Hessians 9x9 in the same order.
+// Bending (Bergou, Wardetzky, Harmon, Zorin, Grinspun 2006, "A quadratic bending model for
+// inextensible surfaces"), per interior edge (x0, x1) with opposite vertices x2, x3 and c_k, d_k the
+// cotangents of the rest angles at edge vertex k in the two triangles, k_bend in J = N m:
+//   K = [c1+d1, c0+d0, -c0-c1, -d0-d1],   Q_e = 3 / (A_0 + A_1) K K^T,
+//   bending_energy = k_bend / 2 * sum_e x^T Q_e x   (flat rest state: constant Hessian k_bend Q)
+// Damping (BW sec. 4.5): force -k_d A J^T J v per condition C, J = dC/dx, a PSD matrix; stretch and
+// shear damping in N s/m, bending damping in N m s (through Q).
 #include <Eigen/Core>
 
 namespace gp::cloth {
@@ -44,32 +31,31 @@ struct TriangleRest {
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
 };
 
-// Rest data from the rest triangle X_rest = [x0 x1 x2]. The u axis is
-// `material_direction` projected into the triangle's plane (the warp direction);
-// where it is nearly normal to the triangle, the first edge is used instead.
-// Throws GeometryError for a degenerate (or non-finite) rest triangle, where
-// 2A / (longest edge)^2 < 1e-6 (slivers below that make the implicit system
+// Rest data from the rest triangle X_rest = [x0 x1 x2]. The u axis is `material_direction`
+// projected into the triangle's plane (the warp direction); where it is nearly normal to the
+// triangle, the first edge is used instead. Throws GeometryError for a degenerate (or non-finite)
+// rest triangle, where 2A / (longest edge)^2 < 1e-6 (slivers below that make the implicit system
 // too ill-conditioned for an accurate step; see cloth_energy.cpp).
 TriangleRest triangle_rest(const Eigen::Matrix3d& X_rest,
                            const Eigen::Vector3d& material_direction = Eigen::Vector3d::UnitY());
 
-// Rest data from a flat triangle given by its 2D corners P = [p0 p1 p2] (a sewing
-// pattern piece, the pattern's x axis the warp direction). A mirrored triangle
-// gives the same energies (they depend on |w_u|, |w_v| and w_u . w_v only).
-// Throws GeometryError for a zero-area triangle, as triangle_rest.
+// Rest data from a flat triangle given by its 2D corners P = [p0 p1 p2] (a sewing pattern piece,
+// the pattern's x axis the warp direction). A mirrored triangle gives the same energies (they
+// depend on |w_u|, |w_v| and w_u . w_v only). Throws GeometryError for a zero-area triangle, as
+// triangle_rest.
 TriangleRest triangle_rest_flat(const Eigen::Matrix<double, 2, 3>& P);
 // W = [w_u w_v] of triangle X.
 Eigen::Matrix<double, 3, 2> triangle_w(const Eigen::Matrix3d& X, const TriangleRest& rest);
 
-// Stretch (k in N/m). project_psd clamps the negative curvature across w under
-// compression (|w| < 1), which is the exact eigen-projection of the 9x9 block.
+// Stretch (k in N/m). project_psd clamps the negative curvature across w under compression (|w| <
+// 1), which is the exact eigen-projection of the 9x9 block.
 double stretch_energy(const Eigen::Matrix3d& X, const TriangleRest& rest, double k);
 Vector9d stretch_gradient(const Eigen::Matrix3d& X, const TriangleRest& rest, double k);
 Matrix9d stretch_hessian(const Eigen::Matrix3d& X, const TriangleRest& rest, double k,
                          bool project_psd = false);
 
-// Shear (k in N/m). project_psd is the exact eigen-projection of the 6x6 Hessian in
-// (w_u, w_v) space (closed form, see cloth_energy.cpp), mapped to 9x9.
+// Shear (k in N/m). project_psd is the exact eigen-projection of the 6x6 Hessian in (w_u, w_v)
+// space (closed form, see cloth_energy.cpp), mapped to 9x9.
 double shear_energy(const Eigen::Matrix3d& X, const TriangleRest& rest, double k);
 Vector9d shear_gradient(const Eigen::Matrix3d& X, const TriangleRest& rest, double k);
 Matrix9d shear_hessian(const Eigen::Matrix3d& X, const TriangleRest& rest, double k,
@@ -86,8 +72,8 @@ struct BendingStencil {
   double coefficient = 0.0;  // 3 / (A0 + A1) [1/m^2]
 };
 
-// Stencil from the rest positions X_rest = [x0 x1 x2 x3] (columns).
-// Throws GeometryError when either rest triangle is degenerate.
+// Stencil from the rest positions X_rest = [x0 x1 x2 x3] (columns). Throws GeometryError when
+// either rest triangle is degenerate.
 BendingStencil bending_stencil(const Eigen::Matrix<double, 3, 4>& X_rest);
 
 // Bending energy of one stencil at X = [x0 x1 x2 x3] (k in J).
@@ -102,9 +88,8 @@ Eigen::MatrixXd gravity_gradient(const Eigen::MatrixXd& V, const Eigen::VectorXd
 
 // The membrane system block of one triangle for an implicit Euler step of size h,
 //   K = h^2 (H_stretch + H_shear)_projected + h (D_stretch + D_shear),
-// together with the membrane energy gradient; this is what the simulator
-// assembles (sum of the per-term functions above, computed once in (w_u, w_v)
-// space). Returns the membrane energy.
+// together with the membrane energy gradient; this is what the simulator assembles (sum of the
+// per-term functions above, computed once in (w_u, w_v) space). Returns the membrane energy.
 struct MembraneCoefficients {
   double k_stretch = 800.0;
   double k_shear = 200.0;

@@ -1,53 +1,33 @@
 #pragma once
-// Implicit Euler cloth time stepping (Baraff & Witkin 1998, sec. 5), linearized
-// once per step:
+// Implicit Euler cloth time stepping (Baraff & Witkin 1998, sec. 5), linearized once per step:
 //   (M + h D + h^2 H) v' = M v + h f(x),   x' = x + h v'
-// with H the PSD-projected membrane Hessian plus k_bend Q, D the damping matrices,
-// f the conservative forces (membrane, bending, gravity). The matrix is SPD by
-// construction (mass positive, every element block projected PSD), so CHOLMOD never
-// fails on a valid mesh. Pinned vertices are hard constraints: their velocities
-// are prescribed (they reach their targets at the end of the step) and their
-// degrees of freedom are eliminated, i.e. the system is assembled over the free
-// vertices only, with the coupling to pinned ones moved to the right-hand side.
+// with H the PSD-projected membrane Hessian plus k_bend Q, D the damping matrices, f the
+// conservative forces (membrane, bending, gravity). The matrix is SPD by construction (mass
+// positive, every element block projected PSD), so CHOLMOD never fails on a valid mesh. Pinned
+// vertices reach their targets at the end of the step: their degrees of freedom are eliminated,
+// their coupling to free ones moved to the right-hand side.
 //
-// Solver strategies (measured in the tests; see the report of issue 9):
-//  - pcg_reused_factor: conjugate gradients warm-started from the previous
-//    velocity, preconditioned by a CHOLMOD factor of an earlier step's matrix
-//    (the symbolic analysis is done once per pin set); the factor is refreshed
-//    when a step's iterations exceed the average cost per step since the last
-//    factorization (which counts as `factorization_cost` iterations). The
-//    constant part of the matrix (mass, bending) is assembled once per step size.
-//    With `warp_preconditioner`, the stale factor A_old is applied as
-//    Q A_old^-1 Q^T, Q the per-vertex rotations of the cloth since the
-//    factorization (exact for rigid rotations, which otherwise make a factor of
-//    this strongly anisotropic system go stale fastest).
-//  - refactor_every_step: a fresh numeric factorization every step (of the
-//    membrane pattern by default, see membrane_pattern_preconditioner) and CG
-//    with it. The default: with the membrane pattern a factorization costs
-//    about 20 CG iterations, less than a stale factor costs in extra ones.
-//    Measured on the shared-body shirt through T -> A -> arms up -> arms bent ->
-//    T: 3,829 vertices 10.9 steps/s against 8.3 for pcg_reused_factor (112 s
-//    against 166 s of CPU for the run, 16 CG iterations per step against 47);
-//    1,085 vertices 46.6 against 40.2 steps/s; the same fit figures. Again
-//    at the CG tolerance 1e-4: 39 s against 65 s (5.7 CG iterations per step
-//    against 34). Why a stale factor fails here: in the plane the matrix is
-//    damping-dominated (h D about 1 against a vertex mass near 4e-5 kg), out
-//    of it only bending and mass hold a vertex, 1e-4 to 1e-3 of the in-plane
-//    terms; a turn of the surface by 0.01 rad mixes theta^2 = 1e-4 of the
-//    in-plane stiffness into those directions, as much as their own.
+// Solver strategies (measured in cloth/README.md, "Solver strategies"):
+//  - pcg_reused_factor: CG warm-started from the previous velocity, preconditioned by a CHOLMOD
+//    factor of an earlier step's matrix (symbolic analysis once per pin set), refreshed when a
+//    step's iterations exceed the average cost per step since the last factorization (which counts
+//    as `factorization_cost` iterations); the constant part of the matrix (mass, bending) is
+//    assembled once per step size. With `warp_preconditioner`, the stale factor A_old is applied as
+//    Q A_old^-1 Q^T, Q the per-vertex rotations of the cloth since the factorization (exact for
+//    rigid rotations, which otherwise make this anisotropic system's factor go stale fastest).
+//  - refactor_every_step (default): a fresh numeric factorization every step (of the membrane
+//    pattern, see membrane_pattern_preconditioner) and CG with it; a factorization costs about 20
+//    CG iterations, less than a stale factor costs in extra ones.
 //  - pcg_jacobi: conjugate gradients with a diagonal preconditioner (baseline).
 //
-// Numerical safety: after every step positions and velocities must be finite, no
-// triangle may flip (its normal turning by more than 90 degrees within the step),
-// no vertex may exceed `max_speed`, and kinetic plus elastic energy may not grow by
-// more than `energy_growth_limit` times (plus a floor of 10 J/kg of cloth mass).
-// A failed step is rejected (counted by reason in counters().rejections, and
-// the faces it found inverted in counters().inverted_faces) and retried as two
-// steps of half the size, at most `max_step_halvings` times deep; then
-// NumericalError is thrown and the state is left as it was before the step.
-// Triangles that still turn over after `max_fold_halvings` halvings are folds
-// forced by contact; they are accepted and counted (counters().accepted_flips),
-// since cloth may fold.
+// Numerical safety: after every step positions and velocities must be finite, no triangle may flip
+// (its normal turning by more than 90 degrees within the step), no vertex may exceed `max_speed`,
+// and kinetic plus elastic energy may not grow by more than `energy_growth_limit` times (plus a
+// floor of 10 J/kg of cloth mass). A failed step is rejected (counters().rejections by reason,
+// counters().inverted_faces) and retried as two half steps, at most `max_step_halvings` deep; then
+// NumericalError is thrown and the state restored. Triangles that still turn over after
+// `max_fold_halvings` halvings are folds forced by contact: accepted and counted
+// (counters().accepted_flips), since cloth may fold.
 #include <functional>
 #include <memory>
 #include <string>
@@ -68,26 +48,11 @@ const char* solver_strategy_name(SolverStrategy s);
 struct SimulatorOptions {
   double dt = 0.0025;                    // time step [s] (paper value)
   SolverStrategy strategy = SolverStrategy::refactor_every_step;
-  // Relative residual |b - A v'| / |b| of the CG solve. A is the mass plus
-  // PSD terms, so the velocity error A^-1 r is at most |r| / (smallest vertex
-  // mass); at rest under contact |b| is about h times the cloth's weight, which
-  // bounds the error by about tol h g sqrt(#V): at 1e-4, 6e-4 m/s for the
-  // 3,829-vertex shirt at h = 0.01 s (1e-5 m/s per vertex, RMS), far below
-  // the settle test's 0.05 m/s. Measured through T -> A -> arms up -> arms
-  // bent -> T on that shirt: 5.7 CG iterations and 6.4 ms of solve per step,
-  // 39 s for the run, against 12.2, 13.4 ms and 51 s at 1e-6 (1e-3: 3.3,
-  // 3.9 ms, 36 s), with the same figures at every key pose (max stretch at
-  // most 1.103, p99 1.098, no penetration, rest growth x1.402 against
-  // x1.403). The dress (5,129 vertices, A -> arms up -> A) at time steps
-  // 0.0099, 0.01 and 0.0101 s: 576-736 steps and 39-47 s against 600-936
-  // steps and 51-70 s, rest growth x1.18-1.27 against x1.22-1.29 (the run's
-  // spread under rounding-level changes, the same at both tolerances).
+  // Relative residual |b - A v'| / |b| of the CG solve; bounds the velocity error by about tol h g
+  // sqrt(#V) at rest under contact (cloth/README.md, "CG tolerance").
   double cg_tolerance = 1e-4;
-  // Iteration cap of CG on a reused factor (and of pcg_jacobi); beyond it the factor is refreshed and
-  // the solve finished with it. Measured on the shared-body shirt moving T -> A
-  // (3,829 vertices, dt 0.01 s): a factor one step old needs 50-190 iterations
-  // (2-3 ms each) where a fresh one needs 3-12, and a factorization costs about
-  // 20 iterations; capping at twice that bounds the waste of a stale factor.
+  // Iteration cap of CG on a reused factor (and of pcg_jacobi); beyond it the factor is refreshed
+  // and the solve finished with it: about twice a factorization's cost in iterations.
   int cg_max_iterations = 40;
   int fresh_factor_max_iterations = 200;  // cap of the constrained CG on a fresh factor
   double factorization_cost = 20.0;      // cost of one factorization in PCG iterations (refresh rule)
@@ -96,41 +61,22 @@ struct SimulatorOptions {
   int max_fold_halvings = 1;             // retry depth when only triangles turned over (then accepted)
   double max_speed = 20.0;               // m/s; faster vertices reject the step
   double energy_growth_limit = 10.0;     // rejects a step whose energy grows more than this
-  // A contact constraint is released when the body would have to pull the vertex
-  // with more than this fraction of its weight (a threshold above the solver's
-  // noise, so that cloth resting with a vanishing contact force does not toggle).
-  // Measured on the shared-body shirt at rest: 0.05 releases (and re-touches)
-  // about 75 vertices per step, each costing CG iterations on the reused factor
-  // (43 per step); 20 releases one per step (3 per step) and holds the cloth at
-  // most with 20 vertex weights (about 4e-3 N, a strain under 1e-3 at k 800 N/m).
+  // A contact constraint is released when the body would have to pull the vertex with more than
+  // this many times its weight: above the solver's noise, so that cloth resting with a vanishing
+  // contact force does not toggle (cloth/README.md, "Contact release").
   double contact_release_fraction = 20.0;
-  // Stiffening kappa n n^T of constrained vertices in the factored preconditioner,
-  // relative to the vertex's own diagonal: large makes the factor the constrained
-  // system's inverse while the contact set is unchanged, moderate keeps it a good
-  // preconditioner when contacts come and go between refactorizations.
+  // Stiffening kappa n n^T of constrained vertices in the factored preconditioner, relative to the
+  // vertex's diagonal: large makes the factor exact while the contact set is unchanged, moderate
+  // keeps it a good preconditioner as contacts come and go between factorizations.
   double constraint_preconditioner_stiffness = 100.0;
-  // Factor only the membrane pattern (one-ring couplings) of the matrix: the
-  // bending stencil's couplings between the two vertices opposite an edge are
-  // dropped from the factored matrix and their magnitudes added to the two
-  // diagonals (which keeps it SPD and above A), and CG makes up the difference.
-  // Those couplings are the two-ring fill that makes a factorization expensive,
-  // while at the default material they weigh about 1e-3 of the membrane terms.
-  // Measured on the shared-body shirt (3,829 vertices) moving T -> A: 25 ms per
-  // factorization against 57, 36 % more CG iterations, 36 s against 44 s. Where
-  // a fresh membrane factor leaves CG short of the tolerance, or twice needs
-  // more than membrane_max_iterations, the simulator switches to the whole
-  // matrix for good (counters().membrane_fallbacks).
+  // Factor only the membrane pattern (one-ring couplings): the bending couplings between the two
+  // vertices opposite an edge (the two-ring fill, about 1e-3 of the membrane terms) are dropped and
+  // their magnitudes added to the two diagonals (SPD, above A); CG makes up the difference. Where a
+  // fresh membrane factor leaves CG short of the tolerance, or twice needs more than
+  // membrane_max_iterations, the whole matrix is used for good (counters().membrane_fallbacks).
   bool membrane_pattern_preconditioner = true;
-  // The membrane pattern is also given up when a fresh factor of it needs more
-  // CG iterations than this, for the second time in a run (counted in
-  // counters()). A whole-matrix factorization costs
-  // about 15 iterations more than a membrane one (the dress below: 75 ms more
-  // per factorization, 16 of its iterations); on well-shaped garments a
-  // fresh membrane factor needs 3-10 (the 3,829-vertex shirt, T -> A: at most
-  // 10). The 4,172-vertex dress of the benchmark, whose design mesh has a
-  // cluster of rest triangles 0.1 mm across (2A/L^2 down to 2e-3, vertex masses
-  // 8,000 times below the median), needed 40-90 per solve with it and 2-3 with
-  // the whole matrix.
+  // See membrane_pattern_preconditioner (counted in counters()). Well-shaped garments need 3-10
+  // (cloth/README.md, "Membrane-pattern preconditioner").
   int membrane_max_iterations = 30;
 };
 
@@ -144,8 +90,7 @@ struct PhaseTimes {
   double total() const { return forces_assembly + factorization + solve + collisions + checks; }
 };
 
-// Why (sub)steps were rejected, one count per rejected attempt (the checks of
-// step(), in the order they are made; the first that fails is counted).
+// Why (sub)steps were rejected: one count per rejected attempt, for the first check that failed.
 struct RejectionCounts {
   long solve_failed = 0;      // the linear solve threw (CHOLMOD, or CG did not converge)
   long non_finite = 0;        // positions or velocities not finite
@@ -160,8 +105,8 @@ struct SolverCounters {
   long substeps = 0;         // linear solves that were accepted (>= steps when halving)
   long rejected = 0;         // rejected (sub)steps
   RejectionCounts rejections;  // the rejected (sub)steps by reason (sums to `rejected`)
-  // Per face, how often a rejected (sub)step found it inverted (#F once a
-  // step was rejected for that, empty before): recurring faces point at a cause.
+  // Per face, how often a rejected (sub)step found it inverted (#F once a step was rejected for
+  // that, empty before): recurring faces point at a cause.
   std::vector<long> inverted_faces;
   long accepted_flips = 0;   // triangles that turned over even in the smallest substep (folds)
   long factorizations = 0;
@@ -174,58 +119,48 @@ struct SolverCounters {
   long slow_membrane_solves = 0;  // fresh membrane-pattern solves above options.membrane_max_iterations
 };
 
-// The faces of counters.inverted_faces that rejected (sub)steps found inverted,
-// most often first (ties by face id), at most `count`: (face, rejections).
+// The faces of counters.inverted_faces that rejected (sub)steps found inverted, most often first
+// (ties by face id), at most `count`: (face, rejections).
 std::vector<std::pair<int, long>> most_inverted_faces(const SolverCounters& counters, int count);
 
-// Called after each (sub)step with the new positions and velocities of all
-// vertices (#V by 3); it may move vertices and change velocities (body
-// collisions). A free vertex it moves then gets the velocity of its actual
-// displacement over the step (position-based velocity update). Pinned vertices
-// are restored afterwards.
+// Called after each (sub)step with the new positions and velocities (#V by 3); it may change both
+// (body collisions). A free vertex it moves gets the velocity of its displacement over the step;
+// pinned vertices are restored afterwards.
 using CollisionHandler = std::function<void(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel)>;
 
-// Called after the collision handler with the positions X_start at the start
-// of the (sub)step and X_end at its end (#V by 3), and the part [s_start,
-// s_end] of the step the (sub)step covers (fractions of options().dt: 0 and 1
-// unless the step was halved): it may move vertices of X_end (a response
-// that keeps the cloth from passing through the body between X_start and
-// X_end, e.g. collision::ContinuousContact). Moved free vertices get the
-// velocity of their displacement, as after the collision handler; pinned
-// vertices are restored.
+// Called after the collision handler with the positions X_start, X_end (#V by 3) at the start and
+// end of the (sub)step, which covers [s_start, s_end] of options().dt: it may move vertices of
+// X_end so the cloth does not pass through the body between them (collision::ContinuousContact).
+// Moved free vertices get the velocity of their displacement; pinned vertices are restored.
 using StepEndHandler =
     std::function<void(const Eigen::MatrixXd& X_start, Eigen::MatrixXd& X_end, double s_start, double s_end)>;
 
-// A velocity-level contact constraint inside the implicit solve (Baraff & Witkin
-// 1998, sec. 5.3, "constraint filtering"): the solved velocity of `vertex` has
-// normal component n . v' = normal_velocity [m/s] (n unit, pointing away from the
-// body); its tangential motion stays free. The solve projects the contact out
-// of the system instead of a position projection fighting the elastic response
-// after the step, so neighbours see the contact while their velocities are solved.
+// A velocity-level contact constraint inside the implicit solve (Baraff & Witkin 1998, sec. 5.3,
+// "constraint filtering"): the solved velocity of `vertex` has normal component n . v' =
+// normal_velocity [m/s] (n unit, pointing away from the body); its tangential motion stays free.
+// Neighbours see the contact while their velocities are solved (cloth/README.md, "Contacts").
 struct VelocityConstraint {
   int vertex = -1;
   Eigen::Vector3d normal = Eigen::Vector3d::UnitY();
   double normal_velocity = 0.0;
-  // True when the vertex touches or penetrates (a new contact); false for a
-  // vertex merely near the body, which is constrained only while it stays in
-  // contact from the previous (sub)step (so a released vertex can leave).
+  // True when the vertex touches or penetrates (a new contact); false for a vertex merely near the
+  // body, which is constrained only while it stays in contact from the previous (sub)step (so a
+  // released vertex can leave).
   bool touching = true;
 };
-// Called at the start of each (sub)step with the positions X (#V by 3) and the
-// (sub)step size h [s]; fills the candidate constraints (at most two per vertex,
-// listed together: a vertex in a crease is held along both sides' normals, the
-// second made orthogonal to the first; pinned vertices are ignored). A
-// candidate becomes a constraint when it touches, or when its vertex was
-// constrained in the previous (sub)step and not released;
-// a constraint whose force pulled the cloth towards the body is released
-// (Baraff & Witkin's release rule), so the cloth can leave the body.
+// Called at the start of each (sub)step with the positions X (#V by 3) and the (sub)step size h
+// [s]; fills the candidate constraints (at most two per vertex, listed together: a vertex in a
+// crease is held along both sides' normals, the second made orthogonal to the first; pinned
+// vertices are ignored). A candidate becomes a constraint when it touches, or when its vertex was
+// constrained in the previous (sub)step and not released; a constraint whose force pulled the cloth
+// towards the body is released (Baraff & Witkin's release rule), so the cloth can leave the body.
 using ContactHandler =
     std::function<void(const Eigen::MatrixXd& X, double h, std::vector<VelocityConstraint>& constraints)>;
 
 class ClothSimulator {
  public:
-  // Rest shape V_rest (also the initial positions, at rest) and faces F.
-  // Throws GeometryError / InputError as build_rest_state.
+  // Rest shape V_rest (also the initial positions, at rest) and faces F. Throws GeometryError /
+  // InputError as build_rest_state.
   ClothSimulator(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
                  const ClothParameters& params = {}, const SimulatorOptions& options = {});
   ~ClothSimulator();
@@ -234,26 +169,26 @@ class ClothSimulator {
 
   // New rest shape with the same connectivity (after adaptation); keeps the state.
   void set_rest_shape(const Eigen::MatrixXd& V_rest);
-  // Per-face rest triangles replacing those of the rest shape (the flat pieces
-  // of a sewn pattern); keeps the state. Throws as cloth::set_rest_triangles.
+  // Per-face rest triangles replacing those of the rest shape (the flat pieces of a sewn pattern);
+  // keeps the state. Throws as cloth::set_rest_triangles.
   void set_rest_triangles(const std::vector<TriangleRest>& triangles);
   // Pinned vertex ids (distinct, in range); their targets start at their positions.
   void set_pinned(const std::vector<int>& pinned_ids);
-  // Positions the pinned vertices reach at the end of the next step (#pinned by 3,
-  // in the order of set_pinned).
+  // Positions the pinned vertices reach at the end of the next step (#pinned by 3, in the order of
+  // set_pinned).
   void set_pin_targets(const Eigen::MatrixXd& targets);
   void set_positions(const Eigen::MatrixXd& X);
   void set_velocities(const Eigen::MatrixXd& Vel);
   void set_collision_handler(CollisionHandler handler);
   void set_contact_handler(ContactHandler handler);
   void set_step_end_handler(StepEndHandler handler);
-  // Scales every damping coefficient of the material (stretch, shear, bending)
-  // from the next step on; 1 restores the material's damping. Used to relax the
-  // cloth to its static equilibrium while the body stands still.
+  // Scales every damping coefficient of the material (stretch, shear, bending) from the next step
+  // on; 1 restores the material's damping. Used to relax the cloth to its static equilibrium while
+  // the body stands still.
   void set_damping_scale(double scale);
 
-  // Advances by options().dt (possibly in halved substeps). Throws NumericalError
-  // when even the smallest substep fails (state restored to before the call).
+  // Advances by options().dt (possibly in halved substeps). Throws NumericalError when even the
+  // smallest substep fails (state restored to before the call).
   void step();
 
   const Eigen::MatrixXd& positions() const;

@@ -1,4 +1,4 @@
-// Hard cases for the cloth model and its time stepping (issue 8, item 3):
+// Hard cases for the cloth model and its time stepping:
 // near-degenerate rest triangles (slivers and needles just above the rejection
 // threshold 2A/L^2 >= 1e-8 of triangle_rest), inverted triangles in the initial
 // positions, and triangles collapsed to a segment or a point (a deformation
@@ -185,7 +185,7 @@ TEST_CASE("sliver and needle rest triangles swing like well-shaped ones down to 
 
 TEST_CASE("slivers that once drifted are rejected; the sharpest accepted ones keep the motion accurate",
           "[cloth][hard]") {
-  // Found by this test (issue 8): with the old threshold 2A/L^2 >= 1e-8 the
+  // Found by this test: with the old threshold 2A/L^2 >= 1e-8 the
   // membrane stiffness of a sliver (~ k / q^2 against a regular face) made
   // the implicit system too ill-conditioned: the fresh-factor fallback was
   // accepted with relative residuals of 1e-5 to 4e-3 and the motion drifted.
