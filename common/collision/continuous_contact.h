@@ -1,35 +1,16 @@
 #pragma once
-// Intersection-free cloth against a moving body, in both directions: body
-// vertices against cloth triangles, body edges against cloth edges, and cloth
-// vertices against body triangles (the cloth vertices' comfort offset stays
-// with body_collider.h; this keeps the two surfaces from passing through each
-// other between its queries, and a body feature from passing between cloth
-// vertices: a finger through a triangle, an elbow across an edge).
+// Intersection-free cloth against a moving body, in both directions: body vertices against cloth
+// triangles, body edges against cloth edges, cloth vertices against body triangles. The comfort
+// offset stays with body_collider.h; this keeps the surfaces from passing through each other
+// between its queries, and a finger through a triangle or an elbow across an edge.
 //
-// The body is kinematic: it moves from the previous frame given to set_body()
-// to the last one, linearly over the step. enforce() takes the cloth's
-// positions at the start of a step (free of intersections, by induction) and
-// at its end, finds every contact on the way by continuous collision
-// detection (ccd.h) plus every pair closer than `thickness` at the end, and
-// moves the cloth out of the body's way (Bridson, Fedkiw & Anderson 2002,
-// sec. 7.1: the cloth point of a contact, a barycentric combination of cloth
-// vertices, moves to `thickness` from the body point, each vertex by its
-// weight over the sum of squared weights; the body, kinematic, does not move).
-// Which side of the cloth a body feature belongs to comes from the state
-// before the contact (the sign of the coplanarity cubic before its root), never
-// from the closest point at the end. A cloth vertex is only ever pushed out
-// of the body (crossing a body triangle from inside is let through, should a
-// state ever have a cloth vertex inside). After the first round, detection
-// and response repeat for passages only (a pair squeezed nearer than the
-// thickness between two body parts is no intersection) until none is left
-// or `max_rounds`; then the cloth vertices of the remaining passages move
-// with their body points (their relative position kept), the fail-safe of
-// rigid impact zones in its simplest form. Pinned cloth vertices are never
-// moved.
-//
-// Broad phase: the culled body's features swept over the step in a uniform
-// grid (rebuilt when the body moves, kept while it stands still); each cloth
-// feature's swept box looks up its cells. No cloth-cloth contact.
+// The body is kinematic and moves linearly over the step. enforce() finds every contact between the
+// step's start (free of intersections, by induction) and end by continuous collision detection
+// (ccd.h), plus every pair closer than `thickness` at the end, and moves the cloth point of each to
+// `thickness` from the body (Bridson, Fedkiw & Anderson 2002, sec. 7.1, each vertex by its weight
+// over the sum of squared weights); rounds repeat for passages until none is left or `max_rounds`,
+// then the remaining cloth vertices move with their body points (the fail-safe of rigid impact
+// zones). Pinned vertices never move. Details in collision/README.md, "Continuous contact".
 #include <memory>
 #include <vector>
 
@@ -38,10 +19,8 @@
 namespace gp::collision {
 
 struct ContinuousContactOptions {
-  // Separation [m] kept between the cloth and body vertices and edges, and
-  // to which a cloth vertex that crossed a body triangle is put back. Small
-  // against the comfort offset so that it never fights it; large against the
-  // rounding of the detection.
+  // Separation [m] kept between the cloth and body features, and to which a cloth vertex that
+  // crossed a body triangle is put back: below the comfort offset, above the detection's rounding.
   double thickness = 1e-3;
   double tolerance = 1e-7;   // m: contact distance of the continuous detection (absorbs rounding)
   int max_rounds = 6;        // detection and response rounds per enforce() before the fail-safe
@@ -65,8 +44,8 @@ struct ContinuousContactStats {
 
 class ContinuousContact {
  public:
-  // F_cloth #Fc by 3; F_body #Fb by 3, of which body_face_ids (empty: all)
-  // take part, e.g. reachable_body_faces().
+  // F_cloth #Fc by 3; F_body #Fb by 3, of which body_face_ids (empty: all) take part, e.g.
+  // reachable_body_faces().
   ContinuousContact(const Eigen::MatrixXi& F_cloth, const Eigen::MatrixXi& F_body, std::vector<int> body_face_ids = {},
                     const ContinuousContactOptions& options = {});
   ~ContinuousContact();
@@ -75,18 +54,17 @@ class ContinuousContact {
 
   // Cloth vertices that are never moved (pins).
   void set_pinned(const std::vector<int>& ids);
-  // Threads for the detection: 2 or more query the second half of the cloth
-  // features on another thread. The answers do not depend on it.
+  // Threads for the detection: 2 or more query the second half of the cloth features on another
+  // thread. The answers do not depend on it.
   void set_threads(int threads);
-  // The body at the end of the next step (#Vb by 3); the one given before
-  // becomes its start (the first call sets both). Throws GeometryError for
-  // non-finite positions of a used vertex, UsageError for a size mismatch.
+  // The body at the end of the next step (#Vb by 3); the one given before becomes its start (the
+  // first call sets both). Throws GeometryError for non-finite positions of a used vertex,
+  // UsageError for a size mismatch.
   void set_body(const Eigen::MatrixXd& V_body);
 
-  // X_start, X_end: cloth positions (#Vc by 3) at the start and end of the
-  // part [s_start, s_end] of the step (fractions of it: a halved substep is
-  // [0, 0.5] then [0.5, 1]); moves vertices of X_end as described above.
-  // X_start must be free of intersections with the body at s_start.
+  // X_start, X_end: cloth positions (#Vc by 3) at the start and end of the part [s_start, s_end] of
+  // the step (fractions of it: a halved substep is [0, 0.5] then [0.5, 1]); moves vertices of X_end
+  // as described above. X_start must be free of intersections with the body at s_start.
   void enforce(const Eigen::MatrixXd& X_start, Eigen::MatrixXd& X_end, double s_start = 0.0, double s_end = 1.0);
 
   const ContinuousContactOptions& options() const;

@@ -1,26 +1,13 @@
 #pragma once
-// Where a cloth and a body pass through each other: an independent check of a
-// draped state, for key poses and verdicts, with exact predicates
-// (triangle_tree.h). It reports
-//  - body edges that meet cloth triangles and cloth edges that meet body
-//    triangles: two closed triangle meshes intersect exactly when some edge of
-//    one meets a triangle of the other, so both counts are zero for an
-//    intersection-free state and at least one is positive otherwise (touching
-//    counts);
-//  - cloth vertices inside the body, with their depth (signed distance with
-//    angle-weighted pseudo-normals, as body_collider.h);
-//  - body vertices behind the cloth: a body vertex on the cloth's outer side
-//    (where its normals point: away from the body, as make-garment and
-//    extend-boundary orient a garment) whose inward ray (against its
-//    area-weighted normal) meets the cloth, from that outer side, before it
-//    leaves the body. The cloth then passes through the body right under the
-//    vertex, which has come through it by that depth: a finger or an elbow
-//    through a triangle, a hip through a skirt whose vertices all lie outside.
-//    This is the body-side counterpart of a cloth vertex inside the body.
-//    (The volume a garment encloses, its boundary loops capped, does not tell
-//    it: the torso lies inside a shirt and the legs inside a skirt by design,
-//    and a hand beside a skirt may rest on either side of it.)
-//
+// Where a cloth and a body pass through each other: an independent check of a draped state, for
+// key poses and verdicts, with exact predicates (triangle_tree.h). It reports
+//  - body edges that meet cloth triangles and cloth edges that meet body triangles (both zero
+//    exactly when the two surfaces do not intersect; touching counts);
+//  - cloth vertices inside the body, with their depth (signed distance with angle-weighted
+//    pseudo-normals, as body_collider.h);
+//  - body vertices behind the cloth: on the cloth's outer side (where its normals point), with an
+//    inward ray that meets the cloth from that side before it leaves the body; the body-side
+//    counterpart of a cloth vertex inside (collision/README.md, "Crossings").
 // The body must be closed and outward oriented; the cloth may be open.
 #include <vector>
 
@@ -65,17 +52,17 @@ struct CrossingReport {
   }
 };
 
-// V_body #Vb by 3, F_body #Fb by 3 (closed, outward); V_cloth #Vc by 3,
-// F_cloth #Fc by 3; metres. Throws GeometryError for non-finite coordinates
-// (naming the mesh and vertex), UsageError for ids out of range.
+// V_body #Vb by 3, F_body #Fb by 3 (closed, outward); V_cloth #Vc by 3, F_cloth #Fc by 3; metres.
+// Throws GeometryError for non-finite coordinates (naming the mesh and vertex), UsageError for ids
+// out of range.
 CrossingReport find_crossings(const Eigen::MatrixXd& V_body, const Eigen::MatrixXi& F_body,
                               const Eigen::MatrixXd& V_cloth, const Eigen::MatrixXi& F_cloth,
                               const CrossingOptions& options = {});
 
-// The report as a JSON object for stage reports: counts, depths [m] and
-// example ids ("body_edge_crossings", "cloth_edge_crossings",
-// "cloth_vertices_inside", "deepest_cloth_vertex_m", "body_vertices_behind",
-// "deepest_body_vertex_m", "intersection_free", and the examples).
+// The report as a JSON object for stage reports: counts, depths [m] and example ids
+// ("body_edge_crossings", "cloth_edge_crossings", "cloth_vertices_inside",
+// "deepest_cloth_vertex_m", "body_vertices_behind", "deepest_body_vertex_m", "intersection_free",
+// and the examples).
 OrderedJson to_json(const CrossingReport& report);
 
 }  // namespace gp::collision

@@ -1,20 +1,14 @@
 #pragma once
-// A bounding volume hierarchy over moving triangles (the body's culled faces,
-// see body_collider.h): exact closest points, first hits of rays and the
-// triangles within a ball, over a fixed list of triangles whose corners move
-// from frame to frame.
+// A bounding volume hierarchy over a fixed list of moving triangles (the body's culled faces, see
+// body_collider.h): exact closest points, first hits of rays and the triangles within a ball.
 //
-// The hierarchy is Embree's (Wald et al. 2014, "Embree: a kernel framework for
-// efficient CPU ray tracing"), over user primitives: Embree only culls boxes,
-// in single precision, against boxes grown so that the culling is conservative;
-// every distance and hit is computed here in double precision, by
-// closest_point_on_triangle (mesh/point_triangle.h) and CGAL's ray-triangle intersection. The first
-// set_corners() builds the hierarchy, later ones refit its boxes to the new
-// corners (the same tree, new bounds).
-//
-// Answers depend on the triangles and the query alone, never on the tree, the
-// order Embree visits it in, the thread count or the CPU: among exactly equal
-// distances (or ray parameters) the lowest triangle index wins.
+// The hierarchy is Embree's (Wald et al. 2014, "Embree: a kernel framework for efficient CPU ray
+// tracing") over user primitives: it only culls conservatively grown boxes in single precision;
+// distances and hits are computed in double precision by closest_point_on_triangle
+// (mesh/point_triangle.h) and CGAL's ray-triangle intersection. The first set_corners() builds the
+// tree, later ones refit its boxes. Answers depend on the triangles and the query alone: among
+// exactly equal distances (or ray parameters) the lowest triangle index wins (collision/README.md,
+// "The body's query engine").
 #include <memory>
 #include <vector>
 
@@ -30,28 +24,26 @@ class TriangleBvh {
   TriangleBvh(const TriangleBvh&) = delete;
   TriangleBvh& operator=(const TriangleBvh&) = delete;
 
-  // Corners of every triangle: #T by 9 (a, b, c; metres), finite. Builds the
-  // hierarchy the first time, refits it after. Throws UsageError on a size
-  // mismatch, GeometryError on non-finite corners.
+  // Corners of every triangle: #T by 9 (a, b, c; metres), finite. Builds the hierarchy the first
+  // time, refits it after. Throws UsageError on a size mismatch, GeometryError on non-finite
+  // corners.
   void set_corners(const Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor>& corners);
 
   struct Closest {
     int triangle = -1;             // -1 only for an empty answer
     double squared_distance = 0.0;  // m^2, as closest_point_on_triangle gives it
   };
-  // The triangle closest to p (finite; NumericalError otherwise): the smallest
-  // squared distance, the lowest index among equal ones. `hint` (an index or -1)
-  // only speeds the search up.
+  // The triangle closest to p (finite; NumericalError otherwise): the smallest squared distance,
+  // the lowest index among equal ones. `hint` (an index or -1) only speeds the search up.
   Closest closest(const Eigen::Vector3d& p, int hint = -1) const;
 
   struct Hit {
     int triangle = -1;  // -1: the ray leaves without a hit
     double t = 0.0;     // ray parameter of the first intersection point (CGAL's Ray_3/Triangle_3 intersection)
   };
-  // The first triangle (smallest parameter, then lowest index) hit by the ray
-  // origin + t direction, t >= 0, ignoring triangle `skip` (or -1) and
-  // triangles of zero area. Origin and direction finite, direction non-zero
-  // (NumericalError otherwise).
+  // The first triangle (smallest parameter, then lowest index) hit by the ray origin + t direction,
+  // t >= 0, ignoring triangle `skip` (or -1) and triangles of zero area. Origin and direction
+  // finite, direction non-zero (NumericalError otherwise).
   Hit first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, int skip = -1) const;
 
   // Indices (ascending) of the triangles within `radius` [m] of p.
