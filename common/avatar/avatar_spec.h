@@ -1,43 +1,11 @@
 #pragma once
-// The measurement spec of a generated body (schema "avatar-spec/1"):
+// The measurement spec of a generated body (schema "avatar-spec/1"): optional measurements in
+// metres, as a tailor takes them, and optional extra poses as joint angles (the format and an
+// example: tools/make-avatar/README.md). A measurement left out defaults to the reference body
+// (1.70 m) scaled by height / 1.70, so that a spec giving only the height is plausible.
 //
-//   {
-//     "schema": "avatar-spec/1",
-//     "name": "default",                       (optional, free text)
-//     "measurements": {                        (every field optional, metres)
-//       "height": 1.70, "neck": 0.36, "chest": 0.92, "under_bust": 0.78,
-//       "waist": 0.76, "hip": 0.98, "thigh": 0.56, "belly_depth": 0.0,
-//       "shoulder_width": 0.39, "arm_length": 0.57, "upper_arm": 0.29,
-//       "wrist": 0.16, "inseam": 0.77,
-//       "arm_length_difference": 0.0, "leg_length_difference": 0.0
-//     },
-//     "poses": [                               (optional extra poses)
-//       { "name": "wave", "joints": { "l_shoulder": [0, 0, 120], "l_elbow": [0, 0, 30] } }
-//     ]
-//   }
-//
-// Measurements (all metres, as a tailor takes them):
-//   height                 floor to top of head, standing.
-//   neck                   girth at mid neck.
-//   chest                  chest or bust girth at its fullest, under the arms.
-//   under_bust             girth just below the bust (rib cage).
-//   waist                  natural waist girth (over the belly when belly_depth > 0).
-//   hip                    girth at the fullest part of the seat.
-//   thigh                  girth of the upper thigh, just below the crotch.
-//   belly_depth            extra forward protrusion of the belly at the waist (maternity).
-//   shoulder_width         straight distance between the two shoulder points (acromia).
-//   arm_length             shoulder point to wrist along the straight arm.
-//   upper_arm              girth of the upper arm half-way from shoulder to elbow.
-//   wrist                  wrist girth.
-//   inseam                 crotch to floor.
-//   arm_length_difference  left arm minus right arm length.
-//   leg_length_difference  left leg minus right leg length.
-// A measurement left out defaults to the reference body below (height 1.70 m)
-// scaled by height / 1.70, so that a spec giving only the height is plausible.
-//
-// Pose joint angles are degrees of a rotation about the joint in the rest
-// pose's axes (x to the body's left, y up, z forward), applied about x first,
-// then y, then z. Joint names are those of skeleton.h.
+// Pose joint angles are degrees of a rotation about the joint in the rest pose's axes (x to the
+// body's left, y up, z forward), applied about x first, then y, then z; joint names as skeleton.h.
 #include <Eigen/Core>
 #include <filesystem>
 #include <string>
@@ -47,22 +15,22 @@
 
 namespace gp {
 
-struct Measurements {
-  double height = 1.70;
-  double neck = 0.36;
-  double chest = 0.92;
-  double under_bust = 0.78;
-  double waist = 0.76;
-  double hip = 0.98;
-  double thigh = 0.56;
-  double belly_depth = 0.0;
-  double shoulder_width = 0.39;
-  double arm_length = 0.57;
-  double upper_arm = 0.29;
-  double wrist = 0.16;
-  double inseam = 0.77;
-  double arm_length_difference = 0.0;
-  double leg_length_difference = 0.0;
+struct Measurements {  // metres
+  double height = 1.70;                 // floor to top of head, standing
+  double neck = 0.36;                   // girth at mid neck
+  double chest = 0.92;                  // chest or bust girth at its fullest, under the arms
+  double under_bust = 0.78;             // girth just below the bust (rib cage)
+  double waist = 0.76;                  // natural waist girth (over the belly when belly_depth > 0)
+  double hip = 0.98;                    // girth at the fullest part of the seat
+  double thigh = 0.56;                  // girth of the upper thigh, just below the crotch
+  double belly_depth = 0.0;             // extra forward protrusion of the belly at the waist (maternity)
+  double shoulder_width = 0.39;         // straight distance between the shoulder points (acromia)
+  double arm_length = 0.57;             // shoulder point to wrist along the straight arm
+  double upper_arm = 0.29;              // girth of the upper arm half-way from shoulder to elbow
+  double wrist = 0.16;                  // wrist girth
+  double inseam = 0.77;                 // crotch to floor
+  double arm_length_difference = 0.0;   // left arm minus right arm length
+  double leg_length_difference = 0.0;   // left leg minus right leg length
 };
 
 // A pose given as joint angles: joint name -> (rx, ry, rz) in degrees.

@@ -1,11 +1,8 @@
 #pragma once
-// Polygonization of an implicit surface by marching tetrahedra on a regular
-// grid split into Kuhn (Freudenthal) tetrahedra: six per cube, all sharing the
-// cube's main diagonal, so neighbouring cubes agree on every face diagonal.
-// With inside meaning f < 0, the piecewise-linear zero set of such a
-// triangulation is always a closed 2-manifold without boundary, whatever the
-// field values (Bloomenthal, "Polygonization of implicit surfaces", 1988;
-// Doi and Koide 1991).
+// Polygonization of an implicit surface (inside f < 0) by marching tetrahedra on a grid split into
+// Kuhn (Freudenthal) tetrahedra, six per cube around its main diagonal, so neighbouring cubes agree
+// on every face diagonal and the zero set is a closed 2-manifold whatever the field values
+// (Bloomenthal, "Polygonization of implicit surfaces", 1988; Doi and Koide 1991).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <functional>
@@ -20,10 +17,9 @@ struct IsosurfaceOptions {
   // its centre when |f(centre)| > lipschitz * (half the block diagonal). The
   // field must not change faster than `lipschitz` times the distance.
   double lipschitz = 2.0;
-  // Cut points are kept at least this fraction of an edge away from its ends,
-  // which avoids needle and cap triangles near grid points. The surface then
-  // deviates from the zero set by up to that fraction of a cell, but stays
-  // free of self-intersections: each patch lies inside its own tetrahedron.
+  // Cut points stay this fraction of an edge away from its ends (no needles or caps near grid
+  // points); the surface may deviate by that fraction of a cell but, each patch inside its own
+  // tetrahedron, never self-intersects.
   double min_edge_fraction = 0.2;
 };
 

@@ -1,11 +1,9 @@
 #pragma once
-// Decimation of a closed, oriented triangle mesh to a vertex budget by
-// quadric-error edge collapse (Garland and Heckbert, "Surface simplification
-// using quadric error metrics", SIGGRAPH 1997), with a small edge-length term
-// in the cost that keeps triangles well shaped. A collapse is refused when it
-// would break the manifold (link condition: the two end points share exactly
-// the two opposite vertices) or turn a triangle by more than `max_normal_turn`.
-// Deterministic: ties in the priority queue are broken by vertex ids.
+// Decimation of a closed, oriented triangle mesh to a vertex budget by quadric-error edge collapse
+// (Garland and Heckbert, "Surface simplification using quadric error metrics", SIGGRAPH 1997), plus
+// an edge-length term that keeps triangles well shaped. A collapse is refused when it would break
+// the link condition (the end points share exactly the two opposite vertices) or turn a triangle
+// by more than `max_normal_turn`. Ties go by vertex ids.
 #include <Eigen/Core>
 
 #include "io/mesh.h"
@@ -13,12 +11,10 @@
 namespace gp {
 
 struct SimplifyOptions {
-  // Weight of the squared edge length against the quadric error; both are
-  // in m^4 after the area weighting (dimensionless ratio).
+  // Weight of the squared edge length against the quadric error (both m^4 after area weighting).
   double length_weight = 1.0;
-  // Largest allowed rotation of a triangle's normal by one collapse
-  // [degrees]; if repeated passes do not meet the budget, later passes
-  // allow 1.5 and then 2.5 times as much.
+  // [deg] largest turn of a triangle's normal by one collapse; later passes that still miss the
+  // budget allow 1.5 and then 2.5 times as much.
   double max_normal_turn = 30.0;
 };
 
