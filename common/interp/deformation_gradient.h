@@ -1,11 +1,8 @@
 #pragma once
-// Per-triangle frames and deformation gradients between two poses of one
-// mesh, as in deformation transfer (Sumner & Popovic 2004, Sec. 3): each
-// triangle (v0, v1, v2) gets a fourth direction along its normal,
-//   n = (e1 x e2) / sqrt(|e1 x e2|),   e1 = v1 - v0, e2 = v2 - v0,
-// scaled so that it grows like an edge, and the 3x3 frame W = [e1 e2 n].
-// The deformation gradient from pose A to pose B is Q = W_B W_A^-1: it maps
-// A's edges onto B's exactly and A's normal onto B's scaled normal. det W =
+// Per-triangle frames and deformation gradients between two poses of one mesh, as in deformation
+// transfer (Sumner & Popovic 2004, Sec. 3): triangle (v0, v1, v2) gets the frame W = [e1 e2 n],
+//   e1 = v1 - v0, e2 = v2 - v0, n = (e1 x e2) / sqrt(|e1 x e2|)   (n grows like an edge),
+// and Q = W_B W_A^-1 maps A's edges onto B's and A's normal onto B's scaled normal; det W =
 // |e1 x e2|^(3/2) > 0, so Q is never a reflection for non-degenerate triangles.
 #include <vector>
 
@@ -16,8 +13,7 @@ namespace gp {
 // Frame [e1 e2 n] (columns) of triangle f of (V, F); V is #V by 3, F #F by 3.
 Eigen::Matrix3d triangle_frame(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int f);
 
-// Twice the area below which a triangle counts as degenerate for deformation
-// gradients: `relative` times the squared bounding-box diagonal of V.
+// Twice the area below which a triangle is degenerate here: `relative` x V's squared bbox diagonal.
 double degenerate_double_area(const Eigen::MatrixXd& V, double relative = 1e-14);
 
 // Deformation gradients Q_f = W_B(f) W_A(f)^-1 for every triangle, #F entries.

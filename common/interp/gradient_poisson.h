@@ -1,23 +1,17 @@
 #pragma once
-// Positions from per-triangle target edge vectors by a Poisson (least-squares
-// gradient) solve, as in deformation transfer (Sumner & Popovic 2004, Sec. 4)
-// and Poisson shape interpolation (Xu et al. 2005):
-//   minimize over x   sum_f A_f || grad_f(x) - G_f ||_F^2,
-// where grad_f is the gradient operator of triangle f of a fixed rest mesh and
-// G_f the gradient that maps the rest triangle's edges onto the target edges
-// (e1_f, e2_f). With the rest edge matrix E_f = [r1 r2] (3x2) and
-// D_f(x) = [x1 - x0, x2 - x0], the term is
-//   A_f tr((D_f(x) - T_f) M_f (D_f(x) - T_f)^T),   M_f = (E_f^T E_f)^-1,
-// so the normal equations are L x = b with L = sum_f C_f^T (A_f M_f) C_f, the
-// cotangent Laplacian of the rest mesh (C_f the 2x3 edge-difference matrix),
-// and b = sum_f C_f^T (A_f M_f) T_f^T. L depends only on the rest mesh: it is
-// factored once and every solve is one assembly of b plus a back-substitution
-// with 3 right-hand sides.
+// Positions from per-triangle target edges by a Poisson (least-squares gradient) solve, as in
+// deformation transfer (Sumner & Popovic 2004, Sec. 4) and Poisson shape interpolation (Xu et al.
+// 2005): minimize sum_f A_f || grad_f(x) - G_f ||_F^2 over x, G_f mapping the rest edges
+// E_f = [r1 r2] (3x2) of a fixed rest mesh onto the target edges T_f = [e1_f e2_f]; per face,
+// with D_f(x) = [x1 - x0, x2 - x0],
+//   A_f tr((D_f(x) - T_f) M_f (D_f(x) - T_f)^T),   M_f = (E_f^T E_f)^-1.
+// Normal equations L x = b: L = sum_f C_f^T (A_f M_f) C_f, the rest mesh's cotangent Laplacian (C_f
+// the 2x3 edge-difference matrix), b = sum_f C_f^T (A_f M_f) T_f^T. L is factored once; a solve is
+// one assembly of b and a back-substitution with 3 right-hand sides.
 //
-// The energy is invariant to a translation of each connected component
-// (vertices joined through faces), so the lowest vertex id of every component
-// is pinned at the origin; callers place the result (e.g. by an anchor).
-// Vertices used by no face are left at 0.
+// The energy ignores each connected component's translation, so the lowest vertex id of every
+// component is pinned at the origin (callers place the result, e.g. by an anchor); vertices in no
+// face stay at 0.
 #include <vector>
 
 #include <Eigen/Core>

@@ -3,7 +3,7 @@
 // [0, 1] on the way from pose a to pose b, in memory, for interp-poses and for
 // simulate-adapt (which calls it every frame).
 //
-// Nonlinear method (DESIGN.md, "Poses"; Xu et al. 2005, Sumner & Popovic 2004):
+// Nonlinear method (Xu et al. 2005, Sumner & Popovic 2004; tools/interp-poses/README.md):
 //  1. Per triangle, the deformation gradient Q = W_b W_a^-1 from pose a to b,
 //     with the scaled normal as third frame column (interp/deformation_gradient.h).
 //  2. Polar decomposition Q = R S (interp/polar_decomposition.h).

@@ -34,8 +34,8 @@ double max_distance(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y) {
   return (X - Y).rowwise().norm().maxCoeff();
 }
 
-// Shape checks of a body motion a -> b (DESIGN.md: in-between bodies must keep
-// the body's shape): per frame, edge lengths against the two key poses and the
+// Shape checks of a body motion a -> b (in-between bodies must keep the
+// body's shape): per frame, edge lengths against the two key poses and the
 // volume against the key volumes; self-intersections at a few frames compared
 // with the key poses. Returns the worst figures for the caller to assert.
 struct BodyMotionFigures {
