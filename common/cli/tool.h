@@ -1,7 +1,7 @@
 #pragma once
-// What every stage shares on the command line (DESIGN.md, "Command-line
-// conventions"): --out/--force, --threads, --quiet/--verbose, --help with
-// defaults and units, and one place that turns typed errors into the line
+// What every stage shares on the command line (README.md, "Conventions shared by every stage"):
+// --out/--force, --threads, --quiet/--verbose, --help with defaults and units, and one place that
+// turns typed errors into the line
 //   <tool>: error[<category>]: <what> (<where>)
 // on stderr and the category's exit code.
 #include <functional>

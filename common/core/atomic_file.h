@@ -1,7 +1,7 @@
 #pragma once
-// Outputs are never left half written (DESIGN.md: "write to a temporary name,
-// then rename"). Files are written beside their final name and renamed into
-// place; a stage's output folder is staged as a whole and renamed last.
+// Outputs are never left half written (README.md, "Conventions shared by every stage"): files are
+// written beside their final name and renamed into place; a stage's output folder is staged as a
+// whole and renamed last.
 #include <filesystem>
 #include <functional>
 #include <ostream>

@@ -1,7 +1,7 @@
 #pragma once
-// Typed errors thrown by library code. Only a tool's main() turns them into a
-// message and an exit code, so that library functions stay silent and every
-// stage reports failures the same way (see DESIGN.md, "Contracts").
+// Typed errors thrown by library code. Only a tool's main() turns them into a message and an exit
+// code, so that library functions stay silent and every stage reports failures the same way (exit
+// codes: README.md, "Conventions shared by every stage").
 #include <stdexcept>
 #include <string>
 

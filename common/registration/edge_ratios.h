@@ -36,9 +36,8 @@ constexpr double kDefaultMaxEdgeRatio = 8.0;
 // register-check's registration-error test for stages that take a pose set
 // without it (a hand-written manifest): throws GeometryError, naming the pose,
 // its worst edge and `where`, when an edge of one of the poses `pose_ids`
-// changes length against the reference pose by more than max_factor.
-// Measured (issue 8, hard cases): five vertices thrown 30 cm give a factor of
-// 54; undetected, simulate-adapt fitted the spikes into the rest shape.
+// changes length against the reference pose by more than max_factor: spikes
+// left undetected would be fitted into the rest shape by simulate-adapt.
 void check_pose_edge_ratios(const PoseSet& poses, const std::vector<int>& pose_ids, double max_factor,
                             const std::string& where);
 

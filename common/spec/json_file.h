@@ -1,7 +1,7 @@
 #pragma once
-// JSON files: reading with clear errors, writing atomically with stable key
-// order, and the "schema": "<name>/<version>" tag that every spec and report
-// carries (DESIGN.md, "Contracts").
+// JSON files: reading with clear errors, writing atomically with stable key order, and the
+// "schema": "<name>/<version>" tag that every spec and report carries (README.md, "Conventions
+// shared by every stage").
 #include <filesystem>
 #include <initializer_list>
 #include <string>
