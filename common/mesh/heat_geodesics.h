@@ -1,9 +1,7 @@
 #pragma once
-// Geodesic distance from a set of vertices by the heat method (Crane,
-// Weischedel and Wardetzky 2013, "Geodesics in heat"): heat diffused for a
-// short time t = h^2 (h the mean edge length), its normalized negative
-// gradient integrated back by a Poisson solve. Smooth in the vertex
-// positions, unlike graph (Dijkstra) distances whose level sets follow edges.
+// Geodesic distance by the heat method (Crane, Weischedel and Wardetzky 2013, "Geodesics in
+// heat"): heat diffused for t = h^2 (h the mean edge length), its normalized negative gradient
+// integrated back by a Poisson solve. Smooth in the positions, unlike Dijkstra's edge-bound levels.
 #include <vector>
 #include <Eigen/Core>
 

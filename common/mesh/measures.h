@@ -34,10 +34,9 @@ double signed_volume(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
 // area * triangle centroid over the total area; zero when the area is zero.
 Eigen::Vector3d area_centroid(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
 
-// Angle defect (discrete Gaussian curvature) of every vertex, #V: 2 pi minus
-// the sum of its corner angles (radians). Meaningful for inner vertices; a
-// boundary vertex gets the same formula (pi minus its turning angle plus pi).
-// A vertex used by no face gets 2 pi.
+// Angle defect (discrete Gaussian curvature), #V: 2 pi minus the sum of corner angles [rad].
+// Meaningful for inner vertices; a boundary vertex gets the same formula (pi minus its turning
+// angle plus pi), a vertex used by no face 2 pi.
 Eigen::VectorXd angle_defects(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
 
 // Length of the bounding box diagonal.

@@ -1,6 +1,6 @@
 #pragma once
-// Combinatorial structure of a triangle mesh: edges, adjacency, boundary loops,
-// connected components. Inputs: F is #F by 3 vertex indices into [0, n_vertices).
+// Combinatorial structure of a triangle mesh (F #F by 3 indices into [0, n_vertices)): edges,
+// adjacency, boundary loops, connected components.
 #include <vector>
 
 #include <Eigen/Core>
@@ -10,16 +10,13 @@ namespace gp {
 // Unique undirected edges as #E by 2 rows (a, b) with a < b, sorted.
 Eigen::MatrixXi unique_edges(const Eigen::MatrixXi& F);
 
-// For every directed face edge (F(f,k) -> F(f,(k+1)%3)) the face across it:
-// #F by 3, TT(f,k) = neighbour face or -1 where the edge is a boundary or is
-// shared by more than two faces (non-manifold).
+// #F by 3: TT(f,k) the face across the directed edge F(f,k) -> F(f,(k+1)%3), or -1 where the edge
+// is a boundary or shared by more than two faces (non-manifold).
 Eigen::MatrixXi triangle_adjacency(const Eigen::MatrixXi& F);
 
-// Boundary loops: closed chains of edges used by exactly one face, each listed
-// as vertex ids in the direction the faces traverse them (so that the surface
-// lies on the left for a counter-clockwise oriented mesh). Loops are sorted by
-// their smallest vertex id and start there, so the result is deterministic.
-// Edges used by more than two faces are not boundary edges.
+// Boundary loops: closed chains of edges used by exactly one face (an edge of three or more faces is
+// none), as vertex ids in the direction the faces traverse them (the surface on the left for a
+// counter-clockwise mesh); sorted by, and starting at, their smallest id: deterministic.
 std::vector<std::vector<int>> boundary_loops(const Eigen::MatrixXi& F);
 
 // Connected components of faces joined by shared edges: component id per face
