@@ -57,12 +57,10 @@ struct PoseSet {
 // stages can tell that two files share connectivity without comparing them.
 std::string topology_checksum(const Eigen::MatrixXi& F);
 
-// Digest of a pose's vertex positions (#V by 3, metres), each rounded to a
-// whole micrometre (int64, little-endian, row by row): the same body in the
-// same pose gives the same digest whatever file it was read from and whatever
-// units it came in (a centimetre scan converted to metres differs from the
-// metre file by round-off, about 1e-16 m, which crosses a rounding boundary
-// for about one coordinate in 10^9), while any other body differs.
+// Digest of a pose's vertex positions (#V by 3, metres), each rounded to a whole micrometre (int64,
+// little-endian, row by row): the same body in the same pose gives the same digest whatever file and
+// units it came from (a centimetre scan converted to metres differs by about 1e-16 m, which crosses
+// a rounding boundary for about one coordinate in 10^9), while any other body differs.
 std::string vertex_checksum(const Eigen::MatrixXd& V);
 
 // True for names made of [A-Za-z0-9_-], 1 to 64 characters.

@@ -1,7 +1,6 @@
 #pragma once
-// Small procedural meshes for tests (named families, as in libigl's and pmp's
-// test helpers), each closed or open as its name says and consistently
-// oriented with normals pointing outward.
+// Small procedural meshes for tests (named families, as in libigl's and pmp's test helpers), closed
+// or open as the name says, consistently oriented with normals pointing outward.
 #include <vector>
 
 #include <Eigen/Core>
@@ -20,19 +19,15 @@ Mesh make_uv_sphere(int rings, int segments, double radius = 1.0);
 // Torus around the y axis: `nu` segments around the ring, `nv` around the tube.
 Mesh make_torus(int nu, int nv, double ring_radius = 1.0, double tube_radius = 0.3);
 
-// Open cylinder along +y from y=0 to y=height: `nu` around, `nv` rows of quads
-// split into triangles. Two boundary loops.
+// Open cylinder along +y from y=0 to y=height: `nu` around, `nv` rows of split quads; two loops.
 Mesh make_open_cylinder(int nu, int nv, double radius = 1.0, double height = 2.0);
 
-// A closed tube of radius `radius` bent like an arm hanging from a torso: its
-// centreline climbs along +y from (0, -leg, 0) to the origin (the torso),
-// turns towards +x by `turn` radians on an arc of radius `bend_radius` centred
-// at (bend_radius, 0, 0) in the xy-plane, and runs straight for `leg` metres
-// again (the arm). With bend_radius a little above radius, the inner side of
-// the bend is a pinch like an A-pose armpit: a saddle whose two sides meet in
-// a wedge (the angle between the legs is pi - turn). `nu` vertices per ring,
-// rings about as far apart as on the outer side of the tube; the ends are
-// closed by flat fans.
+// A closed tube of radius `radius` bent like an arm from a torso: the centreline climbs along +y
+// from (0, -leg, 0) to the origin (the torso), turns towards +x by `turn` radians on an arc of
+// radius `bend_radius` centred at (bend_radius, 0, 0) in the xy-plane, and runs straight for `leg`
+// metres (the arm). With bend_radius a little above radius the inner side is a pinch like an A-pose
+// armpit: a saddle whose sides meet in a wedge at pi - turn. `nu` vertices per ring, rings as far
+// apart as on the outer side; the ends closed by flat fans.
 Mesh make_bent_tube(int nu, double radius, double leg, double bend_radius, double turn);
 
 // A box-shaped grid patch in the xz-plane (open, one boundary loop),
@@ -51,10 +46,9 @@ SubMesh face_subset(const Mesh& m, const std::vector<int>& face_ids);
 // tear shows as a value far above the material's stretch.
 double max_edge_stretch(const Eigen::MatrixXd& X, const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F);
 
-// `count` vertex ids of V around a ring: the plane through `center` with
-// normal `normal`, taking at each of `count` evenly spaced angles the vertex
-// nearest the plane in that direction within `reach` [m] of the centre (for
-// garment loop points clicked on a generated body). -1 where none is in reach.
+// `count` vertex ids of V around the ring where the plane (`center`, `normal`) cuts it: at each of
+// `count` evenly spaced angles the vertex nearest the plane within `reach` [m] of the centre, -1
+// where none is (garment loop points clicked on a generated body).
 std::vector<int> ring_vertex_ids(const Eigen::MatrixXd& V, const Eigen::Vector3d& center, const Eigen::Vector3d& normal,
                                  double reach, int count = 8);
 
