@@ -53,10 +53,9 @@ struct AnchorOptions {
 struct InterpolationOptions {
   InterpolationMethod method = InterpolationMethod::nonlinear;
   AnchorOptions anchor;
-  // Factorization of the Poisson system. Simplicial by default: on the
-  // 27,578-vertex shared body its 3-column back-substitution takes 1.2 ms
-  // against 3.2 ms for the supernodal factor (CPU time, one core), and the
-  // per-frame path is dominated by it.
+  // Factorization of the Poisson system. Simplicial by default: its 3-column back-substitution,
+  // which dominates the per-frame path, is faster than the supernodal factor's on a body-sized
+  // mesh (tools/interp-poses/README.md, "Speed and accuracy").
   CholmodOptions solver = {CholmodOptions::Method::simplicial};
 };
 
