@@ -1,9 +1,8 @@
 #pragma once
 // Decimation of a closed, oriented triangle mesh to a vertex budget by quadric-error edge collapse
-// (Garland and Heckbert, "Surface simplification using quadric error metrics", SIGGRAPH 1997), plus
-// an edge-length term that keeps triangles well shaped. A collapse is refused when it would break
-// the link condition (the end points share exactly the two opposite vertices) or turn a triangle
-// by more than `max_normal_turn`. Ties go by vertex ids.
+// (Garland and Heckbert, "Surface simplification using quadric error metrics", SIGGRAPH 1997) plus
+// an edge-length term for well-shaped triangles. A collapse keeps the link condition (the end points
+// share exactly the two opposite vertices) and turns no normal past `max_normal_turn`; ties by ids.
 #include <Eigen/Core>
 
 #include "io/mesh.h"
@@ -18,8 +17,8 @@ struct SimplifyOptions {
   double max_normal_turn = 30.0;
 };
 
-// Returns the mesh with at most `target_vertices` vertices (fewer only if no
-// valid collapse is left). Surviving vertices keep their relative order.
+// The mesh with at most `target_vertices` vertices (fewer only if no valid collapse is left);
+// surviving vertices keep their relative order.
 Mesh simplify_mesh(const Mesh& mesh, int target_vertices, const SimplifyOptions& options = {});
 
 }  // namespace gp

@@ -144,8 +144,7 @@ struct VelocityConstraint {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitY();
   double normal_velocity = 0.0;
   // True when the vertex touches or penetrates (a new contact); false for a vertex merely near the
-  // body, which is constrained only while it stays in contact from the previous (sub)step (so a
-  // released vertex can leave).
+  // body, constrained only while in contact since the previous (sub)step (a released one can leave).
   bool touching = true;
 };
 // Called at the start of each (sub)step with the positions X (#V by 3) and the (sub)step size h

@@ -42,8 +42,7 @@ struct SubMesh {
 };
 SubMesh face_subset(const Mesh& m, const std::vector<int>& face_ids);
 
-// Largest edge length in X over the same edge's length in V_rest (faces F): a
-// tear shows as a value far above the material's stretch.
+// Largest edge length in X over its length in V_rest (faces F): a tear shows far above the stretch.
 double max_edge_stretch(const Eigen::MatrixXd& X, const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F);
 
 // `count` vertex ids of V around the ring where the plane (`center`, `normal`) cuts it: at each of
