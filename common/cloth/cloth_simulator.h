@@ -173,17 +173,15 @@ class ClothSimulator {
   void set_rest_triangles(const std::vector<TriangleRest>& triangles);
   // Pinned vertex ids (distinct, in range); their targets start at their positions.
   void set_pinned(const std::vector<int>& pinned_ids);
-  // Positions the pinned vertices reach at the end of the next step (#pinned by 3, in the order of
-  // set_pinned).
+  // Positions the pinned vertices reach at the end of the next step (#pinned by 3, set_pinned's order).
   void set_pin_targets(const Eigen::MatrixXd& targets);
   void set_positions(const Eigen::MatrixXd& X);
   void set_velocities(const Eigen::MatrixXd& Vel);
   void set_collision_handler(CollisionHandler handler);
   void set_contact_handler(ContactHandler handler);
   void set_step_end_handler(StepEndHandler handler);
-  // Scales every damping coefficient of the material (stretch, shear, bending) from the next step
-  // on; 1 restores the material's damping. Used to relax the cloth to its static equilibrium while
-  // the body stands still.
+  // Scales every damping coefficient (stretch, shear, bending) from the next step on; 1 restores
+  // the material's. Relaxes the cloth to its static equilibrium while the body stands still.
   void set_damping_scale(double scale);
 
   // Advances by options().dt (possibly in halved substeps). Throws NumericalError when even the
