@@ -1,5 +1,5 @@
 #pragma once
-// Scenes for the hard-case tests of simulate-adapt (issue 8, item 3), built
+// Scenes for the hard-case tests of simulate-adapt, built
 // the way a user builds them: a generated body (make-avatar, ~2,000 vertices)
 // and a small short-sleeved top on it (make-garment: neck loop pinned, waist
 // hem and upper-arm sleeve ends free, about 350 vertices, 1 cm comfort offset).

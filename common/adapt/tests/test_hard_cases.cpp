@@ -1,4 +1,4 @@
-// Hard cases for the adaptation and the motion run (issue 8, item 3), at the
+// Hard cases for the adaptation and the motion run, at the
 // library level: a collapsed simulated triangle inside a stretched mesh (the
 // pseudo-inverse path through the whole adapter), a garment starting partly
 // inside a generated body, a pose change in a single frame, and a time step

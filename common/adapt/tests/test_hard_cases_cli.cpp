@@ -1,4 +1,4 @@
-// Hard cases for simulate-adapt as a user runs it (issue 8, item 3): a pose
+// Hard cases for simulate-adapt as a user runs it: a pose
 // change in one frame, a body in centimetres, a 1.25 m and a 2.00 m body, and
 // a pose with a registration error in a hand-written manifest. Each test
 // states its expectation; figures measured on this machine are in the
@@ -188,7 +188,7 @@ TEST_CASE("a hand-written pose manifest over centimetre files is not silently si
   // naming the field: the manifest holds metres only); without a units
   // field the garment (metres) and the body (centimetres) disagree by a
   // factor 100: exit 5 with a message about the units (load_pose_set
-  // refuses poses spanning more than 5 m). Found by this test (issue 8): the
+  // refuses poses spanning more than 5 m). Found by this test: the
   // run used to stop at the first step with exit 6 "vertex speed above
   // 20 m/s", which does not say what is wrong.
   const hc::Scene& scene = hc::default_scene();
@@ -316,7 +316,7 @@ TEST_CASE("a pose with a registration error in a hand-written manifest", "[cli][
 }
 
 TEST_CASE("simulate-adapt rejects a hand-written pose set with a registration error", "[cli][hard][body]") {
-  // Found by the test above (issue 8): simulate-adapt trusted the manifest
+  // Found by the test above: simulate-adapt trusted the manifest
   // and fitted the spikes of thrown vertices into the rest shape. Expectation:
   // exit 5 (invalid geometry) naming the pose, by register-check's edge-ratio
   // test (its default limit 8) on the poses the motion uses.
