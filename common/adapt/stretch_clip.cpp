@@ -17,53 +17,7 @@ Eigen::Matrix3d face_positions(const Eigen::MatrixXd& V, const Eigen::MatrixXi& 
   return X;
 }
 
-void check_rest_triangle(const Eigen::Matrix3d& X_rest) {
-  const Eigen::Vector3d e1 = X_rest.col(1) - X_rest.col(0), e2 = X_rest.col(2) - X_rest.col(0);
-  const double longest2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (e2 - e1).squaredNorm()});
-  if (!X_rest.allFinite() || !(e1.cross(e2).norm() >= 1e-12 * longest2) || !(longest2 > 0.0)) {
-    throw GeometryError("degenerate (zero-area) rest triangle");
-  }
-}
-
 }  // namespace
-
-Eigen::Matrix2d triangle_frame_edges(const Eigen::Matrix3d& X) {
-  const Eigen::Vector3d e1 = X.col(1) - X.col(0), e2 = X.col(2) - X.col(0);
-  const double l1 = e1.norm();
-  Eigen::Matrix2d D;
-  if (l1 > 0.0) {
-    const Eigen::Vector3d u = e1 / l1;
-    D << l1, e2.dot(u), 0.0, e2.cross(u).norm();
-  } else {
-    // x1 on x0: the triangle is at most a segment along e2.
-    D << 0.0, e2.norm(), 0.0, 0.0;
-  }
-  return D;
-}
-
-Eigen::Matrix2d deformation_gradient(const Eigen::Matrix3d& X_rest, const Eigen::Matrix3d& X_sim) {
-  check_rest_triangle(X_rest);
-  const Eigen::Matrix2d D_rest = triangle_frame_edges(X_rest);
-  // D_rest is upper triangular with a positive diagonal: invert directly.
-  Eigen::Matrix2d D_inv;
-  D_inv << 1.0 / D_rest(0, 0), -D_rest(0, 1) / (D_rest(0, 0) * D_rest(1, 1)), 0.0, 1.0 / D_rest(1, 1);
-  return triangle_frame_edges(X_sim) * D_inv;
-}
-
-Eigen::MatrixXd principal_stretches(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V_sim,
-                                    const Eigen::MatrixXi& F) {
-  Eigen::MatrixXd S(F.rows(), 2);
-  for (int f = 0; f < F.rows(); ++f) {
-    Eigen::Matrix2d G;
-    try {
-      G = deformation_gradient(face_positions(V_rest, F, f), face_positions(V_sim, F, f));
-    } catch (const GeometryError& e) {
-      throw GeometryError(e.what(), "face " + std::to_string(f));
-    }
-    S.row(f) = Eigen::JacobiSVD<Eigen::Matrix2d>(G).singularValues().transpose();
-  }
-  return S;
-}
 
 Eigen::Matrix2d clipped_target(const Eigen::Matrix2d& D_rest, const Eigen::Matrix2d& F, double delta,
                                double hysteresis) {

@@ -2,12 +2,7 @@
 // Per-triangle stretch measure and clipped rest targets (Wolff et al. 2023,
 // appendix A).
 //
-// Every 3D triangle is laid out in its own 2D frame: x0 at the origin, the edge
-// x0->x1 along the first axis, x2 with a non-negative second coordinate. Its
-// edge matrix D = [x1-x0, x2-x0] in that frame is upper triangular with
-// det D >= 0. The deformation gradient from a rest triangle to a simulated one is
-// the 2x2 matrix F = D_sim D_rest^-1; its singular values are the principal
-// stretches (rotation invariant, independent of the frames).
+// The principal stretches and the triangle frames are mesh/principal_stretches.h.
 //
 // Clipping: with F = U S V^T and S = diag(s1, s2), the clipped gradient is
 // G = U min(S, 1+delta) V^T, and the target rest triangle is G^-1 D_sim =
@@ -21,19 +16,9 @@
 
 #include <Eigen/Core>
 
+#include "mesh/principal_stretches.h"
+
 namespace gp::adapt {
-
-// 2D edge matrix [x1-x0, x2-x0] of the triangle X = [x0 x1 x2] (columns, metres)
-// in its own frame (upper triangular, det >= 0; zero rows for collapsed edges).
-Eigen::Matrix2d triangle_frame_edges(const Eigen::Matrix3d& X);
-
-// F = D_sim D_rest^-1. Throws GeometryError for a zero-area rest triangle
-// (2 A / longest edge^2 < 1e-12).
-Eigen::Matrix2d deformation_gradient(const Eigen::Matrix3d& X_rest, const Eigen::Matrix3d& X_sim);
-
-// Singular values (descending) of F for every face: #F by 2.
-Eigen::MatrixXd principal_stretches(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V_sim,
-                                    const Eigen::MatrixXi& F);
 
 // Target rest edge matrix (2D, columns t1-t0, t2-t0) from the rest edge matrix
 // D_rest and the deformation gradient F: when the largest principal stretch is

@@ -13,6 +13,7 @@
 #include "core/math.h"
 #include "linalg/cholmod_solver.h"
 #include "mesh/measures.h"
+#include "mesh/principal_stretches.h"
 #include "mesh/topology.h"
 
 namespace gp {
@@ -290,22 +291,14 @@ bool repair_flips(const Eigen::MatrixXi& F, const std::vector<std::vector<int>>&
 
 }  // namespace
 
-Eigen::MatrixXd principal_stretches(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                                    const Eigen::MatrixXd& UV) {
+Eigen::MatrixXd flattening_stretches(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                     const Eigen::MatrixXd& UV) {
   const std::vector<LocalTriangle> T = local_triangles(V, F);
   Eigen::MatrixXd S(F.rows(), 2);
   for (int f = 0; f < F.rows(); ++f) {
     const LocalTriangle& t = T[static_cast<size_t>(f)];
-    if (t.degenerate) {
-      S.row(f) << 1.0, 1.0;
-      continue;
-    }
-    const Eigen::Matrix2d J = jacobian(t, UV, F.row(f));
-    // Closed-form singular values of a 2x2 matrix.
-    const double e = 0.5 * (J(0, 0) + J(1, 1)), ff = 0.5 * (J(0, 0) - J(1, 1));
-    const double g = 0.5 * (J(1, 0) + J(0, 1)), h = 0.5 * (J(1, 0) - J(0, 1));
-    const double q = std::sqrt(e * e + h * h), r = std::sqrt(ff * ff + g * g);
-    S.row(f) << q + r, std::abs(q - r);
+    S.row(f) = t.degenerate ? Eigen::RowVector2d(1.0, 1.0)
+                            : singular_values_2x2(jacobian(t, UV, F.row(f))).transpose();
   }
   return S;
 }
@@ -318,7 +311,7 @@ DistortionStats distortion_stats(const Eigen::MatrixXd& V, const Eigen::MatrixXi
     area[f] = T[static_cast<size_t>(f)].area;
     area_2d[f] = signed_area_2d(UV, F.row(f));
   }
-  return distortion_stats(principal_stretches(V, F, UV), area, area_2d);
+  return distortion_stats(flattening_stretches(V, F, UV), area, area_2d);
 }
 
 DistortionStats distortion_stats(const Eigen::MatrixXd& S, const Eigen::VectorXd& area_3d,

@@ -71,11 +71,11 @@ struct DistortionStats {
   int flipped_triangles = 0;     // flat triangles with area <= 0
 };
 
-// Singular values (s1, s2), s1 >= s2, of the Jacobian of every triangle, #F by 2.
-// V is #V by 3 (metres), F is #F by 3, UV is #V by 2 (metres). Degenerate 3D
-// triangles (zero area) get (1, 1).
-Eigen::MatrixXd principal_stretches(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                                    const Eigen::MatrixXd& UV);
+// Principal stretches (s1 >= s2) of the flattening of every triangle, #F by
+// 2 (mesh/principal_stretches.h). V is #V by 3 (metres), F is #F by 3, UV is
+// #V by 2 (metres). Degenerate 3D triangles (zero area) get (1, 1).
+Eigen::MatrixXd flattening_stretches(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                     const Eigen::MatrixXd& UV);
 
 DistortionStats distortion_stats(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                  const Eigen::MatrixXd& UV);

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/math.h"
 #include "mesh/measures.h"
+#include "mesh/principal_stretches.h"
 #include "mesh/topology.h"
 
 namespace gp {
@@ -58,7 +59,7 @@ RestShapeDiagnostics diagnose_rest_shape(const Eigen::MatrixXd& V_design, const 
     area_rest += ar;
     design_area[static_cast<size_t>(f)] = ad;
     if (!ok_d || !ok_r) continue;
-    growth[static_cast<size_t>(f)] = Eigen::JacobiSVD<Eigen::Matrix2d>(Pr * Pd.inverse()).singularValues()[0];
+    growth[static_cast<size_t>(f)] = singular_values_2x2(Pr * Pd.inverse())(0);
     if (nd.dot(nr) < 0.0) {
       ++d.turned_faces;
       area_turned += ar;

@@ -5,7 +5,6 @@
 #include <fstream>
 #include <sstream>
 
-#include "adapt/stretch_clip.h"
 #include "core/atomic_file.h"
 #include "core/base64.h"
 #include "core/error.h"
@@ -14,6 +13,7 @@
 #include "io/gltf_writer.h"
 #include "io/mesh_io.h"
 #include "mesh/measures.h"
+#include "mesh/principal_stretches.h"
 #include "pose/pose_set.h"
 #include "render/colour_scale.h"
 #include "render/png_file.h"
@@ -54,7 +54,7 @@ Drape read_drape(const fs::path& path, const Eigen::MatrixXi& F, const Eigen::Ma
   if (const ScalarField* f = find_field(read.mesh.face_fields, "max_stretch"))
     d.stretch = f->values;
   else
-    d.stretch = adapt::principal_stretches(V_rest, d.V, F).col(0);
+    d.stretch = principal_stretches(V_rest, d.V, F).col(0);
   return d;
 }
 

@@ -17,6 +17,7 @@
 #include "mesh/measures.h"
 #include "testing/test_meshes.h"
 
+using namespace gp;
 using namespace gp::adapt;
 
 namespace {

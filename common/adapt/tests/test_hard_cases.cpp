@@ -27,6 +27,7 @@
 #include "pose/pose_set.h"
 #include "testing/test_meshes.h"
 
+using namespace gp;
 using namespace gp::adapt;
 using gp::testing::max_edge_stretch;
 namespace hc = gp::hard_cases;
