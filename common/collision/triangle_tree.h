@@ -1,13 +1,8 @@
 #pragma once
-// Exact segment queries against a fixed set of triangles, for the checks that
-// must not miss or invent an intersection (crossings.h): a CGAL AABB tree over
-// the triangles culls by bounding boxes, and every candidate is decided with
-// exact predicates (CGAL's Epick kernel: filtered interval arithmetic, exact
-// fallback). Triangles and segments are closed sets, so touching counts.
-//
-// Degenerate triangles (three collinear corners) and segments (both ends
-// equal) are legal input: CGAL's triangle/segment test requires neither, so
-// they are decided as the segments or points they are.
+// Exact segment queries against fixed triangles, for checks that must not
+// miss or invent an intersection (crossings.h): a CGAL AABB tree culls, and
+// CGAL's Epick predicates decide. Closed sets, so touching counts; degenerate
+// triangles and segments are decided as the segments or points they are.
 #include <memory>
 #include <vector>
 

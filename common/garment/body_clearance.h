@@ -1,29 +1,18 @@
 #pragma once
-// A designed garment that starts outside the body: where the garment passes
-// through the body (a skirt cone through the hips or a hand, a band through a
-// thigh), it is pushed out until it is clear, at the comfort offset where
-// there is room.
+// A designed garment that starts outside the body: where it passes through
+// the body (a skirt through a hand, a band through a thigh) it is pushed out,
+// to the comfort offset where there is room.
 //
-// Where the surfaces meet is found exactly (collision/crossings.h): garment
-// vertices inside the body or closer than the offset, and the points where a
-// body edge passes through a garment triangle or a garment edge through a body
-// triangle. Each of these points belongs to the body part it meets: points
-// whose nearest body vertices lie within `part_radius` of each other along
-// the body's edges are one part (the fingers and palm of a hand; a hand and
-// the hip beside it are far apart along the body, so they are two). Every
-// part ends on one side of the garment: the side where most of it lies (by
-// the garment's winding number at its body vertices: the hips inside a
-// skirt, a hand beside it outside), or where that is undecided the side
-// that needs the smaller pushes; it keeps that side in later rounds. A skirt
-// through a hand thus ends with the hand on one side of it, never wrapped
-// half around it. Each point then asks for a displacement along the
-// garment's normal, on its part's side, into its free stretch: at least the
-// offset from the body, or the middle of a narrower gap, never through a
-// second body part. The garment moves as a membrane that meets all these
-// asks and fades out over `spread` around them (a smooth dent or bulge that
-// keeps the triangles' shape). Rounds repeat until the garment is clear or
-// `max_rounds`, and the best round's garment (fewest crossings and vertices
-// inside) is kept. Fixed vertices (loops bound to the body) never move.
+// The meeting points are found exactly (collision/crossings.h) and grouped
+// into body parts (points whose nearest body vertices lie within
+// `part_radius` along the body's edges: a hand, not a hand and the hip
+// beside it). Each part stays on one side of the garment: where most of it
+// lies by the garment's winding number, else the side of the smaller pushes;
+// so a skirt never wraps half around a hand. Each point asks for a push along
+// the garment's normal to the offset, or the middle of a narrower gap, never
+// through a second part; the garment moves as a membrane meeting all asks
+// and fading out over `spread`. Rounds repeat up to `max_rounds`; the best
+// round is kept. Fixed vertices (bound loops) never move.
 #include <vector>
 
 #include <Eigen/Core>
@@ -35,23 +24,16 @@ namespace gp {
 
 struct BodyClearanceOptions {
   double offset = 0.0;        // m: clearance wanted where there is room (the comfort offset)
-  // m: clearance below which a vertex counts as touching, also the target of
-  // a garment with offset 0 (a surface on the body would touch it everywhere).
-  double min_clearance = 1e-3;
+  double min_clearance = 1e-3;  // m: touching below this; the target of a garment with offset 0
   double tolerance = 1e-4;    // m: a vertex this much closer than the offset is left alone (rounding of the offset)
-  // m: longest push searched for: through a hand or a wrist, not through a
-  // thigh or the torso.
-  double search = 0.05;
+  double search = 0.05;       // m: longest push searched (through a hand, not a thigh)
   double search_step = 1e-3;  // m: step of that search
-  // m: length over which a push fades into the garment around it (the
-  // membrane's decay length, see clear_body).
-  double spread = 0.04;
+  double spread = 0.04;       // m: the membrane's decay length around a push
   int membrane_iterations = 300;  // Jacobi steps of the displacement per round
   double part_radius = 0.06;  // m: places this close along the body are one body part
   int max_rounds = 8;
-  // false: a garment that nothing passes through is returned as it is, even
-  // where vertices lie closer than the offset (make-garment, whose offset
-  // already put every vertex as far out as there is room).
+  // false: a garment that nothing passes through is returned as it is
+  // (make-garment, whose offset already placed every vertex).
   bool improve_clear = true;
 };
 

@@ -32,16 +32,12 @@ struct ComfortOffsetStats {
   double max_above = 0.0;   // max over vertices of distance to body - offset (0 if none is farther), metres
 };
 
-// Moves each vertex of V (#V by 3, on or near the body) to distance `offset`
-// from the body: first along the body's normal field N_body (#Vb by 3,
-// per-vertex normals, interpolated at the closest body point), then by
-// closest-point corrections x <- c + offset * s (x - c) / |x - c| with c the
-// closest body point (CGAL AABB tree in `body`) and s = -1 for a point inside
-// the body (signed by pseudo-normals, collision/body_collider.h), +1 outside,
-// which converge to the exact distance outside the body even in concave
-// places where the normal offset comes too close to, or into, another body
-// part. Vertices with fixed[v] != 0 are left alone (their distance is still
-// measured). Returns the distance errors.
+// Moves each vertex of V (#V by 3, near the body) to distance `offset`: along
+// the body's normal field N_body (#Vb by 3) first, then by closest-point
+// corrections x <- c + offset s (x - c) / |x - c| (s = -1 inside the body by
+// pseudo-normals, +1 outside), which converge to the exact distance even where
+// the normal offset runs into another body part. fixed[v] != 0: left alone
+// but measured. Returns the distance errors.
 ComfortOffsetStats apply_comfort_offset(Eigen::MatrixXd& V, const SurfaceLocator& body,
                                         const Eigen::MatrixXd& N_body,
                                         const ComfortOffsetOptions& options,
@@ -50,31 +46,22 @@ ComfortOffsetStats apply_comfort_offset(Eigen::MatrixXd& V, const SurfaceLocator
 // Distance errors | distance to body - offset | of every vertex of V.
 ComfortOffsetStats measure_offset(const Eigen::MatrixXd& V, const SurfaceLocator& body, double offset);
 
-// The comfort-offset surface with its creases rounded off: the boundary of
-// the morphological closing, by a ball of radius R (`fillet_radius`), of the
-// region within `offset` of the body (Serra, "Image Analysis and Mathematical
-// Morphology", 1982, ch. 2). Where two body parts come closer than twice the
-// offset (the armpit of an A-pose), the exact-distance surface {d = offset}
-// has a sharp crease and the body inside the pinch has no image on it, so a
-// mesh projected onto it folds and its triangles collapse onto the crease.
-// The closed surface is the set of points at distance R, on the body's side,
-// from the surface {d = offset + R}: the exact offset surface wherever the
-// body's concave radius of curvature exceeds offset + R, a round fillet of
-// radius R across narrower creases, and never closer than `offset` to the
-// body. The surface {d = offset + R} is sampled by the body mesh with its
-// vertices moved to that distance (apply_comfort_offset with solve_creases);
-// vertices that do not reach it and faces that cut through the pinch are left
-// out. Where the sampled surface dips below the offset (chords on convex
-// parts, about (edge length)^2 / (8 radius)) the exact closest-point
-// correction holds the offset.
+// The comfort-offset surface with its creases rounded: the boundary of the
+// morphological closing, by a ball of radius R (`fillet_radius`), of the
+// region within `offset` of the body (Serra 1982, ch. 2). In a pinch narrower
+// than twice the offset (an A-pose armpit) the exact surface {d = offset} has
+// a crease that a projected mesh folds into. The closed surface is at
+// distance R, on the body's side, from {d = offset + R}: exact where the
+// body's concave radius exceeds offset + R, a fillet of radius R across
+// narrower creases, never closer than `offset`. {d = offset + R} is sampled
+// by the body mesh moved out (apply_comfort_offset with solve_creases),
+// leaving out vertices that do not reach it and faces through the pinch; an
+// exact closest-point correction holds the offset where its chords dip.
 class OffsetSurface {
  public:
-  // body: the body's locator, N_body its per-vertex normals (#Vb by 3); both
-  // must outlive this object. offset >= 0 and fillet_radius >= 0 in metres;
-  // fillet_radius 0 gives the exact offset surface. near (#Vb or empty): the
-  // body vertices whose offset + R points are needed, those within about
-  // 3 (offset + R) of where the surface is used (empty: all; building them
-  // costs a few closest-point queries each).
+  // body and N_body (#Vb by 3 vertex normals) must outlive this object.
+  // offset, fillet_radius >= 0 (m; radius 0: the exact surface). near (#Vb or
+  // empty for all): the body vertices whose outer points are needed.
   OffsetSurface(const SurfaceLocator& body, const Eigen::MatrixXd& N_body, double offset,
                 double fillet_radius, const ComfortOffsetOptions& correction = {},
                 const std::vector<char>& near = {});
@@ -82,13 +69,9 @@ class OffsetSurface {
   OffsetSurface(const OffsetSurface&) = delete;
   OffsetSurface& operator=(const OffsetSurface&) = delete;
 
-  // The point of the surface for x: through x from the nearest point of the
-  // outer surface {d = offset + R} for x between it and the body; from the
-  // closest body point for x inside the body or beyond the outer surface.
-  // A body point x goes to the surface point over it, continuously across a
-  // pinch (torso and arm sides of an armpit stay apart, in order). Without
-  // fillet: one closest-point step onto the exact surface (apply_comfort_offset
-  // iterates it).
+  // The surface point for x: from the nearest outer-surface point for x
+  // between the outer surface and the body, else from the closest body
+  // point; continuous across a pinch. Without fillet: one closest-point step.
   Eigen::Vector3d project(const Eigen::Vector3d& x) const;
 
   double offset() const { return offset_; }

@@ -1,8 +1,6 @@
 #pragma once
-// The garment file (schema "garment/1"), written by make-garment and
-// extend-boundary and read by the simulation and export stages. It sits next to
-// the garment mesh and records everything about the garment that the mesh
-// cannot hold:
+// The garment file (schema "garment/1"), beside the garment mesh: what the
+// mesh cannot hold. Written by make-garment and extend-boundary.
 //
 //   {
 //     "schema": "garment/1",
@@ -82,9 +80,8 @@ struct GarmentBodyInfo {
   long long vertex_count = 0;
   long long face_count = 0;
   std::string topology_sha256;
-  // gp::vertex_checksum of the design pose's vertices, so that a later stage
-  // can tell that a pose set's pose of that name is the same body. Empty in
-  // files written before it was recorded (optional on reading).
+  // gp::vertex_checksum of the design pose, to tell that a pose set's pose of
+  // that name is the same body (optional on reading).
   std::string design_pose_sha256;
 };
 

@@ -1,19 +1,15 @@
 #pragma once
-// Tool T1, second half: the closed edge paths are smoothed into curves lying on
-// the body surface and the body is cut exactly along them; the part holding the
-// region point becomes the garment region.
+// Tool T1, second half: the closed edge paths smoothed into curves on the
+// body, and the body cut exactly along them; the part holding the region
+// point is the garment region.
 //
-// Method (a deliberate choice over tracing a smoothed polyline across faces):
-// the side of every body vertex is encoded as phi = +1 inside the region (found
-// by a face flood fill that may not cross the edge paths), -1 outside and 0 on
-// the paths. phi
-// is smoothed by Jacobi diffusion in a band of rings around the paths, and the
-// curve is the zero level set of the piecewise-linear phi. This smooths the
-// jagged edge path like a curve-shortening flow, and the result is by
-// construction closed, free of self-crossings and exactly on the surface: each
-// curve point lies on a body edge, consecutive points share a body face, so the
-// curve is a polyline of chords inside faces, stored as face + barycentric
-// coordinates and valid in every pose.
+// The side of every body vertex is phi = +1 inside (a face flood fill that
+// does not cross the paths), -1 outside, 0 on the paths; phi is smoothed by
+// Jacobi diffusion in a band around the paths and the curve is its zero
+// level set. That smooths like a curve-shortening flow and is by
+// construction closed, free of self-crossings and on the surface: chords
+// inside body faces, stored as face + barycentric coordinates, valid in
+// every pose.
 #include <string>
 #include <vector>
 #include <Eigen/Core>

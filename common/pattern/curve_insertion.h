@@ -1,10 +1,8 @@
 #pragma once
-// Refining a triangle mesh so that curves through its triangles
-// (surface_curve.h) become edge paths: every curve point on an edge splits
-// the edge, every point inside a face is added to it, and every face a curve
-// crosses is retriangulated with the curve's chords as constraints (a
-// constrained triangulation of the face's points in the face's own
-// plane, CGAL). The refined mesh lies exactly on the input surface.
+// A triangle mesh refined so that curves through its triangles
+// (surface_curve.h) become edge paths: curve points split edges or are added
+// to faces, and crossed faces are retriangulated with the chords as
+// constraints (CGAL, in the face's plane). The result lies on the input.
 #include <vector>
 #include <Eigen/Core>
 
@@ -22,18 +20,13 @@ struct RefinedMesh {
   std::vector<std::vector<int>> carried;  // per carried path: the same path with the new points on its edges
 };
 
-// V #V by 3, F #F by 3 (edge-manifold, consistently oriented). `curves`
-// (surface_curve.h) may share points (the same vertex, the same point of an
-// edge or of a face) but must not cross inside a face. Points that coincide
-// exactly become one vertex: an edge point at t = 0 or 1 is that end, a face
-// point with a zero barycentric coordinate is the point of that edge (or
-// corner), and points that still coincide in their face's plane (the same
-// face point given twice) are merged into the lowest id. `carried` are edge paths of the
-// input mesh (e.g. curves inserted earlier) that are returned with the
-// points that now split their edges. New vertices are numbered in a
-// deterministic order (edge points by edge and position, then face points).
-// Throws GeometryError when two curves cross inside a face, a curve leaves
-// the mesh (consecutive points share no face) or crosses a degenerate face.
+// V #V by 3, F #F by 3 (edge-manifold, oriented). `curves` may share points
+// but not cross inside a face; coinciding points (t = 0 or 1 on an edge, a
+// zero barycentric coordinate, the same face point twice) become one vertex,
+// the lowest id. `carried` edge paths come back with the points now on their
+// edges. New vertices are numbered deterministically (edge points by edge
+// and position, then face points). Throws GeometryError when curves cross in
+// a face, a curve leaves the mesh or crosses a degenerate face.
 RefinedMesh insert_curves(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SurfaceCurve>& curves,
                           const std::vector<std::vector<int>>& carried = {});
 

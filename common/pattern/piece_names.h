@@ -1,14 +1,10 @@
 #pragma once
-// Names of the pattern's pieces after the part of the body they cover, in
-// the body's frame (+y up, +z the body's front, +x its left; the rest shape's
-// coordinates): "front", "back", "left front", "centre back", "left sleeve
-// front", ... A piece is a sleeve when most of its area lies on a limb (the
-// faces beyond an armhole); it faces front, back or sideways by its
-// area-weighted normal; it is left, right or centre by its centroid against
-// the garment's; two pieces that would share a name are told apart by
-// "front" and "back" or "upper" and "lower" (along the axis on which they
-// lie farther apart, chosen alike for a piece and its mirror image), then by
-// a number. A sleeve's parts are its front and back by their centroids.
+// Pieces named after the body part they cover, in the body's frame (+y up,
+// +z front, +x the body's left): "front", "left sleeve front", ... A sleeve
+// has most of its area beyond an armhole; a piece faces front, back or
+// sideways by its area-weighted normal and is left, right or centre by its
+// centroid. Equal names are told apart by front/back or upper/lower (the axis
+// on which they lie farther apart, alike for mirror images), then a number.
 #include <string>
 
 #include "pattern/pattern.h"

@@ -13,13 +13,11 @@ using Polygon2 = std::vector<Eigen::Vector2d>;
 // than `tolerance` (metres) to the simplified outline. Keeps at least 3.
 Polygon2 simplify_polygon(const Polygon2& polygon, double tolerance);
 
-// The outward offset of a simple counter-clockwise polygon by `distance`
-// (metres, > 0), simplified first by `simplify_tolerance`. Returns the offset
-// outline(s), counter-clockwise. An outline that touches or crosses itself
-// (dart sides that meet) is offset without its loops (each crossing cuts off
-// the part with less area). Corners whose mitre would reach farther than
-// twice the allowance from the outline are bevelled. Throws GeometryError naming `what` if the
-// skeleton cannot be built.
+// The outward offset by `distance` (metres, > 0) of a simple counter-clockwise
+// polygon simplified by `simplify_tolerance`; outlines counter-clockwise. A
+// self-touching outline (meeting dart sides) loses the smaller loop at each
+// crossing; mitres longer than twice the allowance are bevelled. Throws
+// GeometryError naming `what` when the skeleton cannot be built.
 std::vector<Polygon2> offset_polygon(const Polygon2& polygon, double distance, double simplify_tolerance,
                                      const std::string& what);
 
