@@ -308,12 +308,19 @@ void write_export_rest(const ExportRestResult& result, const ExportRestOptions& 
   write_file_atomic(dir / "pieces.obj", [&](std::ostream& s) { write_pieces_obj(s, pattern, layout); }, false);
   write_file_atomic(dir / "seams.obj", [&](std::ostream& s) { write_seams_obj(s, pattern); }, false);
   write_mesh(dir / "pieces_flat.ply", flat_pieces_mesh(pattern, layout));
-  OrderedJson timing = result.timing;
+  // Flat like the other stages' timing.json: seconds under "<phase>_s", the total last.
+  OrderedJson timing;
+  timing["schema"] = schema_tag("timing", 1);
+  timing["tool"] = "export-rest";
+  for (auto it = result.timing.begin(); it != result.timing.end(); ++it) {
+    if (it.key() != "total") timing[it.key() + "_s"] = it.value();
+  }
   if (result.sewn_fit_done) {
-    timing["sewn_fit_simulation"] = result.sewn_fit.verification.seconds;
+    timing["sewn_fit_simulation_s"] = result.sewn_fit.verification.seconds;
     timing["sewn_fit_steps"] = result.sewn_fit.verification.steps;
   }
-  write_json_file(dir / "timing.json", {{"schema", schema_tag("timing", 1)}, {"seconds", timing}});
+  if (result.timing.contains("total")) timing["total_s"] = result.timing["total"];
+  write_json_file(dir / "timing.json", timing);
   write_json_file(dir / "report.json", export_rest_report(result, options));
 }
 

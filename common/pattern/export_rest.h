@@ -53,7 +53,7 @@ struct ExportRestResult {
   SewnFitResult sewn_fit;
   // Whether the pattern fails the sewn-fit check (the stage then exits 8).
   bool sewn_fit_failed() const { return sewn_fit_done && (!sewn_fit_error.empty() || !sewn_fit.passed()); }
-  OrderedJson timing;          // seconds per phase
+  OrderedJson timing;          // seconds per phase; "total" (set by the caller) ends timing.json
   std::vector<std::string> warnings;
 };
 
