@@ -50,17 +50,20 @@ REPORT_FLAGS   ?=
 # and each key pose's figures.
 QUIET   ?= --quiet
 SIMULATE_QUIET ?=
-# Threads of every stage. simulate-adapt's own default is 2 where the machine
-# has two cores (a second thread prepares the body frames and adaptations;
-# the outputs are the same for any count), but make fit gives it THREADS too:
+# BLAS/solver threads of every stage but simulate-adapt, which keeps its own
+# default of one (BLAS threads cost more than they save on its matrices), and
+# simulate-adapt's worker threads. Its own --workers default is 2 where the
+# machine has two cores (a second thread prepares the body frames and
+# adaptations; the outputs are the same for any count), but make fit gives it
+# THREADS:
 # on the shared 2-core build machine under load (load average 7-12) two
 # threads were slower, not faster: wall time x1.26 and x1.46 against one
 # thread (small-shirt fit, median of 5 runs interleaved; README.md). On a
-# machine of its own, SIMULATE_THREADS=2 gains the 1.2-1.3x of BENCHMARKS.md.
+# machine of its own, SIMULATE_WORKERS=2 gains the 1.2-1.3x of BENCHMARKS.md.
 THREADS ?= 1
-SIMULATE_THREADS ?= $(THREADS)
+SIMULATE_WORKERS ?= $(THREADS)
 RUN = @echo "fit: $(1)"; $(BIN)/$(1) --threads $(THREADS)
-RUN_SIMULATE = @echo "fit: simulate-adapt"; $(BIN)/simulate-adapt --threads $(SIMULATE_THREADS)
+RUN_SIMULATE = @echo "fit: simulate-adapt"; $(BIN)/simulate-adapt --workers $(SIMULATE_WORKERS)
 
 # Each stage's effective flags are a prerequisite: $(OUT)/flags/<stage> holds
 # them and is rewritten (at parse time) only when they differ, so changing

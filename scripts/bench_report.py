@@ -7,7 +7,7 @@ PHASES = [("forces_assembly", "forces + assembly"), ("factorization", "factoriza
           ("collisions", "collisions"), ("adaptation", "adaptation"), ("body", "body interpolation")]
 # The shirt's full customer motion on the shared body (T -> A -> arms up -> arms
 # bent -> T), measured outside the benchmark with the default options: 36.0 s
-# on one thread (`--threads 1`), 29.4-29.8 s in three runs with two (the
+# on one thread (`--workers 1`), 29.4-29.8 s in three runs with two (the
 # default); the same 1,128 steps and outputs with both. Time steps 1 % longer
 # and shorter took 1,008 and 1,032 steps (26.9 and 27.7 s with two threads).
 FULL_RUN = {"vertices": 3829, "steps": 1128, "seconds_one_thread": 36, "seconds_two_threads": 29.6,
@@ -61,7 +61,7 @@ def sim_section(lines, results, meta, plot):
         f"Each garment moves through one transition of {results['sim_frames']} frames (one simulation step per "
         "frame, adaptation every 8 steps and at the key pose) and stops there: `--settle-max-steps 0`, so these are "
         "steps of a moving body, the situation of the paper's frames per second. " + full_motion_text() +
-        " One thread (`--threads 1`), the default solver and settings. Milliseconds per step: each run's mean over "
+        " One thread (`--workers 1`), the default solver and settings. Milliseconds per step: each run's mean over "
         "its steps (timing.json), median over the runs; `other` is the rest of the step (1000 / steps per second minus the "
         "phases: rejected and retried steps, set-up spread over the steps, stepping logic); steps/s is the stage's "
         "own figure (steps over the stepping time, median over the runs); the wall time adds start-up and output.",
@@ -94,7 +94,7 @@ def threads_section(lines, results):
         return
     lines += [
         "### Two threads", "",
-        "The same motions with `--threads 2`, simulate-adapt's default: a second thread prepares the next body frame "
+        "The same motions with `--workers 2`, simulate-adapt's default: a second thread prepares the next body frame "
         "(interpolation, pin targets, collision tree) and computes each adaptation while the cloth steps (the "
         "adaptation is applied `--adaptation-lag` steps after its positions, 2 by default, with one thread or two "
         "alike). Steps/s: median over the runs; waiting: what the stepping thread spent waiting for the other.",

@@ -178,7 +178,7 @@ class SimBench:
         # (a second run without adaptation, and further cycles while it fails)
         # would mix other work into the step rates and exit 8 on a capped run.
         return [self.run.tool("simulate-adapt"), "--poses", scene.poses_json, "--motion", scene.motion_file(self.run),
-                "--garment", garment, "--settle-max-steps", str(cap), "--threads", str(threads), "--no-verify",
+                "--garment", garment, "--settle-max-steps", str(cap), "--workers", str(threads), "--no-verify",
                 *extra]
 
     def predict(self, vertices, factor, cap):

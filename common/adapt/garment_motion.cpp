@@ -201,9 +201,7 @@ struct GarmentMotion::Impl {
   }
 
   void set_up_cloth(const Eigen::MatrixXd& V_garment) {
-    cloth::SimulatorOptions sim_options = options.solver;
-    sim_options.dt = options.dt;
-    sim.emplace(V_garment, F, parameters_from(garment.material), sim_options);
+    sim.emplace(V_garment, F, parameters_from(garment.material), options.solver);
     sim->set_pinned(pin_ids);
     if (!options.rest_triangles.empty()) sim->set_rest_triangles(options.rest_triangles);
 
@@ -294,7 +292,7 @@ struct GarmentMotion::Impl {
     BodyStage stage;
     stage.V = interpolator.frame(r.from, r.to, r.t);
     stage.targets = pin_targets(stage.V);
-    const Eigen::MatrixXd body_velocity = surface.positions((stage.V - V_previous) / options.dt);
+    const Eigen::MatrixXd body_velocity = surface.positions((stage.V - V_previous) / options.solver.dt);
     stage.seconds = seconds_since(t_stage);
     stage.frame = collider->prepare(surface.positions(stage.V), &body_velocity);
     return stage;
@@ -339,7 +337,7 @@ struct GarmentMotion::Impl {
 
   void advance_offsets() {
     if (ramp_done) return;
-    const double grow = options.initial_push_speed * options.dt;
+    const double grow = options.initial_push_speed * options.solver.dt;
     for (int v = 0; v < offsets.size(); ++v) offsets(v) = std::min(garment.offset, offsets(v) + grow);
     ramp_done = offsets.minCoeff() >= garment.offset;
   }
@@ -452,7 +450,7 @@ struct GarmentMotion::Impl {
            ++window, ++key.settle_steps) {
         step();
       }
-      key.max_net_speed = (sim->positions() - X_check).rowwise().norm().maxCoeff() / (window * options.dt);
+      key.max_net_speed = (sim->positions() - X_check).rowwise().norm().maxCoeff() / (window * options.solver.dt);
       if (!cloth_slow && key.max_net_speed < options.adapt_speed) {
         cloth_slow = true;
         slow_since = key.settle_steps;

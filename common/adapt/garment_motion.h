@@ -35,7 +35,6 @@ namespace gp::adapt {
 // Options of a motion run. Defaults are the project's; the measurements
 // behind them are in common/adapt/README.md.
 struct MotionRunOptions {
-  double dt = 0.01;                   // simulation time step [s] (the paper's 2.5 ms jerks the cloth through a transition)
   int substeps = 1;                   // simulation steps per interpolation frame (paper: one)
   bool adapt = true;                  // false: evaluate the fixed rest shape (--no-adapt)
   // Adapt only while the cloth settles at a key pose (the body still), not
@@ -98,7 +97,7 @@ struct MotionRunOptions {
   // When non-empty (#V by 3): the rest shape the run starts from instead of the
   // design, which stays the reference of the stitching (a later fit cycle).
   Eigen::MatrixXd initial_rest;
-  cloth::SimulatorOptions solver;     // strategy, tolerances (dt is taken from above)
+  cloth::SimulatorOptions solver;     // time step, strategy, tolerances
   // Steps between an adaptation's positions and its application, so that it
   // can run beside those steps on a second thread; 0 applies it at once (the
   // paper). Cut to adapt_every - 1. The adaptation at the end of each key pose

@@ -27,7 +27,7 @@ namespace gp::adapt {
 // hysteresis keeps a garment held stretched by the body (whose stretch returns to
 // the clip value after every adaptation) from hovering just above the limit.
 Eigen::Matrix2d clipped_target(const Eigen::Matrix2d& D_rest, const Eigen::Matrix2d& F, double delta,
-                               double hysteresis = 0.0);
+                               double hysteresis);
 
 struct ClipStats {
   int clipped_faces = 0;      // faces with a principal stretch above 1 + delta
@@ -40,7 +40,7 @@ struct ClipStats {
 // triangles, UsageError for bad sizes or non-positive factors.
 std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V_sim,
                                              const Eigen::MatrixXi& F, double delta,
-                                             const Eigen::VectorXd* area_factors = nullptr,
-                                             ClipStats* stats = nullptr, double hysteresis = 0.0);
+                                             const Eigen::VectorXd* area_factors,
+                                             ClipStats* stats, double hysteresis);
 
 }  // namespace gp::adapt

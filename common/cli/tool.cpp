@@ -52,8 +52,8 @@ void Tool::add_common_options(bool out_required) {
                               "Output folder (created; an existing one is replaced only with --force)");
   if (out_required) out->required();
   app_.add_flag("--force", common_.force, "Replace an existing output folder");
-  app_.add_option("--threads", common_.threads, "Worker threads (BLAS, Eigen)")
-      ->check(CLI::Range(1, 256));
+  app_.add_option("--threads", common_.threads, "Threads of BLAS, CHOLMOD and Eigen [count]")
+      ->capture_default_str()->check(CLI::Range(1, 256));
   app_.add_flag("-q,--quiet", common_.quiet, "Print errors only");
   app_.add_flag("-v,--verbose", common_.verbose, "Print extra detail");
 }

@@ -16,7 +16,7 @@ namespace gp {
 struct CommonOptions {
   std::string out_dir;   // --out: output folder (created; replaced only with --force)
   bool force = false;    // --force: replace an existing output folder
-  int threads = 1;       // --threads: worker threads for BLAS and Eigen
+  int threads = 1;       // --threads: threads of BLAS, CHOLMOD and Eigen
   bool quiet = false;    // --quiet: errors only
   bool verbose = false;  // --verbose: extra detail on stderr
 };

@@ -25,7 +25,7 @@ FitSettings read_fit_settings(const std::filesystem::path& report) {
   s.motion = o.required_string("motion");
   adapt::MotionRunOptions& r = s.run;
   r.adapt = false;
-  r.dt = o.required_number("dt_s", Range::positive());
+  r.solver.dt = o.required_number("dt_s", Range::positive());
   r.substeps = static_cast<int>(o.required_integer("substeps", Range::between(1, 1e6)));
   r.adaptation.delta = o.required_number("delta", Range::non_negative());
   r.settle_speed = o.required_number("settle_speed_m_per_s", Range::positive());

@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
                  "Verification: a key pose fails when more body edges pass through cloth triangles and cloth "
                  "edges through body triangles [count]")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
-  app.add_option("--dt", options.dt, "Simulation time step [s]")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--dt", options.solver.dt, "Simulation time step [s]")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--substeps", options.substeps, "Simulation steps per interpolation frame [count]")
       ->capture_default_str()->check(CLI::Range(1, 1000));
   app.add_option("--adapt-every", options.adapt_every, "Simulation steps between adaptations [count]")
@@ -165,24 +165,19 @@ int main(int argc, char** argv) {
   app.add_option("--hull-min-extent", options.contact_surface.min_extent,
                  "Thin parts with a shorter bounding-box diagonal (ears, the nose) keep their own shape [m]")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
-  // A second thread prepares body frames and adaptations (see --threads),
-  // where the machine has a second core.
-  tool.common().threads = std::thread::hardware_concurrency() >= 2 ? 2 : 1;
+  // A second thread prepares body frames and adaptations, where the machine
+  // has a second core.
+  options.threads = std::thread::hardware_concurrency() >= 2 ? 2 : 1;
+  app.add_option("--workers", options.threads,
+                 "Worker threads of the run: 2 or more prepare the body frames and the lagging adaptations and "
+                 "query half the body contacts on a second thread while the cloth steps; 1 runs everything in "
+                 "turn. The outputs are the same for any count. Default: 2 where the machine has two cores "
+                 "[count]")
+      ->capture_default_str()->check(CLI::Range(1, 256));
   tool.add_common_options();
-  app.get_option("--threads")
-      ->description("Threads: 2 or more prepare the body frames and the lagging adaptations and query half the "
-                    "body contacts on a second thread while the cloth steps; 1 runs everything in turn. The "
-                    "outputs are the same for any count. Default: 2 where the machine has two cores [count]");
 
   return tool.run(argc, argv, [&] {
     const auto start = std::chrono::steady_clock::now();
-    // BLAS and CHOLMOD stay on one thread: their threads cost more than they
-    // save on matrices of this size. Measured on the shared-body shirt (3,829
-    // vertices) through T -> A -> arms up -> arms bent -> T with two BLAS
-    // threads: 22.2 against 10.0 ms per factorization, 46.6 against 33.1 s
-    // for the run (38 s of it system time in the threads' spinning).
-    gp::set_thread_count(1);
-    options.threads = tool.common().threads;
     options.adapt = !no_adapt;
     fit_options.verify = !no_verify;
     options.velocity_contacts = contact == "velocity";
@@ -342,7 +337,7 @@ int main(int argc, char** argv) {
                          {"garment", garment_path},
                          {"adapt", options.adapt},
                          {"other_body", other_body},
-                         {"dt_s", options.dt},
+                         {"dt_s", options.solver.dt},
                          {"substeps", options.substeps},
                          {"adapt_every", options.adapt_every},
                          {"adaptation_lag", gp::adapt::applied_adaptation_lag(options)},
@@ -492,7 +487,8 @@ int main(int argc, char** argv) {
                             {"solve_failed", rc.solve_failed},
                             {"most_inverted_faces", faces}};
     timing["verification_s"] = verification ? verification->seconds : 0.0;
-    timing["threads"] = options.threads;
+    timing["threads"] = tool.common().threads;
+    timing["workers"] = options.threads;
     timing["setup_s"] = t.setup;
     timing["run_s"] = t.total;
     timing["total_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -142,7 +142,7 @@ TEST_CASE("a compressed patch is left alone", "[adapt]") {
   CHECK_FALSE(adapter.adapt(V_sim, V_rest).changed);
   // Single-triangle level: targets equal the rest triangle bit for bit.
   const Eigen::Matrix2d D = triangle_frame_edges(face(grid.V, grid.F, 3));
-  CHECK(clipped_target(D, Eigen::Vector2d(0.5, 0.9).asDiagonal(), 0.1) == D);
+  CHECK(clipped_target(D, Eigen::Vector2d(0.5, 0.9).asDiagonal(), 0.1, 0.0) == D);
 }
 
 TEST_CASE("a zero singular value takes the pseudo-inverse path without NaN", "[adapt]") {
@@ -151,7 +151,7 @@ TEST_CASE("a zero singular value takes the pseudo-inverse path without NaN", "[a
   V_sim.col(0) *= 1.3;
   V_sim.col(2).setZero();  // every triangle collapsed onto the x axis: s = (1.3, 0)
   ClipStats stats;
-  const std::vector<Eigen::Matrix2d> T = clipped_targets(grid.V, V_sim, grid.F, 0.1, nullptr, &stats);
+  const std::vector<Eigen::Matrix2d> T = clipped_targets(grid.V, V_sim, grid.F, 0.1, nullptr, &stats, 0.0);
   CHECK(stats.clipped_faces == grid.F.rows());
   for (const Eigen::Matrix2d& t : T) {
     CHECK(t.allFinite());
@@ -166,7 +166,7 @@ TEST_CASE("a zero singular value takes the pseudo-inverse path without NaN", "[a
   CHECK(r.area_after == Approx(0.09 * 1.3 / 1.1).epsilon(1e-6));
   // A triangle collapsed to a point has F = 0: its target is the rest triangle.
   const Eigen::Matrix2d D = triangle_frame_edges(face(grid.V, grid.F, 0));
-  CHECK(clipped_target(D, Eigen::Matrix2d::Zero(), 0.1) == D);
+  CHECK(clipped_target(D, Eigen::Matrix2d::Zero(), 0.1, 0.0) == D);
   CHECK(deformation_gradient(face(grid.V, grid.F, 0), Eigen::Matrix3d::Zero()).norm() == 0.0);
   // Degenerate rest triangles are rejected.
   Eigen::Matrix3d flat = Eigen::Matrix3d::Zero();
@@ -292,7 +292,9 @@ TEST_CASE("adaptation reaches a fixed point on a settled cloth under gravity", "
   const int n = 16;
   gp::Mesh m = gp::testing::make_grid(n, n, 0.5, 0.5);
   for (int v = 0; v < m.V.rows(); ++v) m.V.row(v) = Eigen::RowVector3d(m.V(v, 0), -m.V(v, 2), 0.0);
-  gp::cloth::ClothSimulator sim(m.V, m.F);
+  gp::cloth::SimulatorOptions paper_step;  // the paper's 2.5 ms, which this test was written for
+  paper_step.dt = 0.0025;
+  gp::cloth::ClothSimulator sim(m.V, m.F, gp::cloth::ClothParameters{}, paper_step);
   sim.set_pinned({0, n});
   RestShapeAdapter adapter(m.V, m.F);
   Eigen::MatrixXd V_rest = m.V;

@@ -15,6 +15,14 @@ using namespace gp::cloth;
 
 namespace {
 
+// The paper's 2.5 ms step, which these tests were written for (the
+// simulator's default is the project's 10 ms).
+SimulatorOptions paper_step() {
+  SimulatorOptions options;
+  options.dt = 0.0025;
+  return options;
+}
+
 // A square cloth of side `size` in the vertical xy plane, top edge at y = 0,
 // hanging down; vertex (i, j) = j*(n+1) + i with j = 0 the top row.
 gp::Mesh hanging_square(int n, double size) {
@@ -35,7 +43,7 @@ struct SettleResult {
 SettleResult settle(double dt, double seconds, SolverStrategy strategy) {
   const int n = 20;
   const gp::Mesh m = hanging_square(n, 0.5);
-  SimulatorOptions options;
+  SimulatorOptions options = paper_step();
   options.dt = dt;
   options.strategy = strategy;
   ClothSimulator sim(m.V, m.F, ClothParameters{}, options);
@@ -81,7 +89,7 @@ TEST_CASE("a cloth pinned at two corners settles without NaN at dt and 4 dt", "[
 TEST_CASE("damping changes the way to the static equilibrium, not the equilibrium", "[simulator]") {
   // The hanging square after 3 s with the material's damping, and with a
   // hundredth of it from 0.5 s on (full damping damps the release first).
-  SimulatorOptions options;
+  SimulatorOptions options = paper_step();
   options.dt = 0.01;
   ClothSimulator damped = hang_square_12(ClothParameters{}, options, 300);
   ClothSimulator light = hang_square_12(ClothParameters{}, options, 50);
@@ -110,7 +118,7 @@ TEST_CASE("solver strategies give the same trajectory", "[simulator]") {
                                         SolverStrategy::refactor_every_step, SolverStrategy::pcg_jacobi};
   long factorizations[3] = {0, 0, 0};
   for (int k = 0; k < 3; ++k) {
-    SimulatorOptions options;
+    SimulatorOptions options = paper_step();
     options.strategy = strategies[k];
     options.cg_tolerance = 1e-10;
     options.cg_max_iterations = 5000;
@@ -133,7 +141,7 @@ TEST_CASE("the membrane-pattern preconditioner changes the cost, not the traject
   Eigen::MatrixXd result[2];
   long iterations[2] = {0, 0};
   for (int k = 0; k < 2; ++k) {
-    SimulatorOptions options;
+    SimulatorOptions options = paper_step();
     options.strategy = SolverStrategy::refactor_every_step;
     options.membrane_pattern_preconditioner = k == 1;
     options.cg_tolerance = 1e-10;
@@ -153,7 +161,7 @@ TEST_CASE("the membrane-pattern preconditioner changes the cost, not the traject
 
 TEST_CASE("pinned vertices follow their targets exactly and free ones follow", "[simulator]") {
   const gp::Mesh m = hanging_square(10, 0.3);
-  ClothSimulator sim(m.V, m.F);
+  ClothSimulator sim(m.V, m.F, ClothParameters{}, paper_step());
   sim.set_pinned({0, 10});
   Eigen::MatrixXd targets(2, 3);
   for (int s = 1; s <= 100; ++s) {
@@ -174,7 +182,7 @@ TEST_CASE("pinned vertices follow their targets exactly and free ones follow", "
 
 TEST_CASE("an unrecoverable step throws NumericalError and leaves the state untouched", "[simulator]") {
   const gp::Mesh m = hanging_square(6, 0.3);
-  ClothSimulator sim(m.V, m.F);
+  ClothSimulator sim(m.V, m.F, ClothParameters{}, paper_step());
   Eigen::MatrixXd Vel = Eigen::MatrixXd::Zero(m.V.rows(), 3);
   Vel(5, 1) = std::numeric_limits<double>::quiet_NaN();
   sim.set_velocities(Vel);
@@ -192,7 +200,7 @@ TEST_CASE("a rejected step is retried as two half steps", "[simulator]") {
   // A collision handler that breaks (writes NaN) whenever a vertex moves more than
   // 7 mm within one step: the full 10 ms step at 1 m/s is rejected, its halves pass.
   const gp::Mesh m = hanging_square(8, 0.2);
-  SimulatorOptions options;
+  SimulatorOptions options = paper_step();
   options.dt = 0.01;
   ClothParameters params;
   params.gravity.setZero();
@@ -221,7 +229,7 @@ TEST_CASE("the step-end handler sees each (sub)step's start and its span of the 
   // records the spans and moves one vertex by 1 mm gives it the velocity of
   // that displacement, and pins stay where their targets put them.
   const gp::Mesh m = hanging_square(8, 0.2);
-  SimulatorOptions options;
+  SimulatorOptions options = paper_step();
   options.dt = 0.01;
   ClothParameters params;
   params.gravity.setZero();
@@ -263,7 +271,7 @@ TEST_CASE("a new rest shape changes forces but keeps the state", "[simulator]") 
   const gp::Mesh m = hanging_square(6, 0.3);
   ClothParameters params;
   params.gravity.setZero();
-  ClothSimulator sim(m.V, m.F, params);
+  ClothSimulator sim(m.V, m.F, params, paper_step());
   sim.step();
   CHECK(sim.max_speed() < 1e-12);  // at rest, no gravity: nothing moves
   sim.set_rest_shape(1.1 * m.V);   // rest larger than current: the cloth expands
@@ -284,7 +292,7 @@ TEST_CASE("a fold that persists in the smallest substep is accepted and counted"
   ClothParameters params;
   params.gravity.setZero();
   params.density = 100.0;  // heavy: the forced fold's energy stays under the explosion floor
-  ClothSimulator sim(m.V, m.F, params);
+  ClothSimulator sim(m.V, m.F, params, paper_step());
   const Eigen::Vector3i tri = m.F.row(0).transpose();
   sim.set_collision_handler([tri](Eigen::MatrixXd& X, Eigen::MatrixXd&) {
     const Eigen::Vector3d a = X.row(tri(0)), b = X.row(tri(1)), c = X.row(tri(2));
@@ -317,7 +325,7 @@ TEST_CASE("rejected steps are counted by reason", "[simulator]") {
   // A vertex thrown at 30 m/s (above max_speed 20) in every (sub)step: the step
   // fails at every depth for that reason alone, and throws.
   const gp::Mesh m = hanging_square(6, 0.3);
-  ClothSimulator sim(m.V, m.F);
+  ClothSimulator sim(m.V, m.F, ClothParameters{}, paper_step());
   sim.set_collision_handler([](Eigen::MatrixXd&, Eigen::MatrixXd& Vel) { Vel(3, 0) = 30.0; });
   CHECK_THROWS_AS(sim.step(), gp::NumericalError);
   const SolverCounters& c = sim.counters();
@@ -349,7 +357,7 @@ DrapeResult drape_over_cylinder(bool velocity_contacts, int steps) {
     const double a = m.V(v, 0), z = m.V(v, 2);
     m.V.row(v) = Eigen::RowVector3d(R * std::cos(a), R * std::sin(a), z);
   }
-  ClothSimulator sim(m.V, m.F);
+  ClothSimulator sim(m.V, m.F, ClothParameters{}, paper_step());
   std::vector<int> pins;
   for (int v = 0; v < m.V.rows(); ++v) {
     if (m.V(v, 1) < 1e-9) pins.push_back(v);
@@ -419,7 +427,7 @@ TEST_CASE("a contact that would pull the cloth onto the body is released", "[sim
   const int n = 10;
   gp::Mesh m = gp::testing::make_grid(n, n, 0.3, 0.3);
   m.V.col(1).setZero();
-  SimulatorOptions options;
+  SimulatorOptions options = paper_step();
   options.contact_release_fraction = 1.0;
   ClothSimulator sim(m.V, m.F, ClothParameters{}, options);
   std::vector<int> pins;
@@ -462,7 +470,7 @@ TEST_CASE("a vertex held in two directions meets both prescribed speeds", "[simu
   // the second, that must be ignored. The solved velocity must satisfy both
   // n1.v = a1 and n2.v = a2, whatever gravity and the cloth do tangentially.
   const gp::Mesh m = hanging_square(8, 0.3);
-  SimulatorOptions options;
+  SimulatorOptions options = paper_step();
   options.contact_release_fraction = 1e9;  // the body may pull here: only the constraint algebra is tested
   ClothSimulator sim(m.V, m.F, ClothParameters{}, options);
   sim.set_pinned({0, 8});

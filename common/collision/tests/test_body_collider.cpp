@@ -351,7 +351,9 @@ TEST_CASE("a cloth falling on a sphere stays outside the comfort offset", "[coll
   cloth.V.rowwise() += Eigen::RowVector3d(-0.3, r + 0.05, -0.3);
   BodyCollider collider(sphere.F, reachable_body_faces(sphere.V, sphere.F, cloth.V, 0.5));
   collider.set_body(sphere.V);
-  gp::cloth::ClothSimulator sim(cloth.V, cloth.F);
+  gp::cloth::SimulatorOptions paper_step;  // the paper's 2.5 ms, which this test was written for
+  paper_step.dt = 0.0025;
+  gp::cloth::ClothSimulator sim(cloth.V, cloth.F, gp::cloth::ClothParameters{}, paper_step);
   sim.set_collision_handler([&](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider.resolve(X, Vel, offset); });
   BodyCollider checker(sphere.F);
   checker.set_body(sphere.V);

@@ -112,7 +112,7 @@ CapScene write_cap_scene(const std::string& name) {
 // sewn-fit check takes its settings from.
 fs::path write_fit_report(const CapScene& s) {
   const auto run = testing::run_command(
-      testing::tool_path("simulate-adapt") + " --no-adapt --delta 0.04 --threads 1 -q --poses " +
+      testing::tool_path("simulate-adapt") + " --no-adapt --delta 0.04 --workers 1 -q --poses " +
       (s.dir / "poses.json").string() + " --motion " + (s.dir / "motion.json").string() + " --garment " +
       (s.dir / "garment.json").string() + " --out " + (s.dir / "fit").string());
   INFO(run.err);
@@ -259,7 +259,7 @@ TEST_CASE("the fit's settings are read from its report, strictly", "[sewn_fit]")
   const FitSettings s = read_fit_settings(dir / "r.json");
   CHECK(s.poses == "p.json");
   CHECK(s.motion == "m.json");
-  CHECK(s.run.dt == 0.005);
+  CHECK(s.run.solver.dt == 0.005);
   CHECK(s.run.substeps == 2);
   CHECK(s.delta() == 0.08);
   CHECK(s.run.settle_max_steps == 700);
