@@ -46,8 +46,7 @@ enum class SolverStrategy { pcg_reused_factor, refactor_every_step, pcg_jacobi }
 const char* solver_strategy_name(SolverStrategy s);
 
 struct SimulatorOptions {
-  // Time step [s]. The paper's 2.5 ms jerks the cloth through a motion's transitions (common/adapt/README.md).
-  double dt = 0.01;
+  double dt = 0.01;  // time step [s]; the paper's 2.5 ms jerks the cloth through transitions (adapt/README.md)
   SolverStrategy strategy = SolverStrategy::refactor_every_step;
   // Relative residual |b - A v'| / |b| of the CG solve; bounds the velocity error by about tol h g
   // sqrt(#V) at rest under contact (cloth/README.md, "CG tolerance").
