@@ -4,7 +4,6 @@
 // gives a garment without cone points or slivers there, outside the body.
 #include <catch2/catch.hpp>
 
-#ifdef GP_HAVE_AVATAR
 #include <cmath>
 
 #include "avatar/make_avatar.h"
@@ -86,8 +85,3 @@ TEST_CASE("a top on a generated A-pose body has no cone points and no slivers in
   CHECK(r.offset_error.max_above < spec.offset_fillet);
 }
 
-#else
-TEST_CASE("a top on a generated A-pose body has no cone points and no slivers in its armpits", "[garment][avatar]") {
-  WARN("skipped: the avatar module (common/avatar) is not part of this build");
-}
-#endif
