@@ -10,78 +10,80 @@
 namespace gp {
 namespace {
 
+// Where a correction starts from: the closest body point, the distance to it,
+// and the unit direction from it out of the body through x.
+struct Foot {
+  Eigen::Vector3d point;
+  double distance = 0.0;
+  bool inside = false;
+  Eigen::Vector3d out;
+};
+
 // Closest-point corrections of x towards the exact distance `offset` outside
-// the body (see apply_comfort_offset). `hint` warm-starts the side queries.
+// the body (see apply_comfort_offset); foot(x, iteration) measures x.
 // In a slot narrower than twice the offset a correction from one wall lands
 // nearer the other, and the next one sends it back: when two successive
 // directions oppose, x goes instead to the nearest point of the line where
 // the offset planes of both walls meet (the crease of the offset surface,
 // out of the slot), and the corrections go on from there.
-Eigen::Vector3d correct_to_offset(Eigen::Vector3d x, const SurfaceLocator& body,
-                                  const collision::BodyCollider& sided, const Eigen::MatrixXd& N_body,
-                                  const ComfortOffsetOptions& options, int& hint) {
+template <class FootOf>
+Eigen::Vector3d correct(Eigen::Vector3d x, const ComfortOffsetOptions& options, FootOf foot) {
   if (!(options.offset > 0)) return x;
   Eigen::Vector3d c_prev = Eigen::Vector3d::Zero(), n_prev = Eigen::Vector3d::Zero();
   for (int it = 0; it < options.max_iterations; ++it) {
-    const SurfaceLocator::Hit hit = body.closest(x);
-    const collision::Proximity side = sided.query(x, hint);
-    hint = side.face;
-    const bool inside = side.signed_distance < 0.0;
-    if (!inside && std::abs(hit.distance - options.offset) <= options.tolerance) break;
-    // On the surface itself (distance 0) the normal gives the side.
-    Eigen::Vector3d dir = hit.distance > 1e-12 ? Eigen::Vector3d((x - hit.point) / hit.distance)
-                                               : evaluate_normal(N_body, body.F(), hit.at);
-    if (inside && hit.distance > 1e-12) dir = -dir;
+    const Foot f = foot(x, it);
+    if (!f.inside && std::abs(f.distance - options.offset) <= options.tolerance) break;
+    const Eigen::Vector3d& dir = f.out;
     if (options.solve_creases && it > 0 && dir.dot(n_prev) < 0.0) {
       // y = x + l1 n1 + l2 n2 on both planes n_i . (y - c_i) = offset.
       const double n12 = n_prev.dot(dir), det = 1.0 - n12 * n12;
       // Walls at least 6 degrees apart, and a step of at most a few offsets:
       // parallel walls have no crease near.
-      const double r1 = options.offset - n_prev.dot(x - c_prev), r2 = options.offset - dir.dot(x - hit.point);
+      const double r1 = options.offset - n_prev.dot(x - c_prev), r2 = options.offset - dir.dot(x - f.point);
       const double l1 = det > 0.01 ? (r1 - n12 * r2) / det : 0.0, l2 = det > 0.01 ? (r2 - n12 * r1) / det : 0.0;
       const Eigen::Vector3d step = l1 * n_prev + l2 * dir;
       if (det > 0.01 && step.norm() < 4.0 * options.offset) {
         x += step;
-        c_prev = hit.point;
+        c_prev = f.point;
         n_prev = dir;
         continue;
       }
     }
-    c_prev = hit.point;
+    c_prev = f.point;
     n_prev = dir;
-    x = hit.point + options.offset * dir;
+    x = f.point + options.offset * dir;
   }
   return x;
 }
 
-// correct_to_offset on the side queries alone, from `at` (the query already
-// made at x): a BodyCollider answer carries the closest point, the distance
-// and the way out together, so each correction costs one query, not two.
-Eigen::Vector3d correct_on_sides(Eigen::Vector3d x, collision::Proximity at, const collision::BodyCollider& sided,
-                                 const ComfortOffsetOptions& options) {
-  if (!(options.offset > 0)) return x;
-  Eigen::Vector3d c_prev = Eigen::Vector3d::Zero(), n_prev = Eigen::Vector3d::Zero();
-  for (int it = 0; it < options.max_iterations; ++it) {
-    if (it > 0) at = sided.query(x, at.face);
-    if (at.signed_distance >= 0.0 && std::abs(at.signed_distance - options.offset) <= options.tolerance) break;
-    const Eigen::Vector3d dir = at.outward;
-    if (options.solve_creases && it > 0 && dir.dot(n_prev) < 0.0) {
-      const double n12 = n_prev.dot(dir), det = 1.0 - n12 * n12;
-      const double r1 = options.offset - n_prev.dot(x - c_prev), r2 = options.offset - dir.dot(x - at.closest);
-      const double l1 = det > 0.01 ? (r1 - n12 * r2) / det : 0.0, l2 = det > 0.01 ? (r2 - n12 * r1) / det : 0.0;
-      const Eigen::Vector3d step = l1 * n_prev + l2 * dir;
-      if (det > 0.01 && step.norm() < 4.0 * options.offset) {
-        x += step;
-        c_prev = at.closest;
-        n_prev = dir;
-        continue;
-      }
-    }
-    c_prev = at.closest;
-    n_prev = dir;
-    x = at.closest + options.offset * dir;
-  }
-  return x;
+// Measured by the CGAL locator, sided by the collider (`hint` warm-starts it).
+Eigen::Vector3d correct_to_offset(Eigen::Vector3d x, const SurfaceLocator& body,
+                                  const collision::BodyCollider& sided, const Eigen::MatrixXd& N_body,
+                                  const ComfortOffsetOptions& options, int& hint) {
+  return correct(x, options, [&](const Eigen::Vector3d& y, int) {
+    const SurfaceLocator::Hit hit = body.closest(y);
+    const collision::Proximity side = sided.query(y, hint);
+    hint = side.face;
+    Foot f{hit.point, hit.distance, side.signed_distance < 0.0, Eigen::Vector3d::Zero()};
+    // On the surface itself (distance 0) the normal gives the side.
+    f.out = hit.distance > 1e-12 ? Eigen::Vector3d((y - hit.point) / hit.distance)
+                                 : evaluate_normal(N_body, body.F(), hit.at);
+    if (f.inside && hit.distance > 1e-12) f.out = -f.out;
+    return f;
+  });
+}
+
+// Measured by the collider's answers alone, the first being `at` (already
+// made at x): one answer carries the closest point, the distance and the way
+// out together, so each correction costs one query, not two.
+Eigen::Vector3d correct_on_sides(const Eigen::Vector3d& x, const collision::Proximity& at,
+                                 const collision::BodyCollider& sided, const ComfortOffsetOptions& options) {
+  int face = at.face;
+  return correct(x, options, [&](const Eigen::Vector3d& y, int it) {
+    const collision::Proximity q = it == 0 ? at : sided.query(y, face);
+    face = q.face;
+    return Foot{q.closest, std::abs(q.signed_distance), q.signed_distance < 0.0, q.outward};
+  });
 }
 
 }  // namespace
