@@ -1,13 +1,10 @@
 #pragma once
-// Rest-shape adaptation (Wolff et al. 2023, sec. 5 and appendices A-B): clip the
-// stretch of every simulated triangle at 1 + delta into per-triangle rest targets
-// (stretch_clip.h) and stitch them into one rest mesh by ARAP (arap_stitch.h),
-// whose global matrix is factored once per connectivity and reused by every call.
-//
-// When no triangle is stretched beyond 1 + delta and no paint is applied, the
-// targets are exactly the current rest triangles, which the current rest mesh
-// already stitches with zero misfit: the rest shape is returned unchanged (zero
-// iterations). This is what makes a settled garment a fixed point.
+// Rest-shape adaptation (Wolff et al. 2023, sec. 5, appendices A-B): the
+// stretch of every simulated triangle clipped into per-triangle rest targets
+// (stretch_clip.h) and stitched into one rest mesh (arap_stitch.h). With no
+// triangle beyond the limit and no paint, the targets are the current rest
+// triangles and the rest shape comes back unchanged: a settled garment is a
+// fixed point.
 #include <Eigen/Core>
 
 #include "adapt/arap_stitch.h"
@@ -17,13 +14,10 @@ namespace gp::adapt {
 
 struct AdaptOptions {
   double delta = 0.1;  // stretch limit 1 + delta of the fit (paper value)
-  // The adaptation's own limit is 1 + delta - margin: a face stretched beyond
-  // it has its principal stretches above 1 + delta - margin - hysteresis
-  // clipped to that value (margin and hysteresis 0: the paper's rule). The
-  // margin is room for the drape of a fresh simulation of the rest shape,
-  // which differs from the adapting run's; the hysteresis keeps a face that
-  // the body holds stretched from being adapted again by every hair it
-  // creeps back over the limit (see README.md).
+  // A face beyond 1 + delta - margin has its stretches above 1 + delta -
+  // margin - hysteresis clipped to that (both 0: the paper's rule). The
+  // margin is room for a fresh drape; the hysteresis stops a face held
+  // stretched from adapting at every hair (README.md).
   double margin = 0.02;
   double hysteresis = 0.01;
   // m: the stitching resists changes of the rest shape's form shorter than
@@ -34,11 +28,9 @@ struct AdaptOptions {
   // positions, until no triangle is clipped: the smoothing lets one stitching
   // meet its targets only in part.
   int rounds = 4;
-  // A face's target area is kept within this multiple of its design area.
-  // Where the body holds the cloth (a skirt caught on a hand), no growth
-  // relieves the stretch, and without a bound those faces grow every
-  // adaptation into a balloon (the shared-body dress: x1.92 at its own design
-  // pose). The verification still sees the stretch that remains there.
+  // A face's target area stays within this multiple of its design area:
+  // where the body holds the cloth, growth relieves nothing and would balloon
+  // (README.md); the verification still sees that stretch.
   double max_face_growth = 4.0;
   ArapOptions arap;    // stitching tolerance and iteration cap
 };
