@@ -8,13 +8,9 @@
 //                 (ease_weight), accelerated (Anderson; Peng et al. 2018),
 //                 optionally with every step cut short before a triangle
 //                 would flip (Smith and Schaefer 2015);
-//   injective_flatten  the symmetric Dirichlet energy, a barrier against
-//                 degenerate triangles, by SLIM's reweighted local/global
-//                 steps (Rabinovich et al. 2017) with flip-free steps: where
-//                 flips must be undone. ARAP costs a squeezed triangle no
-//                 more than (1 - 0)^2, so flip-free ARAP steps end with
-//                 triangles squeezed to segments where the piece has excess
-//                 cloth (a tuck); their flat triangles are unusable rest shapes.
+//   injective_flatten  flip-free steps on the symmetric Dirichlet energy
+//                 (SLIM, Rabinovich et al. 2017), a barrier that keeps every
+//                 triangle open where flips must be undone.
 //
 // Distortion of a triangle: the singular values s1 >= s2 of the 2x2 Jacobian
 // J of the affine map from the triangle (in an orthonormal frame of its own
@@ -123,18 +119,14 @@ struct ArapRun {
 ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::MatrixXd& UV,
                      const FlattenOptions& options, bool injective);
 
-// The symmetric Dirichlet energy sum_t w_t (|J|^2 + |J^-1|^2 - 4) of UV
-// (#V by 2; w_t as in flattening_energy; infinite if a triangle is flipped
-// or degenerate), without the boundary-length term.
+// sum_t w_t (|J|^2 + |J^-1|^2 - 4) at UV (#V by 2; w_t as in
+// flattening_energy); infinite if a triangle is flipped or degenerate.
 double symmetric_dirichlet_energy(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& UV,
                                   const FlattenOptions& options);
 
-// Flip-free iterations from UV (#V by 2, in place, no flipped triangle) on
-// the symmetric Dirichlet energy plus the options' boundary-length term
-// (ease_weight is not used: the barrier is symmetric). Every step is at most
-// line_search_margin of the largest flip-free one and halved until the
-// energy decreases, so the result has no flipped or degenerate triangle.
-// Throws GeometryError if the start has flips.
+// Flip-free iterations from UV (#V by 2, in place, no flip; else
+// GeometryError) on symmetric_dirichlet_energy plus the boundary-length
+// term; ease_weight is not used. The result has no flipped or degenerate triangle.
 ArapRun injective_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::MatrixXd& UV,
                           const FlattenOptions& options);
 
