@@ -76,6 +76,32 @@ std::vector<LocalTriangle> weighted_triangles(const Eigen::MatrixXd& V, const Ei
   return T;
 }
 
+// A boundary edge i -> j of 3D length `length` and the weight of keeping it
+// (the boundary-length term of flattening_energy).
+struct BoundaryEdge {
+  int i, j;
+  double length, weight;
+};
+
+// The boundary edges of the non-degenerate triangles T (weighted_triangles),
+// weighted relative to the edge's own triangle at its true area: a thin
+// triangle's raised weight must not make its short edge a hard constraint.
+std::vector<BoundaryEdge> boundary_edges(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                         const std::vector<LocalTriangle>& T, double boundary_weight) {
+  std::vector<BoundaryEdge> edges;
+  if (!(boundary_weight > 0.0)) return edges;
+  const std::vector<LocalTriangle> T0 = local_triangles(V, F);
+  const Eigen::MatrixXi TT = triangle_adjacency(F);
+  for (int f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (TT(f, k) < 0 && !T[static_cast<size_t>(f)].degenerate) {
+        const int i = F(f, k), j = F(f, (k + 1) % 3);
+        const double l = (V.row(i) - V.row(j)).norm();
+        if (l > 0.0) edges.push_back({i, j, l, boundary_weight * T0[static_cast<size_t>(f)].area / (l * l)});
+      }
+  return edges;
+}
+
 Eigen::Matrix2d jacobian(const LocalTriangle& t, const Eigen::MatrixXd& UV, const Eigen::Vector3i& f) {
   Eigen::Matrix<double, 3, 2> U;
   for (int k = 0; k < 3; ++k) U.row(k) = UV.row(f[k]);
@@ -546,24 +572,7 @@ ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::
   // joins the local step (d) and the global step (a constant matrix), like the
   // edge springs of a local/global solver (Liu et al. 2008; Bouaziz et al.
   // 2014, projective dynamics).
-  struct BoundaryEdge {
-    int i, j;
-    double length, weight;
-  };
-  std::vector<BoundaryEdge> edges;
-  if (options.boundary_weight > 0.0) {
-    // Relative to the edge's own triangle at its true area: a thin triangle's
-    // raised weight (above) must not make its short edge a hard constraint.
-    const std::vector<LocalTriangle> T0 = local_triangles(V, F);
-    const Eigen::MatrixXi TT = triangle_adjacency(F);
-    for (int f = 0; f < F.rows(); ++f)
-      for (int k = 0; k < 3; ++k)
-        if (TT(f, k) < 0 && !T[static_cast<size_t>(f)].degenerate) {
-          const int i = F(f, k), j = F(f, (k + 1) % 3);
-          const double l = (V.row(i) - V.row(j)).norm();
-          if (l > 0.0) edges.push_back({i, j, l, options.boundary_weight * T0[static_cast<size_t>(f)].area / (l * l)});
-        }
-  }
+  const std::vector<BoundaryEdge> edges = boundary_edges(V, F, T, options.boundary_weight);
   // One pinned vertex removes the translation; L is factorized once.
   Eigen::SparseMatrix<double> L = dirichlet_matrix(T, F, n);
   if (!edges.empty()) {
@@ -758,22 +767,7 @@ ArapRun injective_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Ei
   const std::vector<LocalTriangle> T = weighted_triangles(V, F, options.min_weight_fraction);
   // Boundary edges keep their 3D length as in arap_flatten: w (|u_i - u_j| - l)^2,
   // majorized by w |u_i - u_j - l d|^2 with d the edge's current direction.
-  struct BoundaryEdge {
-    int i, j;
-    double length, weight;
-  };
-  std::vector<BoundaryEdge> edges;
-  if (options.boundary_weight > 0.0) {
-    const std::vector<LocalTriangle> T0 = local_triangles(V, F);
-    const Eigen::MatrixXi TT = triangle_adjacency(F);
-    for (int f = 0; f < F.rows(); ++f)
-      for (int k = 0; k < 3; ++k)
-        if (TT(f, k) < 0 && !T[static_cast<size_t>(f)].degenerate) {
-          const int i = F(f, k), j = F(f, (k + 1) % 3);
-          const double l = (V.row(i) - V.row(j)).norm();
-          if (l > 0.0) edges.push_back({i, j, l, options.boundary_weight * T0[static_cast<size_t>(f)].area / (l * l)});
-        }
-  }
+  const std::vector<BoundaryEdge> edges = boundary_edges(V, F, T, options.boundary_weight);
   auto energy_of = [&](const Eigen::MatrixXd& X) {
     double e = symmetric_dirichlet_energy(V, F, X, options);
     for (const auto& b : edges) {
