@@ -315,7 +315,7 @@ TEST_CASE("a tuck flattens injectively without squeezed triangles", "[flatten][h
   const FlattenResult r = flatten_piece(tuck.V, tuck.F);
   CHECK(r.stats.flipped_triangles == 0);
   CHECK(r.initialization.find("injective") != std::string::npos);
-  const Eigen::MatrixXd S = principal_stretches(tuck.V, tuck.F, r.UV);
+  const Eigen::MatrixXd S = flattening_stretches(tuck.V, tuck.F, r.UV);
   // Flip-free ARAP steps squeezed a triangle of this piece to s2 = 1e-16
   // (max s1 1.30); the barrier keeps every triangle open (s2 0.47, s1 2.03).
   CHECK(S.col(1).minCoeff() > 0.1);
