@@ -7,7 +7,10 @@
 //                 an ARAP energy whose ease may cost less than compression
 //                 (ease_weight), accelerated (Anderson; Peng et al. 2018),
 //                 optionally with every step cut short before a triangle
-//                 would flip (Smith and Schaefer 2015).
+//                 would flip (Smith and Schaefer 2015);
+//   injective_flatten  flip-free steps on the symmetric Dirichlet energy
+//                 (SLIM, Rabinovich et al. 2017), a barrier that keeps every
+//                 triangle open where flips must be undone.
 //
 // Distortion of a triangle: the singular values s1 >= s2 of the 2x2 Jacobian
 // J of the affine map from the triangle (in an orthonormal frame of its own
@@ -115,6 +118,17 @@ struct ArapRun {
 // largest flip-free step: the result has no flipped triangle.
 ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::MatrixXd& UV,
                      const FlattenOptions& options, bool injective);
+
+// sum_t w_t (|J|^2 + |J^-1|^2 - 4) at UV (#V by 2; w_t as in
+// flattening_energy); infinite if a triangle is flipped or degenerate.
+double symmetric_dirichlet_energy(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& UV,
+                                  const FlattenOptions& options);
+
+// Flip-free iterations from UV (#V by 2, in place, no flip; else
+// GeometryError) on symmetric_dirichlet_energy plus the boundary-length
+// term; ease_weight is not used. The result has no flipped or degenerate triangle.
+ArapRun injective_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::MatrixXd& UV,
+                          const FlattenOptions& options);
 
 struct FlattenResult {
   Eigen::MatrixXd UV;          // #V by 2, metres, counter-clockwise where F is

@@ -304,3 +304,52 @@ TEST_CASE("rest-shape diagnostics find growth, tucks and cone points", "[diagnos
   CHECK(turned.turned_area_fraction > 0.0);
   CHECK_THROWS_AS(diagnose_rest_shape(grid.V, grid.V.topRows(10), grid.F, cone), GeometryError);
 }
+
+TEST_CASE("a tuck flattens injectively without squeezed triangles", "[flatten][hard]") {
+  // A flat grid (5 cm edges) with one inner vertex pushed 8 cm across its
+  // neighbour: its faces turn over, as in a rest shape's tuck. The piece has
+  // more cloth around that vertex than a flat sheet holds, so plain
+  // iterations fold it and the flip-free ones must squeeze something.
+  Mesh tuck = testing::make_grid(6, 6, 0.3, 0.3);
+  tuck.V(3 * 7 + 3, 0) += 0.08;
+  const FlattenResult r = flatten_piece(tuck.V, tuck.F);
+  CHECK(r.stats.flipped_triangles == 0);
+  CHECK(r.initialization.find("injective") != std::string::npos);
+  const Eigen::MatrixXd S = flattening_stretches(tuck.V, tuck.F, r.UV);
+  // Flip-free ARAP steps squeezed a triangle of this piece to s2 = 1e-16
+  // (max s1 1.30); the barrier keeps every triangle open (s2 0.47, s1 2.03).
+  CHECK(S.col(1).minCoeff() > 0.1);
+  CHECK(S.col(0).maxCoeff() < 10.0);
+  // Every flat triangle is a usable rest triangle for the cloth model
+  // (quality 2A / longest edge^2 well above its 1e-6 bound).
+  double worst = 1.0;
+  for (int f = 0; f < tuck.F.rows(); ++f) {
+    const Eigen::Vector2d a = r.UV.row(tuck.F(f, 0)), b = r.UV.row(tuck.F(f, 1)), c = r.UV.row(tuck.F(f, 2));
+    const double area2 = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+    const double longest2 = std::max({(b - a).squaredNorm(), (c - a).squaredNorm(), (c - b).squaredNorm()});
+    worst = std::min(worst, area2 / longest2);
+  }
+  CHECK(worst > 1e-3);
+}
+
+TEST_CASE("injective iterations lower the symmetric Dirichlet energy without flips", "[flatten]") {
+  const Mesh g = bent_grid(10, 0.4);
+  const auto loops = boundary_loops(g.F);
+  REQUIRE(loops.size() == 1);
+  Eigen::MatrixXd UV = tutte_flatten(g.V, g.F, loops.front());
+  FlattenOptions o;
+  const double before = symmetric_dirichlet_energy(g.V, g.F, UV, o);
+  const ArapRun run = injective_flatten(g.V, g.F, UV, o);
+  CHECK(run.iterations > 0);
+  CHECK(symmetric_dirichlet_energy(g.V, g.F, UV, o) < 0.1 * before);
+  const DistortionStats st = distortion_stats(g.V, g.F, UV);
+  CHECK(st.flipped_triangles == 0);
+  // From Tutte's circle to about the plain flattening's distortion.
+  const FlattenResult plain = flatten_piece(g.V, g.F, o);
+  CHECK(st.p95_error < plain.stats.p95_error + 0.02);
+  // A flipped start is refused; a flipped UV has infinite energy.
+  Eigen::MatrixXd mirrored = UV;
+  mirrored.col(0) *= -1.0;
+  CHECK(std::isinf(symmetric_dirichlet_energy(g.V, g.F, mirrored, o)));
+  CHECK_THROWS_AS(injective_flatten(g.V, g.F, mirrored, o), GeometryError);
+}
