@@ -13,8 +13,7 @@ Eigen::Vector2d singular_values_2x2(const Eigen::Matrix2d& J);
 // D of X = [x0 x1 x2] (columns, metres); zero rows for collapsed edges.
 Eigen::Matrix2d triangle_frame_edges(const Eigen::Matrix3d& X);
 
-// F; throws GeometryError for a non-finite or zero-area rest triangle
-// (2 A / longest edge^2 < 1e-12).
+// F; GeometryError for a non-finite or zero-area (2A / L^2 < 1e-12) rest triangle.
 Eigen::Matrix2d deformation_gradient(const Eigen::Matrix3d& X_rest, const Eigen::Matrix3d& X_def);
 
 // (s1, s2) of every face from V_rest to V_def (both #V by 3, metres): #F by

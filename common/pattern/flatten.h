@@ -3,24 +3,16 @@
 // that flatten_piece() chains:
 //   lscm_flatten  least-squares conformal map (Levy et al. 2002), free boundary;
 //   tutte_flatten Tutte's embedding onto a circle (Floater 2003), flip-free;
-//   arap_flatten  local/global iterations from a start (Liu et al. 2008) of
-//                 an ARAP energy whose ease may cost less than compression
-//                 (ease_weight), accelerated (Anderson; Peng et al. 2018),
-//                 optionally with every step cut short before a triangle
-//                 would flip (Smith and Schaefer 2015);
+//   arap_flatten  local/global iterations (Liu et al. 2008) of an ARAP
+//                 energy with cheaper ease, Anderson-accelerated, optionally
+//                 flip-free (Smith and Schaefer 2015);
 //   injective_flatten  flip-free steps on the symmetric Dirichlet energy
-//                 (SLIM, Rabinovich et al. 2017), a barrier that keeps every
-//                 triangle open where flips must be undone.
+//                 (SLIM, Rabinovich et al. 2017), a barrier to degeneracy.
 //
-// Distortion of a triangle: the singular values s1 >= s2 of the 2x2 Jacobian
-// J of the affine map from the triangle (in an orthonormal frame of its own
-// plane) to its flat image. s1 - 1 is its stretch, 1 - s2 its compression;
-// its error is max(|s1 - 1|, |s2 - 1|). A flat piece larger than its 3D
-// triangle (s > 1) is ease in the sewn garment; a smaller one (s < 1) must be
-// stretched to reach the rest shape.
-//
-// Linear solves use CHOLMOD's simplicial factorization, which calls no BLAS:
-// the flattening is bitwise the same whichever BLAS kernels the CPU selects.
+// A triangle's distortion: the singular values s1 >= s2 of its flattening's
+// Jacobian; s1 - 1 is ease in the sewn garment, 1 - s2 compression it must
+// stretch out, max(|s1 - 1|, |s2 - 1|) the error. Solves use CHOLMOD's
+// simplicial factor (no BLAS), so results do not depend on the CPU.
 #include <string>
 #include <vector>
 #include <Eigen/Core>
@@ -31,26 +23,15 @@ struct FlattenOptions {
   int max_iterations = 500;          // local/global iterations
   double tolerance = 1e-6;           // stop when the relative energy decrease is below this
   double line_search_margin = 0.9;   // fraction of the largest flip-free step taken
-  // Weight of keeping boundary edges at their 3D length, relative to the
-  // distortion energy of the triangle beside them (dimensionless). Seams are
-  // sewn edge to edge, so the two sides of a seam must keep their length; 0
-  // lets the boundary float.
+  // Weight of boundary edges' 3D length against the triangle beside them
+  // (seams are sewn edge to edge); 0 lets the boundary float.
   double boundary_weight = 10.0;
-  // Cost of ease (a singular value s > 1 of a triangle's Jacobian costs
-  // ease_weight (s - 1)^2) relative to compression (s < 1 costs (1 - s)^2),
-  // in (0, 1]. 1 is ARAP; below 1 the flattening prefers a flat piece a
-  // little larger than the rest shape (ease) to a smaller one (compression,
-  // which the sewn cloth would have to stretch to make up).
+  // Cost of ease, ease_weight (s - 1)^2, against compression's (1 - s)^2, in
+  // (0, 1]; 1 is ARAP, below it a piece is rather a little larger.
   double ease_weight = 1.0;
-  // A triangle's weight in the energy is its area, but at least this
-  // fraction of the mean area: thin triangles along a cut resist turning over.
-  double min_weight_fraction = 0.1;
-  // Iterates of the local/global steps mixed by Anderson acceleration
-  // (Peng et al. 2018); 0: plain local/global steps.
-  int anderson_window = 6;
-  // When plain iterations leave flipped triangles: rerun injectively (true),
-  // or return the flipped result (false).
-  bool injective_fallback = true;
+  double min_weight_fraction = 0.1;  // a triangle weighs its area, at least this fraction of the mean
+  int anderson_window = 6;           // iterates mixed by Anderson acceleration (Peng et al. 2018); 0: none
+  bool injective_fallback = true;    // flips left: rerun injectively (false: return them)
 };
 
 // Distortion statistics of a flattening. All area-weighted over 3D area.
@@ -62,10 +43,8 @@ struct DistortionStats {
   double p95_stretch = 0.0;      // 95th percentile (by area) of s1 - 1
   double p95_compression = 0.0;  // 95th percentile (by area) of 1 - s2
   double p99_compression = 0.0;  // 99th percentile (by area) of 1 - s2
-  // Means over the worst part of the area (the last element taken in part,
-  // so that they change continuously): 1 - s2 over the worst 1 %, s1 - 1
-  // over the worst 5 %. Averages, unlike percentiles, do not jump from one
-  // triangle's value to the next when a thin triangle comes or goes.
+  // Means over the worst 1 % (compression) and 5 % (ease) of the area, the
+  // last element taken in part: continuous, unlike percentiles.
   double worst1_compression = 0.0;
   double worst5_ease = 0.0;
   double mean_error = 0.0;       // area-weighted mean of max(|s1-1|, |s2-1|)
@@ -112,10 +91,8 @@ struct ArapRun {
   double energy = 0.0;  // sum_t A_t sum_i f(s_i) plus the boundary-length term (m^2)
 };
 
-// Local/global iterations from UV (#V by 2, in place) with the options'
-// ease weight and boundary weight. With `injective`, UV must start
-// without flipped triangles and every global step is shortened to 90 % of the
-// largest flip-free step: the result has no flipped triangle.
+// Local/global iterations from UV (#V by 2, in place). With `injective`, UV
+// starts flip-free and each step is cut to 90 % of the largest flip-free one.
 ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::MatrixXd& UV,
                      const FlattenOptions& options, bool injective);
 
@@ -140,25 +117,18 @@ struct FlattenResult {
   std::vector<int> overlap_vertex_ids;            // boundary vertices at a crossing
 };
 
-// LSCM, then arap_flatten; if that leaves flipped triangles and
-// injective_fallback is set, they are untangled locally (their vertices moved
-// to their neighbours' mean) and arap_flatten resumed, or, where that fails,
-// run injectively from a flip-free start (LSCM if it has no flip, else
-// Tutte). A piece that is not 3-connected may have no flip-free start: its
-// plain flattening is returned with its flips (stats.flipped_triangles).
-// The piece (V #V by 3, F #F by 3, every vertex used) must be one connected
-// disk: one boundary loop, Euler characteristic 1. Throws GeometryError if it is not, NumericalError if a
-// solve fails. `material_ids` (#V, optional): the uncut vertex of every piece
-// vertex, for the overlap test of the flat outline (see polygon_self_intersects).
+// LSCM, then arap_flatten; flips left (with injective_fallback) are
+// untangled locally and arap_flatten resumed, else flattened injectively from
+// a flip-free start (LSCM, else Tutte; a piece that is not 3-connected may
+// keep its flips). V #V by 3, F #F by 3: one disk, else GeometryError;
+// NumericalError if a solve fails. `material_ids` (#V, optional): each
+// vertex's uncut vertex, for the outline's overlap test.
 FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                             const FlattenOptions& options = {}, const Eigen::VectorXi* material_ids = nullptr);
 
-// Whether the closed polygon P (#P by 2) crosses or touches itself; fills
-// the indices of the polygon vertices at the start of crossing segments.
-// With `material_ids` (one id per polygon vertex), segments that share a
-// material id are not tested against each other: the two sides of a cut meet
-// at the cut's copies of one vertex (a dart that stays closed near its tip
-// has coinciding sides), which is no overlap of the cloth.
+// Whether the closed polygon P (#P by 2) crosses or touches itself, with the
+// vertices starting crossing segments. Segments sharing a `material_ids` id
+// are not tested (a closed dart's sides meet, which is no overlap).
 bool polygon_self_intersects(const Eigen::MatrixXd& P, std::vector<int>* vertex_ids = nullptr,
                              const std::vector<int>* material_ids = nullptr);
 
