@@ -4,86 +4,52 @@
 #include <cmath>
 
 #include "collision/body_collider.h"
-#include "collision/triangle_bvh.h"
-#include "mesh/point_triangle.h"
 
 namespace gp {
 namespace {
 
-// Where a correction starts from: the closest body point, the distance to it,
-// and the unit direction from it out of the body through x.
-struct Foot {
-  Eigen::Vector3d point;
-  double distance = 0.0;
-  bool inside = false;
-  Eigen::Vector3d out;
-};
-
 // Closest-point corrections of x towards the exact distance `offset` outside
-// the body (see apply_comfort_offset); foot(x, iteration) measures x.
+// the body (see apply_comfort_offset). `hint` warm-starts the side queries.
 // In a slot narrower than twice the offset a correction from one wall lands
 // nearer the other, and the next one sends it back: when two successive
 // directions oppose, x goes instead to the nearest point of the line where
 // the offset planes of both walls meet (the crease of the offset surface,
 // out of the slot), and the corrections go on from there.
-template <class FootOf>
-Eigen::Vector3d correct(Eigen::Vector3d x, const ComfortOffsetOptions& options, FootOf foot) {
+Eigen::Vector3d correct_to_offset(Eigen::Vector3d x, const SurfaceLocator& body,
+                                  const collision::BodyCollider& sided, const Eigen::MatrixXd& N_body,
+                                  const ComfortOffsetOptions& options, int& hint) {
   if (!(options.offset > 0)) return x;
   Eigen::Vector3d c_prev = Eigen::Vector3d::Zero(), n_prev = Eigen::Vector3d::Zero();
   for (int it = 0; it < options.max_iterations; ++it) {
-    const Foot f = foot(x, it);
-    if (!f.inside && std::abs(f.distance - options.offset) <= options.tolerance) break;
-    const Eigen::Vector3d& dir = f.out;
+    const SurfaceLocator::Hit hit = body.closest(x);
+    const collision::Proximity side = sided.query(x, hint);
+    hint = side.face;
+    const bool inside = side.signed_distance < 0.0;
+    if (!inside && std::abs(hit.distance - options.offset) <= options.tolerance) break;
+    // On the surface itself (distance 0) the normal gives the side.
+    Eigen::Vector3d dir = hit.distance > 1e-12 ? Eigen::Vector3d((x - hit.point) / hit.distance)
+                                               : evaluate_normal(N_body, body.F(), hit.at);
+    if (inside && hit.distance > 1e-12) dir = -dir;
     if (options.solve_creases && it > 0 && dir.dot(n_prev) < 0.0) {
       // y = x + l1 n1 + l2 n2 on both planes n_i . (y - c_i) = offset.
       const double n12 = n_prev.dot(dir), det = 1.0 - n12 * n12;
       // Walls at least 6 degrees apart, and a step of at most a few offsets:
       // parallel walls have no crease near.
-      const double r1 = options.offset - n_prev.dot(x - c_prev), r2 = options.offset - dir.dot(x - f.point);
+      const double r1 = options.offset - n_prev.dot(x - c_prev), r2 = options.offset - dir.dot(x - hit.point);
       const double l1 = det > 0.01 ? (r1 - n12 * r2) / det : 0.0, l2 = det > 0.01 ? (r2 - n12 * r1) / det : 0.0;
       const Eigen::Vector3d step = l1 * n_prev + l2 * dir;
       if (det > 0.01 && step.norm() < 4.0 * options.offset) {
         x += step;
-        c_prev = f.point;
+        c_prev = hit.point;
         n_prev = dir;
         continue;
       }
     }
-    c_prev = f.point;
+    c_prev = hit.point;
     n_prev = dir;
-    x = f.point + options.offset * dir;
+    x = hit.point + options.offset * dir;
   }
   return x;
-}
-
-// Measured by the CGAL locator, sided by the collider (`hint` warm-starts it).
-Eigen::Vector3d correct_to_offset(Eigen::Vector3d x, const SurfaceLocator& body,
-                                  const collision::BodyCollider& sided, const Eigen::MatrixXd& N_body,
-                                  const ComfortOffsetOptions& options, int& hint) {
-  return correct(x, options, [&](const Eigen::Vector3d& y, int) {
-    const SurfaceLocator::Hit hit = body.closest(y);
-    const collision::Proximity side = sided.query(y, hint);
-    hint = side.face;
-    Foot f{hit.point, hit.distance, side.signed_distance < 0.0, Eigen::Vector3d::Zero()};
-    // On the surface itself (distance 0) the normal gives the side.
-    f.out = hit.distance > 1e-12 ? Eigen::Vector3d((y - hit.point) / hit.distance)
-                                 : evaluate_normal(N_body, body.F(), hit.at);
-    if (f.inside && hit.distance > 1e-12) f.out = -f.out;
-    return f;
-  });
-}
-
-// Measured by the collider's answers alone, the first being `at` (already
-// made at x): one answer carries the closest point, the distance and the way
-// out together, so each correction costs one query, not two.
-Eigen::Vector3d correct_on_sides(const Eigen::Vector3d& x, const collision::Proximity& at,
-                                 const collision::BodyCollider& sided, const ComfortOffsetOptions& options) {
-  int face = at.face;
-  return correct(x, options, [&](const Eigen::Vector3d& y, int it) {
-    const collision::Proximity q = it == 0 ? at : sided.query(y, face);
-    face = q.face;
-    return Foot{q.closest, std::abs(q.signed_distance), q.signed_distance < 0.0, q.outward};
-  });
 }
 
 }  // namespace
@@ -143,18 +109,7 @@ OffsetSurface::OffsetSurface(const SurfaceLocator& body, const Eigen::MatrixXd& 
     std::vector<char> skip;
     if (!near.empty())
       for (char n : near) skip.push_back(!n);
-    // Each body vertex starts along its own normal (a body vertex is its own
-    // closest point) and is corrected with this object's side queries.
-    int hint = -1;
-    for (Eigen::Index v = 0; v < V_outer.rows(); ++v) {
-      if (!skip.empty() && skip[static_cast<size_t>(v)]) continue;
-      const Eigen::Vector3d n = N_body.row(v).transpose();
-      const double len = n.norm();
-      const Eigen::Vector3d x = V_outer.row(v).transpose() + outer.offset * (len > 0 ? Eigen::Vector3d(n / len) : n);
-      const collision::Proximity at = sided_->query(x, hint);
-      hint = at.face;
-      V_outer.row(v) = correct_on_sides(x, at, *sided_, outer).transpose();
-    }
+    apply_comfort_offset(V_outer, body, N_body, outer, skip);
     // In a pinch narrower than 2 (offset + R) the corrections of a vertex
     // swing between the two sides without reaching the distance: such
     // vertices are not on the outer surface and go, with their faces, and so
@@ -192,16 +147,17 @@ OffsetSurface::OffsetSurface(const SurfaceLocator& body, const Eigen::MatrixXd& 
     if (!kept.empty()) {
       Eigen::MatrixXi F_outer(static_cast<Eigen::Index>(kept.size()), 3);
       for (size_t i = 0; i < kept.size(); ++i) F_outer.row(static_cast<Eigen::Index>(i)) = F.row(kept[i]);
-      Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor> corners(F_outer.rows(), 9);
-      for (Eigen::Index f = 0; f < F_outer.rows(); ++f)
-        for (int k = 0; k < 3; ++k) corners.block<1, 3>(f, 3 * k) = V_outer.row(F_outer(f, k));
-      outer_ = std::make_unique<collision::TriangleBvh>(static_cast<int>(F_outer.rows()));
-      outer_->set_corners(corners);
+      outer_ = std::make_unique<SurfaceLocator>(V_outer, F_outer);
     }
   }
 }
 
 OffsetSurface::~OffsetSurface() = default;
+
+Eigen::Vector3d OffsetSurface::to_exact_offset(const Eigen::Vector3d& x) const {
+  int hint = -1;
+  return correct_to_offset(x, body_, *sided_, N_body_, correction_, hint);
+}
 
 Eigen::Vector3d OffsetSurface::project(const Eigen::Vector3d& x) const {
   if (!outer_) {
@@ -218,17 +174,15 @@ Eigen::Vector3d OffsetSurface::project(const Eigen::Vector3d& x) const {
   // the closest body point does.
   const Eigen::Vector3d p =
       at.signed_distance < 0.0 || at.signed_distance >= offset_ + fillet_radius_ ? at.closest : x;
-  const int t = outer_->closest(p).triangle;
-  const Eigen::Vector3d y = closest_point_on_triangle(p, outer_->corner(t, 0), outer_->corner(t, 1), outer_->corner(t, 2)).point;
-  const double distance = (p - y).norm();
+  const SurfaceLocator::Hit y = outer_->closest(p);
   // p on the outer surface itself (never a body point, which is at least
   // offset + R from it): towards the closest body point.
-  const Eigen::Vector3d dir = distance > 1e-12 ? Eigen::Vector3d((p - y) / distance)
-                                               : Eigen::Vector3d((at.closest - p).normalized());
-  const Eigen::Vector3d q = y + fillet_radius_ * dir;
+  const Eigen::Vector3d dir = y.distance > 1e-12 ? Eigen::Vector3d((p - y.point) / y.distance)
+                                                 : Eigen::Vector3d((at.closest - p).normalized());
+  const Eigen::Vector3d q = y.point + fillet_radius_ * dir;
   const collision::Proximity check = sided_->query(q, at.face);
   if (check.signed_distance >= offset_ - correction_.tolerance) return q;
-  return correct_on_sides(q, check, *sided_, correction_);
+  return to_exact_offset(q);
 }
 
 }  // namespace gp

@@ -10,7 +10,6 @@
 namespace gp {
 namespace collision {
 class BodyCollider;
-class TriangleBvh;
 }
 
 struct ComfortOffsetOptions {
@@ -55,8 +54,7 @@ ComfortOffsetStats measure_offset(const Eigen::MatrixXd& V, const SurfaceLocator
 // distance R, on the body's side, from {d = offset + R}: exact where the
 // body's concave radius exceeds offset + R, a fillet of radius R across
 // narrower creases, never closer than `offset`. {d = offset + R} is sampled
-// by the body mesh moved out (apply_comfort_offset's corrections, solving
-// creases, on the collider's answers; searched by collision/triangle_bvh.h),
+// by the body mesh moved out (apply_comfort_offset with solve_creases),
 // leaving out vertices that do not reach it and faces through the pinch; an
 // exact closest-point correction holds the offset where its chords dip.
 class OffsetSurface {
@@ -80,13 +78,16 @@ class OffsetSurface {
   double fillet_radius() const { return fillet_radius_; }
 
  private:
+  // x moved to the exact distance offset_ (the correction of apply_comfort_offset).
+  Eigen::Vector3d to_exact_offset(const Eigen::Vector3d& x) const;
+
   const SurfaceLocator& body_;
   const Eigen::MatrixXd& N_body_;
   double offset_ = 0.0;
   double fillet_radius_ = 0.0;
   ComfortOffsetOptions correction_;
   std::unique_ptr<collision::BodyCollider> sided_;
-  std::unique_ptr<collision::TriangleBvh> outer_;  // the body at distance offset + R
+  std::unique_ptr<SurfaceLocator> outer_;  // the body at distance offset + R
 };
 
 }  // namespace gp

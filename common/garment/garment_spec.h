@@ -15,7 +15,7 @@
 //     "resolution": { "edge_length": 0.015 }   // metres, or { "vertex_count": 4000 }
 //     "offset": 0.015,                    // T4 comfort offset, metres (default 0)
 //     "offset_fillet": 0.02,              // metres: creases of the offset surface are rounded
-//                                         //   to this radius (comfort_offset.h; default 0.02; 0: sharp)
+//                                         //   to this radius (comfort_offset.h; default 0: sharp)
 //     "paint": [                          // T3, optional; factors multiply where regions overlap
 //       { "name": "back", "factor": 1.2, "disc": { "center": 4321, "radius": 0.1 } },
 //       { "name": "elbow", "factor": 1.1, "vertices": [ 11, 12, 13 ] } ],
@@ -67,11 +67,10 @@ struct GarmentSpec {
   long long vertex_count = 0;  // 0 when edge_length is given
   double offset = 0.0;
   // Radius (metres) to which the comfort-offset surface's creases are rounded
-  // (OffsetSurface, comfort_offset.h), where two body parts come closer than
-  // twice the offset (an A-pose armpit, a crotch); elsewhere the surface is
-  // the exact offset. 0: the exact offset surface everywhere, which folds in
-  // such pinches (slivers and cone points). Not used with offset 0.
-  double offset_fillet = 0.02;
+  // (OffsetSurface, comfort_offset.h); 0: the exact offset surface, which
+  // folds where two body parts come closer than twice the offset (an A-pose
+  // armpit). 0.02 suits garments of 1-1.5 cm edges (common/garment/README.md).
+  double offset_fillet = 0.0;
   std::vector<PaintRegion> paint;
   Material material;
   RegionCutOptions smoothing;

@@ -9,7 +9,6 @@
 
 #include "core/error.h"
 #include "core/stopwatch.h"
-#include "garment/cone_refinement.h"
 #include "garment/surface_path.h"
 #include "garment/surface_point.h"
 #include "mesh/edge_distances.h"
@@ -118,19 +117,17 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
   // collapsing onto the crease. Every cut vertex goes to the point over it.
   ComfortOffsetOptions offset_options;
   offset_options.offset = spec.offset;
-  // Without an offset the garment lies on the body, whose own creases stay.
-  const double fillet = spec.offset > 0 ? spec.offset_fillet : 0.0;
   // The outer surface of the fillet is needed near the cut region only.
   std::vector<char> near;
-  if (fillet > 0) {
+  if (spec.offset_fillet > 0) {
     near.assign(static_cast<size_t>(V_body.rows()), 0);
     const SurfaceLocator cut_surface(result.cut.V, result.cut.F);
-    const double reach = 3.0 * (spec.offset + fillet);
+    const double reach = 3.0 * (spec.offset + spec.offset_fillet);
     for (Eigen::Index v = 0; v < V_body.rows(); ++v)
       near[static_cast<size_t>(v)] = cut_surface.closest(V_body.row(v).transpose()).distance <= reach;
   }
-  const OffsetSurface surface(body, N_body, spec.offset, fillet, offset_options, near);
-  if (fillet > 0) {
+  const OffsetSurface surface(body, N_body, spec.offset, spec.offset_fillet, offset_options, near);
+  if (spec.offset_fillet > 0) {
     for (Eigen::Index v = 0; v < V_cut.rows(); ++v)
       if (!cut_fixed[static_cast<size_t>(v)]) V_cut.row(v) = surface.project(V_cut.row(v).transpose()).transpose();
   } else {
@@ -162,13 +159,6 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
     remesh_patch(V, F, curves, remesh, project_to_offset_surface);
   }
   result.timing["remesh"] = seconds_since(t0);
-  // Where the surface bends in two directions at once (the saddle of an
-  // armpit or a crotch) the even edges are too long for its curvature. On a
-  // sharp crease (no fillet) refining would only put more vertices onto it.
-  t0 = Clock::now();
-  if (fillet > 0)
-    result.cone_refinement = refine_cones(V, F, result.target_edge_length, project_to_offset_surface);
-  result.timing["refine_cones"] = seconds_since(t0);
 
   t0 = Clock::now();
   const auto boundaries = boundary_loops(F);
@@ -265,7 +255,7 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
   // part than the offset; the deviation from the rule is reported.
   t0 = Clock::now();
   Eigen::MatrixXd V_rule = V;
-  if (fillet > 0) {
+  if (spec.offset_fillet > 0) {
     for (Eigen::Index v = 0; v < V.rows(); ++v) V.row(v) = surface.project(V.row(v).transpose()).transpose();
     result.offset_error = measure_offset(V, body, spec.offset);
   } else {

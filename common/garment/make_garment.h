@@ -5,7 +5,6 @@
 
 #include "garment/body_clearance.h"
 #include "garment/comfort_offset.h"
-#include "garment/cone_refinement.h"
 #include "garment/garment_file.h"
 #include "garment/garment_spec.h"
 #include "garment/region_cut.h"
@@ -26,7 +25,6 @@ struct MakeGarmentResult {
   RegionCut cut;
   double target_edge_length = 0.0;    // metres
   MeshQuality quality;                // of the final garment
-  ConeRefinementResult cone_refinement;  // the remeshed garment refined where its curvature is concentrated
   double boundary_curve_error = 0.0;  // max distance of remeshed boundary vertices to their offset curve, m
   ComfortOffsetStats offset_error;    // distance to the body minus offset, all vertices
   // Largest distance between a boundary vertex and the position its binding

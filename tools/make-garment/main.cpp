@@ -118,12 +118,6 @@ int main(int argc, char** argv) {
                          {"offset_max_above", result.offset_error.max_above},
                          {"binding_max_deviation", result.binding_max_deviation},
                          {"curves", curves}};
-    const auto& cr = result.cone_refinement;
-    report["cone_refinement"] = {{"rounds", cr.rounds},
-                                 {"cones_before", cr.cones_before},
-                                 {"cones_after", cr.cones_after},
-                                 {"added_vertices", cr.added_vertices},
-                                 {"finest_target_edge_length", cr.finest_edge_length}};
     report["body_clearance"] = gp::to_json(result.clearance);
     if (!result.clearance.clear()) {
       const auto& a = result.clearance.after;
