@@ -522,7 +522,6 @@ Eigen::MatrixXd tutte_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F
 double flattening_energy(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& UV,
                          const FlattenOptions& options, Eigen::MatrixXd* gradient) {
   const std::vector<LocalTriangle> T = weighted_triangles(V, F, options.min_weight_fraction);
-  const std::vector<LocalTriangle> T0 = local_triangles(V, F);
   const double ease_weight = std::clamp(options.ease_weight, 0.0, 1.0);
   if (gradient) gradient->setZero(UV.rows(), 2);
   double energy = 0.0;
@@ -539,24 +538,15 @@ double flattening_energy(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, con
       for (int k = 0; k < 3; ++k) gradient->row(F(f, k)) += g.row(k);
     }
   }
-  if (options.boundary_weight > 0.0) {
-    const Eigen::MatrixXi TT = triangle_adjacency(F);
-    for (int f = 0; f < F.rows(); ++f)
-      for (int k = 0; k < 3; ++k)
-        if (TT(f, k) < 0 && !T0[static_cast<size_t>(f)].degenerate) {
-          const int i = F(f, k), j = F(f, (k + 1) % 3);
-          const double l = (V.row(i) - V.row(j)).norm();
-          if (!(l > 0.0)) continue;
-          const double w = options.boundary_weight * T0[static_cast<size_t>(f)].area / (l * l);
-          const Eigen::RowVector2d x = UV.row(i) - UV.row(j);
-          const double len = x.norm();
-          energy += w * (len - l) * (len - l);
-          if (gradient && len > 0.0) {
-            const Eigen::RowVector2d g = 2.0 * w * (len - l) * x / len;
-            gradient->row(i) += g;
-            gradient->row(j) -= g;
-          }
-        }
+  for (const BoundaryEdge& e : boundary_edges(V, F, T, options.boundary_weight)) {
+    const Eigen::RowVector2d x = UV.row(e.i) - UV.row(e.j);
+    const double len = x.norm();
+    energy += e.weight * (len - e.length) * (len - e.length);
+    if (gradient && len > 0.0) {
+      const Eigen::RowVector2d g = 2.0 * e.weight * (len - e.length) * x / len;
+      gradient->row(e.i) += g;
+      gradient->row(e.j) -= g;
+    }
   }
   return energy;
 }
