@@ -52,7 +52,8 @@ QUIET   ?= --quiet
 SIMULATE_QUIET ?=
 # BLAS/solver threads of every stage but simulate-adapt, which keeps its own
 # default of one (BLAS threads cost more than they save on its matrices), and
-# simulate-adapt's worker threads. Its own --workers default is 2 where the
+# the worker threads of simulate-adapt and fit-report (views rendered in
+# parallel; the pictures are the same for any count). Its own --workers default is 2 where the
 # machine has two cores (a second thread prepares the body frames and
 # adaptations; the outputs are the same for any count), but make fit gives it
 # THREADS:
@@ -142,7 +143,7 @@ $(OUT)/pattern/report.json: $(OUT)/fit/report.json $(SEAMS) $(EXPORT_STAMP) $(BI
 # --- report --------------------------------------------------------------------
 # Pictures, 3D views and every stage's figures in one folder that opens from disk.
 $(OUT)/report/report.json: $(OUT)/pattern/report.json $(OUT)/fit/report.json $(NO_ADAPT_REPORT) $(REPORT_STAMP) $(BIN)/fit-report
-	$(call RUN,fit-report) $(OUT) $(REPORT_FLAGS) --out $(@D) --force $(QUIET)
+	$(call RUN,fit-report) $(OUT) $(REPORT_FLAGS) --workers $(THREADS) --out $(@D) --force $(QUIET)
 
 .PHONY: fit
 .DEFAULT_GOAL := fit

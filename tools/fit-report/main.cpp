@@ -37,14 +37,16 @@ int main(int argc, char** argv) {
                  "three.js package folder to copy into the report [default: " +
                      gp::report::default_three_dir().string() + ", installed by make deps]");
   app.add_option("--font", font, "TrueType font of the labels [default: DejaVu Sans, Debian's fonts-dejavu-core]");
-  tool.common().threads = std::thread::hardware_concurrency() >= 2 ? 2 : 1;
+  int workers = std::thread::hardware_concurrency() >= 2 ? 2 : 1;
+  app.add_option("--workers", workers,
+                 "Views rendered in parallel; the pictures are the same for any count "
+                 "[count, default: 2 where the machine has two cores]")
+      ->check(CLI::Range(1, 64));
   tool.add_common_options();
-  app.get_option("--threads")->description("Views rendered in parallel; the pictures are the same for any count "
-                                           "[count, default: 2 where the machine has two cores]");
 
   return tool.run(argc, argv, [&] {
     const auto start = std::chrono::steady_clock::now();
-    options.sheet.threads = tool.common().threads;
+    options.sheet.threads = workers;
     options.sheet.front = Eigen::Vector3d(front == "+x" ? 1 : front == "-x" ? -1 : 0, 0,
                                           front == "+z" ? 1 : front == "-z" ? -1 : 0);
     options.three_dir = three_dir;

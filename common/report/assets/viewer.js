@@ -64,7 +64,7 @@
 
   // The total of a stage's timing.json, wherever that stage keeps it.
   function timingTotal(timing) {
-    const candidates = [['total_s'], ['seconds', 'total'], ['total'], ['build_total']];
+    const candidates = [['total_s'], ['build_total']];
     for (const path of candidates) {
       let v = timing;
       for (const key of path) v = v && typeof v === 'object' ? v[key] : undefined;

@@ -209,7 +209,7 @@ TEST_CASE("fit-report: --help lists its options, a missing folder exits 3 naming
   const auto help = gp::testing::run_command(gp::testing::tool_path("fit-report") + " --help");
   CHECK(help.exit_code == 0);
   for (const char* option : {"--view-width", "--view-height", "--supersampling", "--front", "--pattern-width",
-                             "--three-dir", "--font", "--out", "--threads", "[pixels]"})
+                             "--three-dir", "--font", "--out", "--threads", "--workers", "[pixels]"})
     CHECK_THAT(help.out, Catch::Contains(option));
   const fs::path dir = gp::testing::fresh_temp_dir("report_cli");
   fs::create_directories(dir / "fit");
