@@ -261,16 +261,27 @@ def memory_section(lines, bench, plot):
     lines += plot("memory.png")
 
 
-def changes_section(lines, changes_path):
-    """The speed changes measured one against the binary before them
-    (benchmarks/changes.md, written by hand with each change: a benchmark run
-    has only the current binary, so it cannot measure these ratios itself)."""
-    if not os.path.exists(changes_path):
+# Sections written by hand in benchmarks/<file>: measurements a benchmark run
+# cannot make itself (ratios against an older binary, whole fits of the
+# example customers, strategies compared), kept beside the generated ones so
+# that rerunning make bench never loses them. (file, heading, level)
+HAND_WRITTEN = {
+    "changes": ("changes.md", "Changes measured against the binary before them", "###"),
+    "independence": ("independence.md", "simulate-adapt: independence of numerical parameters and pose order", "##"),
+    "cutters": ("cutters.md", "export-rest: cutter strategies on adapted rest shapes", "###"),
+}
+
+
+def hand_section(lines, folder, key):
+    """The hand-written section key of HAND_WRITTEN, if its file has text."""
+    name, heading, level = HAND_WRITTEN[key]
+    path = os.path.join(folder, name)
+    if not os.path.exists(path):
         return
-    with open(changes_path) as f:
+    with open(path) as f:
         text = f.read().strip()
     if text:
-        lines += ["### Changes measured against the binary before them", "", text, ""]
+        lines += [f"{level} {heading}", "", text, ""]
 
 
 def write(path, bench, meta, plots):
@@ -295,12 +306,15 @@ def write(path, bench, meta, plots):
         "runs the time allowed (the runs column), at least one.",
         "",
     ]
+    hand = os.path.join(os.path.dirname(os.path.abspath(path)), meta["plots_rel"])
     sim_section(lines, bench.results, meta, plot)
-    changes_section(lines, os.path.join(os.path.dirname(os.path.abspath(path)), meta["plots_rel"], "changes.md"))
+    hand_section(lines, hand, "changes")
+    hand_section(lines, hand, "independence")
     culling_section(lines, bench.results, plot)
     tradeoff_section(lines, bench.results, plot)
     interp_section(lines, bench.results, plot)
     export_section(lines, bench.results, plot)
+    hand_section(lines, hand, "cutters")
     memory_section(lines, bench, plot)
     lines += ["## Every measured run", "",
               "| stage | case | threads | runs | median [s] | min [s] | max [s] | peak memory [MiB] | details |",

@@ -19,6 +19,9 @@ import bench_run
 MOTION_FRAMES = 30
 SETTLE_CAP_MAX = 1000  # simulate-adapt's own default
 TARGETS = (1100, 4000)
+# The time-per-step rows also run at these sizes (one run each, after the
+# two-thread rows), so the step rate is plotted against the garment's size.
+SWEEP = (2000, 8000)
 # Trade-off points as multiples of the stage's defaults (read from its report,
 # so they follow changes of the defaults), and garment sizes. Tier 1 is
 # planned into the settle cap; tier 2 runs only if time is left.
@@ -199,6 +202,10 @@ class SimBench:
     def targets(self):
         return TARGETS[:1] if self.quick else TARGETS
 
+    def sweep(self):
+        """Every size of the time-per-step rows, ascending."""
+        return self.targets() if self.quick else tuple(sorted(TARGETS + SWEEP))
+
     def tier(self, tier):
         if tier is TRADEOFF_TIER2:
             return {} if self.quick else tier
@@ -334,6 +341,10 @@ class SimBench:
                 if self.breakdown_key(scene, target) in self.measured:
                     self.sim(self.breakdown_key(scene, target) + "-threads-2", scene, target, [], 0,
                              reserve_s=reserve_s, repeats=self.run.repeats if target == TARGETS[0] else 1, threads=2)
+        for scene in self.scenes:
+            for target in self.sweep():
+                if target not in TARGETS:
+                    self.sim(self.breakdown_key(scene, target), scene, target, [], 0, reserve_s=reserve_s)
         first = self.measured.get(self.breakdown_key(self.scenes[0], TARGETS[0]))
         if first is None:
             return self.collect()
@@ -374,7 +385,7 @@ class SimBench:
 
     def collect(self):
         self.results["sim_breakdown"] = [self.measured[self.breakdown_key(sc, t)] for sc in self.scenes
-                                         for t in self.targets() if self.breakdown_key(sc, t) in self.measured]
+                                         for t in self.sweep() if self.breakdown_key(sc, t) in self.measured]
         self.results["sim_breakdown_failed"] = {k: v for k, v in self.failed.items() if k.startswith("step-")}
         threads = []
         for sc in self.scenes:
