@@ -34,6 +34,7 @@ cloth::ClothParameters parameters_from(const Material& m) {
   p.damping_shear = m.damping_shear;
   p.damping_bend = m.damping_bend;
   p.density = m.density;
+  p.compression_ratio = m.compression_ratio;
   return p;
 }
 

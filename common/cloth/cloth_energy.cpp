@@ -14,12 +14,15 @@ namespace {
 using Matrix32d = Eigen::Matrix<double, 3, 2>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
-// One stretch condition C = |w| - 1 with energy kA/2 C^2, in w space (3 dofs).
-// d2E/dw2 = kA [n n^T + (1 - 1/|w|)(I - n n^T)]: the transverse eigenvalue is
-// negative under compression, and clamping it to zero is the exact PSD projection.
-double stretch_term(const Eigen::Vector3d& w, double kA, bool project, Eigen::Vector3d& g,
-                    Eigen::Matrix3d& H) {
+// One stretch condition C = |w| - 1 with energy kA/2 C^2 when stretched and
+// r kA/2 C^2 when compressed (r = compression_ratio), in w space (3 dofs).
+// d2E/dw2 = k'A [n n^T + (1 - 1/|w|)(I - n n^T)] with k' the side's
+// stiffness: the transverse eigenvalue is negative under compression, and
+// clamping it to zero is the exact PSD projection.
+double stretch_term(const Eigen::Vector3d& w, double kA, double compression_ratio, bool project,
+                    Eigen::Vector3d& g, Eigen::Matrix3d& H) {
   const double len = w.norm();
+  if (len < 1.0) kA *= compression_ratio;
   const double energy = 0.5 * kA * (len - 1.0) * (len - 1.0);
   if (len < 1e-12) {
     // Fully collapsed direction: the energy has a cone point; no direction to push.
@@ -183,29 +186,30 @@ Eigen::Matrix<double, 3, 2> triangle_w(const Eigen::Matrix3d& X, const TriangleR
   return W;
 }
 
-double stretch_energy(const Eigen::Matrix3d& X, const TriangleRest& rest, double k) {
+double stretch_energy(const Eigen::Matrix3d& X, const TriangleRest& rest, double k, double compression_ratio) {
   const Matrix32d W = triangle_w(X, rest);
-  const double cu = W.col(0).norm() - 1.0;
-  const double cv = W.col(1).norm() - 1.0;
-  return 0.5 * k * rest.area * (cu * cu + cv * cv);
+  Eigen::Vector3d g;
+  Eigen::Matrix3d H;
+  return stretch_term(W.col(0), k * rest.area, compression_ratio, false, g, H) +
+         stretch_term(W.col(1), k * rest.area, compression_ratio, false, g, H);
 }
 
-Vector9d stretch_gradient(const Eigen::Matrix3d& X, const TriangleRest& rest, double k) {
+Vector9d stretch_gradient(const Eigen::Matrix3d& X, const TriangleRest& rest, double k, double compression_ratio) {
   const Matrix32d W = triangle_w(X, rest);
   Eigen::Vector3d gu, gv;
   Eigen::Matrix3d H;
-  stretch_term(W.col(0), k * rest.area, false, gu, H);
-  stretch_term(W.col(1), k * rest.area, false, gv, H);
+  stretch_term(W.col(0), k * rest.area, compression_ratio, false, gu, H);
+  stretch_term(W.col(1), k * rest.area, compression_ratio, false, gv, H);
   return map_gradient(gu, gv, rest.a, rest.b);
 }
 
-Matrix9d stretch_hessian(const Eigen::Matrix3d& X, const TriangleRest& rest, double k,
-                         bool project_psd) {
+Matrix9d stretch_hessian(const Eigen::Matrix3d& X, const TriangleRest& rest, double k, bool project_psd,
+                         double compression_ratio) {
   const Matrix32d W = triangle_w(X, rest);
   Eigen::Vector3d g;
   Eigen::Matrix3d Hu, Hv;
-  stretch_term(W.col(0), k * rest.area, project_psd, g, Hu);
-  stretch_term(W.col(1), k * rest.area, project_psd, g, Hv);
+  stretch_term(W.col(0), k * rest.area, compression_ratio, project_psd, g, Hu);
+  stretch_term(W.col(1), k * rest.area, compression_ratio, project_psd, g, Hv);
   Matrix6d H6 = Matrix6d::Zero();
   H6.block<3, 3>(0, 0) = Hu;
   H6.block<3, 3>(3, 3) = Hv;
@@ -321,8 +325,8 @@ double membrane_system_block(const Eigen::Matrix3d& X, const TriangleRest& rest,
   const double A = rest.area;
   Eigen::Vector3d gu, gv;
   Eigen::Matrix3d Hu, Hv;
-  double energy = stretch_term(wu, c.k_stretch * A, true, gu, Hu);
-  energy += stretch_term(wv, c.k_stretch * A, true, gv, Hv);
+  double energy = stretch_term(wu, c.k_stretch * A, c.compression_ratio, true, gu, Hu);
+  energy += stretch_term(wv, c.k_stretch * A, c.compression_ratio, true, gv, Hv);
   Vector6d g6;
   Matrix6d H6;
   energy += shear_term(wu, wv, c.k_shear * A, true, g6, H6);

@@ -6,6 +6,9 @@
 // area A so that it does not depend on the resolution (BW's C = a(...) scales with a^2):
 // W = Ds Dm^-1 = [w_u w_v], Ds = [x1-x0, x2-x0] (3x2), Dm the rest edges in the (u,v) frame (2x2);
 //   stretch_energy = k_stretch * A / 2 * ((|w_u| - 1)^2 + (|w_v| - 1)^2)   [m, m^2; k in J/m^2 = N/m]
+//     with k_stretch times compression_ratio for a condition under compression (|w| < 1): cloth
+//     buckles at a far smaller load than it stretches under, at wavelengths below the mesh's
+//     (the buckling stiffness of garment CAD; common/cloth/README.md, "Compression")
 //   shear_energy   = k_shear   * A / 2 * (w_u . w_v)^2
 // Bending (Bergou, Wardetzky, Harmon, Zorin, Grinspun 2006, "A quadratic bending model for
 // inextensible surfaces"), per interior edge (x0, x1) with opposite vertices x2, x3 and c_k, d_k the
@@ -47,12 +50,15 @@ TriangleRest triangle_rest_flat(const Eigen::Matrix<double, 2, 3>& P);
 // W = [w_u w_v] of triangle X.
 Eigen::Matrix<double, 3, 2> triangle_w(const Eigen::Matrix3d& X, const TriangleRest& rest);
 
-// Stretch (k in N/m). project_psd clamps the negative curvature across w under compression (|w| <
-// 1), which is the exact eigen-projection of the 9x9 block.
-double stretch_energy(const Eigen::Matrix3d& X, const TriangleRest& rest, double k);
-Vector9d stretch_gradient(const Eigen::Matrix3d& X, const TriangleRest& rest, double k);
+// Stretch (k in N/m; compression_ratio in (0, 1], the fraction of k resisting compression).
+// project_psd clamps the negative curvature across w under compression (|w| < 1), which is the
+// exact eigen-projection of the 9x9 block.
+double stretch_energy(const Eigen::Matrix3d& X, const TriangleRest& rest, double k,
+                      double compression_ratio = 1.0);
+Vector9d stretch_gradient(const Eigen::Matrix3d& X, const TriangleRest& rest, double k,
+                          double compression_ratio = 1.0);
 Matrix9d stretch_hessian(const Eigen::Matrix3d& X, const TriangleRest& rest, double k,
-                         bool project_psd = false);
+                         bool project_psd = false, double compression_ratio = 1.0);
 
 // Shear (k in N/m). project_psd is the exact eigen-projection of the 6x6 Hessian in (w_u, w_v)
 // space (closed form, see cloth_energy.cpp), mapped to 9x9.
@@ -95,6 +101,7 @@ struct MembraneCoefficients {
   double k_shear = 200.0;
   double damping_stretch = 100.0;
   double damping_shear = 1.0;
+  double compression_ratio = 0.1;  // fraction of k_stretch under compression (|w| < 1)
 };
 double membrane_system_block(const Eigen::Matrix3d& X, const TriangleRest& rest,
                              const MembraneCoefficients& c, double h, Vector9d& gradient,

@@ -144,7 +144,7 @@ ClothEnergies cloth_energies(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
   ClothEnergies e;
   for (int f = 0; f < F.rows(); ++f) {
     const Eigen::Matrix3d X = triangle_positions(V, F, f);
-    e.stretch += stretch_energy(X, rest.triangles[f], params.k_stretch);
+    e.stretch += stretch_energy(X, rest.triangles[f], params.k_stretch, params.compression_ratio);
     e.shear += shear_energy(X, rest.triangles[f], params.k_shear);
   }
   for (const BendingStencil& s : rest.stencils) {
@@ -172,7 +172,7 @@ Eigen::MatrixXd cloth_gradient(const Eigen::MatrixXd& V, const Eigen::MatrixXi& 
   Eigen::MatrixXd G = gravity_gradient(V, rest.masses, params.gravity);
   for (int f = 0; f < F.rows(); ++f) {
     const Eigen::Matrix3d X = triangle_positions(V, F, f);
-    const Vector9d g = stretch_gradient(X, rest.triangles[f], params.k_stretch) +
+    const Vector9d g = stretch_gradient(X, rest.triangles[f], params.k_stretch, params.compression_ratio) +
                        shear_gradient(X, rest.triangles[f], params.k_shear);
     for (int k = 0; k < 3; ++k) G.row(F(f, k)) += g.segment<3>(3 * k).transpose();
   }

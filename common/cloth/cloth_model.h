@@ -17,6 +17,10 @@ namespace gp::cloth {
 // in this project's per-unit-rest-area formulation (see cloth_energy.h).
 struct ClothParameters {
   double k_stretch = 800.0;        // N/m, per unit rest area
+  // Fraction of k_stretch that resists compression (|w| < 1): cloth buckles
+  // under a small fraction of the load it stretches under (README.md,
+  // "Compression"); 1 is the paper's symmetric stretch term.
+  double compression_ratio = 0.1;
   double k_shear = 200.0;          // N/m, per unit rest area
   double k_bend = 1e-6;            // J (N m), quadratic bending (Bergou et al. 2006)
   double damping_stretch = 100.0;  // N s/m

@@ -133,7 +133,7 @@ double SystemAssembly::assemble(const Eigen::MatrixXd& X, const Eigen::MatrixXd&
   double energy = quadratic_bending_energy(X, rest, params);
   b_.setZero(3 * n_free_);
   const MembraneCoefficients coeffs{params.k_stretch, params.k_shear, damping_scale * params.damping_stretch,
-                                    damping_scale * params.damping_shear};
+                                    damping_scale * params.damping_shear, params.compression_ratio};
   Vector9d g9;
   Matrix9d K9;
   for (int f = 0; f < F.rows(); ++f) {
@@ -182,7 +182,8 @@ double membrane_energy(const Eigen::MatrixXd& X, const Eigen::MatrixXi& F, const
   for (int f = 0; f < F.rows(); ++f) {
     Eigen::Matrix3d T;
     for (int k = 0; k < 3; ++k) T.col(k) = X.row(F(f, k)).transpose();
-    e += stretch_energy(T, rest.triangles[f], params.k_stretch) + shear_energy(T, rest.triangles[f], params.k_shear);
+    e += stretch_energy(T, rest.triangles[f], params.k_stretch, params.compression_ratio) +
+         shear_energy(T, rest.triangles[f], params.k_shear);
   }
   return e;
 }

@@ -57,6 +57,7 @@ OrderedJson to_json(const Material& m) {
   j["damping_shear"] = m.damping_shear;
   j["damping_bend"] = m.damping_bend;
   j["density"] = m.density;
+  j["compression_ratio"] = m.compression_ratio;
   return j;
 }
 
@@ -69,6 +70,7 @@ Material read_material(const SpecObject& obj) {
   m.damping_shear = obj.number("damping_shear", m.damping_shear, Range::non_negative());
   m.damping_bend = obj.number("damping_bend", m.damping_bend, Range::non_negative());
   m.density = obj.number("density", m.density, Range::positive());
+  m.compression_ratio = obj.number("compression_ratio", m.compression_ratio, Range::between(1e-3, 1.0));
   obj.finish();
   return m;
 }

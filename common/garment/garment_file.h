@@ -28,7 +28,7 @@
 //     "paint": [ ... ],                   // T3: area factor per garment triangle
 //     "material": { "k_stretch": 800, "k_shear": 200, "k_bend": 1e-06,
 //                   "damping_stretch": 100, "damping_shear": 1, "damping_bend": 1e-05,
-//                   "density": 0.15 },
+//                   "density": 0.15, "compression_ratio": 0.1 },
 //     "extensions": [ { "loop": "waist", "distance": 0.5, "scale": 1.4,
 //                       "girth": 1.1 }, ... ]        // T2 history, may be empty
 //   }
@@ -60,6 +60,10 @@ struct Material {
   // Area density in kg/m^2. The paper gives no value; 0.15 kg/m^2 is a
   // medium-weight cotton shirting (150 g/m^2).
   double density = 0.15;
+  // Fraction of k_stretch that resists compression: cloth buckles under a
+  // small fraction of the load it stretches under (common/cloth/README.md,
+  // "Compression"); 1 is the paper's symmetric stretch term.
+  double compression_ratio = 0.1;
 };
 OrderedJson to_json(const Material& material);
 // Reads the fields present in `obj` over the defaults (strict: unknown keys fail).

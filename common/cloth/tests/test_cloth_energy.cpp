@@ -102,33 +102,73 @@ double min_eigenvalue(const Matrix9d& H) {
 
 TEST_CASE("stretch and shear gradients and Hessians match finite differences", "[energy]") {
   const double k = 800.0;
-  int checked = 0;
-  for (const Case& c : make_cases(7)) {
-    const TriangleRest rest = triangle_rest(c.X_rest);
-    const double scale = (c.X_rest.col(1) - c.X_rest.col(0)).norm();
-    const double eps = 1e-6 * scale;
-    INFO("case " << c.kind << " scale " << scale);
+  int checked = 0, kinks = 0;
+  // The stretch term at the paper's symmetric stiffness, at the shipped
+  // compression ratio, and at the smallest one the material accepts.
+  for (const double ratio : {1.0, 0.1, 1e-3}) {
+    for (const Case& c : make_cases(7)) {
+      const TriangleRest rest = triangle_rest(c.X_rest);
+      const double scale = (c.X_rest.col(1) - c.X_rest.col(0)).norm();
+      const double eps = 1e-6 * scale;
+      INFO("case " << c.kind << " scale " << scale << " compression ratio " << ratio);
 
-    auto se = [&](const Eigen::Matrix3d& X) { return stretch_energy(X, rest, k); };
-    auto sg = [&](const Eigen::Matrix3d& X) { return stretch_gradient(X, rest, k); };
-    auto he = [&](const Eigen::Matrix3d& X) { return shear_energy(X, rest, k); };
-    auto hg = [&](const Eigen::Matrix3d& X) { return shear_gradient(X, rest, k); };
+      auto se = [&](const Eigen::Matrix3d& X) { return stretch_energy(X, rest, k, ratio); };
+      auto sg = [&](const Eigen::Matrix3d& X) { return stretch_gradient(X, rest, k, ratio); };
+      auto he = [&](const Eigen::Matrix3d& X) { return shear_energy(X, rest, k); };
+      auto hg = [&](const Eigen::Matrix3d& X) { return shear_gradient(X, rest, k); };
 
-    const Vector9d g_s = sg(c.X), g_h = hg(c.X);
-    // Gradient scale k*A/L is the natural force magnitude of one triangle.
-    const double force_scale = k * rest.area / scale;
-    CHECK((g_s - fd_gradient(c.X, eps, se)).norm() <= 1e-6 * force_scale * (1.0 + g_s.norm() / force_scale));
-    CHECK((g_h - fd_gradient(c.X, eps, he)).norm() <= 1e-6 * force_scale * (1.0 + g_h.norm() / force_scale));
+      const Vector9d g_s = sg(c.X), g_h = hg(c.X);
+      // Gradient scale k*A/L is the natural force magnitude of one triangle.
+      const double force_scale = k * rest.area / scale;
+      CHECK((g_s - fd_gradient(c.X, eps, se)).norm() <= 1e-6 * force_scale * (1.0 + g_s.norm() / force_scale));
+      CHECK((g_h - fd_gradient(c.X, eps, he)).norm() <= 1e-6 * force_scale * (1.0 + g_h.norm() / force_scale));
 
-    const double hess_scale = k * rest.area / (scale * scale);
-    const Matrix9d H_s = stretch_hessian(c.X, rest, k);
-    const Matrix9d H_h = shear_hessian(c.X, rest, k);
-    CHECK((H_s - fd_hessian(c.X, eps, sg)).norm() <= 1e-5 * hess_scale * (1.0 + H_s.norm() / hess_scale));
-    CHECK((H_h - fd_hessian(c.X, eps, hg)).norm() <= 1e-5 * hess_scale * (1.0 + H_h.norm() / hess_scale));
-    CHECK((H_s - H_s.transpose()).norm() <= 1e-12 * H_s.norm());
-    ++checked;
+      const double hess_scale = k * rest.area / (scale * scale);
+      const Matrix9d H_s = stretch_hessian(c.X, rest, k, false, ratio);
+      const Matrix9d H_h = shear_hessian(c.X, rest, k);
+      // With a softer compression the stiffness jumps at |w| = 1 (the force is
+      // continuous there, its derivative is not), so differences across it are
+      // no Hessian: the mirrored cases keep both lengths at exactly 1.
+      const Eigen::Matrix<double, 3, 2> W = triangle_w(c.X, rest);
+      const bool at_kink =
+          ratio != 1.0 && std::min(std::abs(W.col(0).norm() - 1.0), std::abs(W.col(1).norm() - 1.0)) < 1e-4;
+      kinks += at_kink ? 1 : 0;
+      if (!at_kink) {
+        CHECK((H_s - fd_hessian(c.X, eps, sg)).norm() <= 1e-5 * hess_scale * (1.0 + H_s.norm() / hess_scale));
+      }
+      CHECK((H_h - fd_hessian(c.X, eps, hg)).norm() <= 1e-5 * hess_scale * (1.0 + H_h.norm() / hess_scale));
+      CHECK((H_s - H_s.transpose()).norm() <= 1e-12 * H_s.norm());
+      ++checked;
+    }
   }
-  CHECK(checked == 96);
+  CHECK(checked == 3 * 96);
+  CHECK(kinks == 2 * 24);  // the mirrored triangles, at the two softened ratios
+}
+
+TEST_CASE("compression is resisted by its own fraction of the stretch stiffness", "[energy]") {
+  const double k = 800.0, ratio = 0.1;
+  const Eigen::Matrix3d X_rest = (Eigen::Matrix3d() << 0, 0.02, 0, 0, 0, 0.02, 0, 0, 0).finished();
+  const TriangleRest rest = triangle_rest(X_rest);
+  // Uniform compression to 0.9: both conditions at -0.1.
+  CHECK(stretch_energy(0.9 * X_rest, rest, k, ratio) == Approx(ratio * k * rest.area * 0.01).epsilon(1e-12));
+  CHECK(stretch_energy(0.9 * X_rest, rest, k, ratio) ==
+        Approx(ratio * stretch_energy(0.9 * X_rest, rest, k)).epsilon(1e-12));
+  // Stretch is untouched by the ratio.
+  CHECK(stretch_energy(1.1 * X_rest, rest, k, ratio) == Approx(stretch_energy(1.1 * X_rest, rest, k)).epsilon(1e-14));
+  // Stretched along one axis, compressed along the other: only that condition is softened.
+  Eigen::Matrix3d X = X_rest;
+  X.row(0) *= 1.05;
+  X.row(1) *= 0.95;
+  CHECK(stretch_energy(X, rest, k, ratio) == Approx(0.5 * k * rest.area * (1.0 + ratio) * 0.05 * 0.05).epsilon(1e-10));
+  // At |w| = 1 the force is continuous: a hair either side of the rest
+  // length gives forces of the same vanishing size.
+  for (const double t : {1.0 - 1e-9, 1.0 + 1e-9}) {
+    CHECK(stretch_gradient(t * X_rest, rest, k, ratio).norm() <= 1e-8 * k * rest.area / 0.02);
+  }
+  // The projected Hessian of a compressed triangle is PSD and ratio times the symmetric one.
+  const Matrix9d Hc = stretch_hessian(0.8 * X_rest, rest, k, true, ratio);
+  CHECK(min_eigenvalue(Hc) >= -1e-10 * Hc.norm());
+  CHECK((Hc - ratio * stretch_hessian(0.8 * X_rest, rest, k, true)).norm() <= 1e-12 * Hc.norm());
 }
 
 TEST_CASE("projected Hessians are PSD and only remove negative curvature", "[energy]") {
@@ -159,25 +199,28 @@ TEST_CASE("projected Hessians are PSD and only remove negative curvature", "[ene
 }
 
 TEST_CASE("membrane system block is the sum of the per-term functions", "[energy]") {
-  const MembraneCoefficients c{800.0, 200.0, 100.0, 1.0};
   const double h = 0.0025;
-  for (const Case& cs : make_cases(3)) {
-    const TriangleRest rest = triangle_rest(cs.X_rest);
-    Vector9d g;
-    Matrix9d K;
-    const double e = membrane_system_block(cs.X, rest, c, h, g, K);
-    const Matrix9d K_ref = h * h * (stretch_hessian(cs.X, rest, c.k_stretch, true) +
-                                    shear_hessian(cs.X, rest, c.k_shear, true)) +
-                           h * (stretch_damping(cs.X, rest, c.damping_stretch) +
-                                shear_damping(cs.X, rest, c.damping_shear));
-    const Vector9d g_ref = stretch_gradient(cs.X, rest, c.k_stretch) + shear_gradient(cs.X, rest, c.k_shear);
-    CHECK(std::abs(e - stretch_energy(cs.X, rest, c.k_stretch) - shear_energy(cs.X, rest, c.k_shear)) <=
-          1e-12 * (1.0 + e));
-    CHECK((g - g_ref).norm() <= 1e-10 * (1.0 + g_ref.norm()));
-    CHECK((K - K_ref).norm() <= 1e-10 * (1.0 + K_ref.norm()));
-    CHECK(min_eigenvalue(K) >= -1e-10 * (1.0 + K.norm()));
-    CHECK(min_eigenvalue(stretch_damping(cs.X, rest, 1.0)) >= -1e-12);
-    CHECK(min_eigenvalue(shear_damping(cs.X, rest, 1.0)) >= -1e-12);
+  for (const double ratio : {1.0, 0.1}) {
+    const MembraneCoefficients c{800.0, 200.0, 100.0, 1.0, ratio};
+    for (const Case& cs : make_cases(3)) {
+      const TriangleRest rest = triangle_rest(cs.X_rest);
+      Vector9d g;
+      Matrix9d K;
+      const double e = membrane_system_block(cs.X, rest, c, h, g, K);
+      const Matrix9d K_ref = h * h * (stretch_hessian(cs.X, rest, c.k_stretch, true, ratio) +
+                                      shear_hessian(cs.X, rest, c.k_shear, true)) +
+                             h * (stretch_damping(cs.X, rest, c.damping_stretch) +
+                                  shear_damping(cs.X, rest, c.damping_shear));
+      const Vector9d g_ref =
+          stretch_gradient(cs.X, rest, c.k_stretch, ratio) + shear_gradient(cs.X, rest, c.k_shear);
+      CHECK(std::abs(e - stretch_energy(cs.X, rest, c.k_stretch, ratio) - shear_energy(cs.X, rest, c.k_shear)) <=
+            1e-12 * (1.0 + e));
+      CHECK((g - g_ref).norm() <= 1e-10 * (1.0 + g_ref.norm()));
+      CHECK((K - K_ref).norm() <= 1e-10 * (1.0 + K_ref.norm()));
+      CHECK(min_eigenvalue(K) >= -1e-10 * (1.0 + K.norm()));
+      CHECK(min_eigenvalue(stretch_damping(cs.X, rest, 1.0)) >= -1e-12);
+      CHECK(min_eigenvalue(shear_damping(cs.X, rest, 1.0)) >= -1e-12);
+    }
   }
 }
 
