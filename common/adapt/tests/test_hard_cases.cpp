@@ -257,7 +257,9 @@ TEST_CASE("settling with a hundredth of the damping reaches the same fit", "[ada
   // 1.097 (before the contact: 7.4 mm, 1.0442 against 1.0432). With the
   // adaptation's margin (limit 1.08): 1.9 cm, growth 1.051 against 1.094, p99
   // 1.070 against 1.080; the light damping settles after 992 steps, beyond
-  // the earlier cap of 400.
+  // the earlier cap of 400. With the compression at a tenth of the stretch
+  // stiffness (cloth/README.md, "Compression"): 1.8 cm, growth 1.037 against
+  // 1.108, p99 1.078 against 1.079.
   const hc::Scene& scene = hc::default_scene();
   const Loaded l = load(scene);
   const gp::MotionSpec motion = motion_of(l.poses, {"apose", "tpose"}, 10);
@@ -269,8 +271,8 @@ TEST_CASE("settling with a hundredth of the damping reaches the same fit", "[ada
   REQUIRE(a.keys.size() == 2);
   for (const auto* r : {&a, &b})
     for (const KeyPoseResult& k : r->keys) CHECK(k.settled);
-  // Measured: 10.9 cm at most at the T-pose, mean 1.9 cm.
-  check_same_fit(a, b, 0.15, 0.025, 0.06);
+  // Measured: 14.0 cm at most at the T-pose, mean 1.8 cm.
+  check_same_fit(a, b, 0.15, 0.025, 0.08);
 }
 
 TEST_CASE("targets are held within the face growth cap where the cloth is stretched far beyond any fit",
