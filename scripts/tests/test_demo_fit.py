@@ -60,7 +60,7 @@ class DemoFitTest(unittest.TestCase):
 
     def test_rest_shape_has_no_tucks(self):
         r = self.rest
-        # Measured: growth x1.076, 0 turned, 17 cones (design 18), 28.7 rad (design 27.6).
+        # Measured: growth x1.062, 0 turned, 17 cones (design 18), 28.1 rad (design 27.6).
         self.assertGreater(r["area_growth"], 1.01)  # it did adapt
         self.assertLess(r["area_growth"], 1.20)
         self.assertEqual(r["turned_faces"], 0)
@@ -68,7 +68,9 @@ class DemoFitTest(unittest.TestCase):
         self.assertLessEqual(r["abs_angle_defect_sum_rad"], 1.3 * r["abs_angle_defect_sum_design_rad"])
 
     def test_the_papers_rule_makes_cones(self):
-        # Measured: 63 cones and 43.3 rad against ours 17 and 28.7.
+        # The paper's adaptation rule (clip every 8 steps throughout, plain
+        # ARAP) on the project's cloth. Measured: 63 cones and 43.3 rad
+        # against ours 17 and 28.7 (before the softer compression).
         paper = os.path.join(self.dir, "paper")
         garment = os.path.join(self.out, "garment", "garment.json")
         sim = run([os.path.join(BIN, "simulate-adapt"), "--poses", os.path.join(self.out, "poses", "poses.json"),
