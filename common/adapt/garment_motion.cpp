@@ -113,9 +113,6 @@ struct GarmentMotion::Impl {
   // cloth in concave regions: armpits, between arm and torso).
   Eigen::VectorXd offsets;
   bool ramp_done = false;
-  // Vertices the last solve's contacts found in a pinch (less room than
-  // their offset between two body parts), #V.
-  std::vector<char> pinched;
 
   std::optional<RestShapeAdapter> adapter;
   Eigen::MatrixXd V_rest;
@@ -210,7 +207,6 @@ struct GarmentMotion::Impl {
     if (!options.rest_triangles.empty()) sim->set_rest_triangles(options.rest_triangles);
 
     offsets = Eigen::VectorXd::Constant(V_garment.rows(), garment.offset);
-    pinched.assign(static_cast<size_t>(V_garment.rows()), 0);
     int hint = -1;
     for (int v = 0; v < V_garment.rows(); ++v) {
       const collision::Proximity q = collider->query(V_garment.row(v).transpose(), hint);
@@ -232,10 +228,7 @@ struct GarmentMotion::Impl {
       // never pulls a vertex in the band towards the body.
       sim->set_contact_handler(
           [this](const Eigen::MatrixXd& X, double h, std::vector<cloth::VelocityConstraint>& out) {
-            std::fill(pinched.begin(), pinched.end(), 0);
             for (const collision::Contact& c : collider->contacts(X, offsets, options.contact_band)) {
-              // Less room than the vertex's offset: two body parts squeeze it.
-              if (c.offset < offsets(c.vertex) - kTouchTolerance) pinched[static_cast<size_t>(c.vertex)] = 1;
               cloth::VelocityConstraint k;
               k.vertex = c.vertex;
               k.normal = c.outward;
@@ -379,39 +372,27 @@ struct GarmentMotion::Impl {
     record_adaptation(a.report);
   }
 
-  // Faces with a vertex in a pinch: the body holds them, and growth there
-  // relieves nothing (MotionRunOptions::grow_in_pinches). Empty when none is.
-  std::vector<char> held_faces() const {
-    if (options.grow_in_pinches || std::find(pinched.begin(), pinched.end(), 1) == pinched.end()) return {};
-    std::vector<char> held(static_cast<size_t>(F.rows()), 0);
-    for (int f = 0; f < F.rows(); ++f) {
-      for (int k = 0; k < 3; ++k) held[static_cast<size_t>(f)] |= pinched[static_cast<size_t>(F(f, k))];
-    }
-    return held;
-  }
-
   void launch_adaptation() {
     const RestShapeAdapter& a = *adapter;
 
     pending_adaptation = std::async(
         policy,
-        [&a](Eigen::MatrixXd X, Eigen::MatrixXd V, std::vector<char> held) {
+        [&a](Eigen::MatrixXd X, Eigen::MatrixXd V) {
           const auto ta = Clock::now();
           Adaptation out;
-          out.report = a.adapt(X, V, nullptr, held.empty() ? nullptr : &held);
+          out.report = a.adapt(X, V);
           out.V_rest = std::move(V);
           out.seconds = seconds_since(ta);
           return out;
         },
-        sim->positions(), V_rest, held_faces());
+        sim->positions(), V_rest);
     apply_after_step = result.steps + lag;
   }
 
   void adapt_now() {
     apply_adaptation();
     const auto ta = Clock::now();
-    const std::vector<char> held = held_faces();
-    record_adaptation(adapter->adapt(sim->positions(), V_rest, nullptr, held.empty() ? nullptr : &held));
+    record_adaptation(adapter->adapt(sim->positions(), V_rest));
     result.times.adaptation += seconds_since(ta);
   }
 

@@ -55,11 +55,6 @@ struct MotionRunOptions {
   // stretch the growth cannot relieve), never a fit.
   double max_area_growth = 3.0;
   AdaptOptions adaptation;            // stretch limit, clipping, stitching
-  // Grow faces also where the body pinches the cloth (a vertex with less room
-  // than its offset between two body parts: a thumb pressing a skirt against
-  // the hip, an arm against the torso). false: such faces keep their rest
-  // triangles; the growth could not relieve their stretch, the body holds them.
-  bool grow_in_pinches = false;
   double settle_speed = 0.05;         // m/s: largest net vertex speed over a settle check (adapt_every steps) of a settled cloth
   double settle_stretch_change = 1e-3;  // largest change of the largest stretch between settle checks
   int settle_max_steps = 1000;        // cap on the settling steps at each key pose

@@ -31,12 +31,12 @@ RestShapeAdapter::RestShapeAdapter(const Eigen::MatrixXd& V_reference, const Eig
 }
 
 AdaptReport RestShapeAdapter::adapt(const Eigen::MatrixXd& V_sim, Eigen::MatrixXd& V_rest,
-                                    const Eigen::VectorXd* area_factors, const std::vector<char>* held) const {
+                                    const Eigen::VectorXd* area_factors) const {
   AdaptReport report;
   report.area_before = mesh_area(V_rest, F_);
   const double clip_delta = options_.delta - options_.margin;  // the adaptation's own limit
   const std::vector<Eigen::Matrix2d> targets =
-      clipped_targets(V_rest, V_sim, F_, clip_delta, area_factors, &report.clip, options_.hysteresis, held);
+      clipped_targets(V_rest, V_sim, F_, clip_delta, area_factors, &report.clip, options_.hysteresis);
   if (report.clip.clipped_faces == 0 && area_factors == nullptr) {
     report.area_after = report.area_before;
     return report;
@@ -58,7 +58,7 @@ AdaptReport RestShapeAdapter::adapt(const Eigen::MatrixXd& V_sim, Eigen::MatrixX
   for (int round = 0; round < options_.rounds; ++round) {
     if (round > 0) {
       ClipStats clip;
-      next = clipped_targets(V_rest, V_sim, F_, clip_delta, nullptr, &clip, options_.hysteresis, held);
+      next = clipped_targets(V_rest, V_sim, F_, clip_delta, nullptr, &clip, options_.hysteresis);
       if (clip.clipped_faces == 0) break;
     }
     cap(next);

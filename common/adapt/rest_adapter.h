@@ -5,8 +5,6 @@
 // triangle beyond the limit and no paint, the targets are the current rest
 // triangles and the rest shape comes back unchanged: a settled garment is a
 // fixed point.
-#include <vector>
-
 #include <Eigen/Core>
 
 #include "adapt/arap_stitch.h"
@@ -57,9 +55,8 @@ class RestShapeAdapter {
   // to options().rounds clip-and-stitch rounds.
   // area_factors (#F, optional) scale the target areas (paint); pass them once,
   // e.g. at the first adaptation, since the rest shape keeps them afterwards.
-  // Faces flagged in `held` (#F, optional) are not grown (clipped_targets).
   AdaptReport adapt(const Eigen::MatrixXd& V_sim, Eigen::MatrixXd& V_rest,
-                    const Eigen::VectorXd* area_factors = nullptr, const std::vector<char>* held = nullptr) const;
+                    const Eigen::VectorXd* area_factors = nullptr) const;
 
   const AdaptOptions& options() const { return options_; }
   const ArapStitcher& stitcher() const { return stitcher_; }

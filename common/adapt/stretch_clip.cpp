@@ -36,7 +36,7 @@ Eigen::Matrix2d clipped_target(const Eigen::Matrix2d& D_rest, const Eigen::Matri
 std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V_sim,
                                              const Eigen::MatrixXi& F, double delta,
                                              const Eigen::VectorXd* area_factors, ClipStats* stats,
-                                             double hysteresis, const std::vector<char>* held) {
+                                             double hysteresis) {
   if (V_rest.rows() != V_sim.rows() || V_rest.cols() != 3 || V_sim.cols() != 3) {
     throw UsageError("rest and simulated positions must both be #V by 3");
   }
@@ -52,7 +52,6 @@ std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, cons
       }
     }
   }
-  if (held && held->size() != static_cast<size_t>(F.rows())) throw UsageError("one held flag per face is needed");
   if (!V_sim.allFinite()) throw NumericalError("simulated positions are not finite");
   std::vector<Eigen::Matrix2d> targets(F.rows());
   ClipStats local;
@@ -66,10 +65,8 @@ std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, cons
     }
     const double s_max = Eigen::JacobiSVD<Eigen::Matrix2d>(G).singularValues()(0);
     local.max_stretch = std::max(local.max_stretch, s_max);
-    const bool is_held = held && (*held)[static_cast<size_t>(f)];
-    if (s_max > 1.0 + delta && !is_held) ++local.clipped_faces;
-    const Eigen::Matrix2d D_rest = triangle_frame_edges(X_rest);
-    Eigen::Matrix2d T = is_held ? D_rest : clipped_target(D_rest, G, delta, hysteresis);
+    if (s_max > 1.0 + delta) ++local.clipped_faces;
+    Eigen::Matrix2d T = clipped_target(triangle_frame_edges(X_rest), G, delta, hysteresis);
     if (area_factors) T *= std::sqrt((*area_factors)(f));
     targets[f] = T;
     local.target_area += 0.5 * T.determinant();

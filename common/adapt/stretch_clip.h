@@ -26,15 +26,11 @@ struct ClipStats {
 };
 
 // Targets for all faces. area_factors (#F, > 0, optional: nullptr for none)
-// scale the target areas (paint, T3). Faces flagged in `held` (#F, optional)
-// keep their rest triangle as target and are not counted as clipped: the
-// body holds them (a pinch), and growth there relieves nothing. Throws
-// GeometryError for degenerate rest triangles, UsageError for bad sizes or
-// non-positive factors.
+// scale the target areas (paint, T3). Throws GeometryError for degenerate rest
+// triangles, UsageError for bad sizes or non-positive factors.
 std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V_sim,
                                              const Eigen::MatrixXi& F, double delta,
                                              const Eigen::VectorXd* area_factors,
-                                             ClipStats* stats, double hysteresis,
-                                             const std::vector<char>* held = nullptr);
+                                             ClipStats* stats, double hysteresis);
 
 }  // namespace gp::adapt

@@ -96,9 +96,6 @@ int main(int argc, char** argv) {
   app.add_option("--adapt-rounds", options.adaptation.rounds,
                  "Clip-and-stitch rounds per adaptation against the same cloth positions [count]")
       ->capture_default_str()->check(CLI::Range(1, 100));
-  app.add_flag("--grow-in-pinches", options.grow_in_pinches,
-               "Grow the rest shape also where two body parts squeeze the cloth into less room than its offset "
-               "(by default such faces are held: growth cannot relieve a stretch the body holds)");
   app.add_flag("--adapt-during-transitions", options.adapt_during_transitions,
                "Adapt also while the body moves between key poses (the paper), not only while the cloth settles "
                "at a key pose");
@@ -350,7 +347,6 @@ int main(int argc, char** argv) {
                          {"smoothing_length_m", options.adaptation.smoothing_length},
                          {"adapt_rounds", options.adaptation.rounds},
                          {"adapt_during_transitions", options.adapt_during_transitions},
-                         {"grow_in_pinches", options.grow_in_pinches},
                          {"adapt_speed_m_per_s", options.adapt_speed},
                          {"max_area_growth", options.max_area_growth},
                          {"max_face_growth", options.adaptation.max_face_growth},
