@@ -242,6 +242,16 @@ std::vector<DartTip> dart_tips(const Pattern& pattern, size_t c, const PatternOp
     }
     if (best == m || !(density[best] > 0.0)) break;
     const Eigen::Vector3d mode = mean_shift(X, weight, X[best], r);
+    // A start two radii from every taken mode can still climb back to one of
+    // them (a broad hill of curvature): that mode is taken, and a second
+    // dart to it would coincide with the first, leaving a slit of zero area
+    // between them. Its start is kept out of the next attempts instead.
+    bool repeated = false;
+    for (const auto& t : taken) repeated = repeated || (mode - t).norm() < 2.0 * r;
+    if (repeated) {
+      taken.push_back(X[best]);
+      continue;
+    }
     taken.push_back(mode);
     DartTip tip;
     tip.at = closest_point(p, mode, tip.point);

@@ -14,6 +14,7 @@
 #include "pattern/mesh_cut.h"
 #include "pattern/surface_curve.h"
 #include "testing/test_meshes.h"
+#include "test_helpers.h"
 
 using namespace gp;
 
@@ -229,4 +230,34 @@ TEST_CASE("two darts' chart lines cross or not", "[curve][darts]") {
   Eigen::MatrixXd bent(3, 2);
   bent << 0, -1, 0.5, 0.5, 1, -1;
   CHECK(polylines_cross(bent, line(0, 0, 1, 0)));
+}
+
+TEST_CASE("dart tips are two kernel radii apart even where mean shift climbs back to a taken mode", "[curve][darts]") {
+  // A spherical cap, wider than the kernel: its angle defect is spread
+  // evenly, so the mean shift from any start well inside climbs to the one
+  // mode near the top. Two darts to the same tip would coincide: a slit
+  // between them with no area, which no flattening survives.
+  const Mesh sphere = testing::make_icosphere(4, 0.1);
+  std::vector<Eigen::Vector3i> faces;
+  for (int f = 0; f < sphere.F.rows(); ++f) {
+    const double y = (sphere.V(sphere.F(f, 0), 1) + sphere.V(sphere.F(f, 1), 1) + sphere.V(sphere.F(f, 2), 1)) / 3.0;
+    if (y > -0.05) faces.emplace_back(sphere.F(f, 0), sphere.F(f, 1), sphere.F(f, 2));
+  }
+  const Mesh cap = testing::compact(sphere.V, faces);
+  PatternOptions options;
+  options.max_darts = 0;
+  options.max_pieces = 1;
+  const Pattern pattern = make_pattern(cap.V, cap.F, {}, options);
+  REQUIRE(pattern.pieces.size() == 1);
+  for (const int count : {2, 4}) {
+    const std::vector<DartTip> tips = dart_tips(pattern, 0, options, count);
+    REQUIRE(!tips.empty());
+    for (const DartTip& t : tips) UNSCOPED_INFO("tip at " << t.point.transpose() << ", " << t.curvature << " rad");
+    CHECK(static_cast<int>(tips.size()) <= count);
+    for (size_t i = 0; i < tips.size(); ++i)
+      for (size_t j = i + 1; j < tips.size(); ++j) {
+        INFO("tips " << i << " and " << j << " of " << tips.size() << " (asked for " << count << ")");
+        CHECK((tips[i].point - tips[j].point).norm() >= 2.0 * options.kernel_radius);
+      }
+  }
 }
