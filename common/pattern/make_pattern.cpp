@@ -307,17 +307,36 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
   // The distance and its cross-sections are taken on the rest shape, whose
   // triangles do not depend on where earlier cuts ran; the level set is cut
   // on the pattern mesh from the same piecewise-linear distance.
+  // Every limb's opening first: where its tube meets the body, and on which
+  // side of the body's axis it lies.
+  struct Opening {
+    std::string name;
+    std::vector<int> loop;
+    Eigen::VectorXd d;          // geodesic distance from the loop, per rest vertex
+    double found = -1.0;        // distance of its armhole, metres
+    Eigen::Vector3d from;       // the loop's centroid
+  };
+  std::vector<Opening> openings;
   for (const auto& loop : boundary_loops(mesh.rest_F)) {
-    std::string name = "through rest vertex " + std::to_string(loop.front());
+    Opening o;
+    o.loop = loop;
+    o.name = "through rest vertex " + std::to_string(loop.front());
     for (int v : loop)
       if (context.boundary_names.count(v)) {
-        name = "'" + context.boundary_names.at(v) + "'";
+        o.name = "'" + context.boundary_names.at(v) + "'";
         break;
       }
-    const Eigen::VectorXd d = heat_geodesic_distance(mesh.rest_V, mesh.rest_F, loop);
+    // A limb's opening lies away from the body's vertical axis (+y through
+    // the garment's centroid): a sleeve's hem does, the torso's hem and the
+    // neckline do not (the torso is a tube too, and its base would be a yoke).
+    o.from = Eigen::Vector3d::Zero();
+    for (int v : loop) o.from += mesh.rest_V.row(v).transpose();
+    o.from /= static_cast<double>(loop.size());
+    if (Eigen::Vector2d(o.from.x() - axis.x(), o.from.z() - axis.z()).norm() < options.limb_offset) continue;
+    o.d = heat_geodesic_distance(mesh.rest_V, mesh.rest_F, loop);
     double reach = 0.0;
-    for (int v = 0; v < d.size(); ++v)
-      if (std::isfinite(d[v])) reach = std::max(reach, d[v]);
+    for (int v = 0; v < o.d.size(); ++v)
+      if (std::isfinite(o.d[v])) reach = std::max(reach, o.d[v]);
     // Cross-section length along the tube: a sleeve keeps about its girth,
     // and where it meets the body the level set runs down the body's side
     // and its length grows fast.
@@ -329,7 +348,7 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
     std::vector<double> ts, ls;
     for (double t = step; t < reach; t += step) {
       ts.push_back(t);
-      ls.push_back(level_set_length(mesh.rest_V, mesh.rest_F, d, t));
+      ls.push_back(level_set_length(mesh.rest_V, mesh.rest_F, o.d, t));
     }
     std::vector<double> slope(ts.size(), 0.0);
     for (size_t k = 0; k < ts.size(); ++k) {
@@ -343,39 +362,51 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
       const double den = count * stt - st * st;
       slope[k] = den > 0.0 ? (count * stl - st * sl) / den : 0.0;
     }
-    double found = -1.0;
     for (size_t k = 1; k < ts.size(); ++k)
       if (slope[k] >= options.armhole_slope && slope[k - 1] < options.armhole_slope) {
-        found = ts[k - 1] + (options.armhole_slope - slope[k - 1]) / (slope[k] - slope[k - 1]) * step;
+        o.found = ts[k - 1] + (options.armhole_slope - slope[k - 1]) / (slope[k] - slope[k - 1]) * step;
         break;
       }
     // No tube (a neckline or an armhole opening) grows at once.
-    if (found < options.min_sleeve_length) continue;
-    if (found < 0.0) continue;
+    if (o.found < options.min_sleeve_length) continue;
+    openings.push_back(std::move(o));
+  }
+  // A tailor cuts both sleeves of a pair alike: two openings on either side
+  // of the axis, at about the same height and distance from it, take the
+  // mean of their two distances. Each alone would move with the few
+  // millimetres by which a scanned body or its remeshed garment is not
+  // symmetric, and the two sleeves would differ by that times their girth.
+  if (openings.size() == 2) {
+    Opening& a = openings[0];
+    Opening& b = openings[1];
+    const double ra = Eigen::Vector2d(a.from.x() - axis.x(), a.from.z() - axis.z()).norm();
+    const double rb = Eigen::Vector2d(b.from.x() - axis.x(), b.from.z() - axis.z()).norm();
+    const bool mirrored = (a.from.x() - axis.x()) * (b.from.x() - axis.x()) < 0.0 &&
+                          std::abs(ra - rb) <= options.mirror_tolerance * std::max(ra, rb) &&
+                          std::abs(a.from.y() - b.from.y()) <= options.mirror_tolerance * std::max(ra, rb) &&
+                          std::abs(a.found - b.found) <= options.mirror_tolerance * std::max(a.found, b.found);
+    if (mirrored) a.found = b.found = 0.5 * (a.found + b.found);
+  }
+  for (const Opening& o : openings) {
     Eigen::VectorXd dm(mesh.V.rows());
     for (int v = 0; v < mesh.V.rows(); ++v) {
       const SurfacePoint& q = mesh.rest_point[static_cast<size_t>(v)];
-      dm[v] = q.face < 0 ? 0.0 : q.bary[0] * d[mesh.rest_F(q.face, 0)] + q.bary[1] * d[mesh.rest_F(q.face, 1)] +
-                                     q.bary[2] * d[mesh.rest_F(q.face, 2)];
+      dm[v] = q.face < 0 ? 0.0
+                         : q.bary[0] * o.d[mesh.rest_F(q.face, 0)] + q.bary[1] * o.d[mesh.rest_F(q.face, 1)] +
+                               q.bary[2] * o.d[mesh.rest_F(q.face, 2)];
     }
-    auto sets = closed_level_sets(mesh.F, dm, found, options.smoothing.trace.snap_fraction, options.smoothing.trace.min_edge_fraction);
+    auto sets = closed_level_sets(mesh.F, dm, o.found, options.smoothing.trace.snap_fraction,
+                                  options.smoothing.trace.min_edge_fraction);
     if (sets.size() != 1) continue;
-    // A limb's opening lies away from the body's vertical axis (+y through
-    // the garment's centroid): a sleeve's hem does, the torso's hem and the
-    // neckline do not (the torso is a tube too, and its base would be a yoke).
-    Eigen::Vector3d from = Eigen::Vector3d::Zero();
-    for (int v : loop) from += mesh.rest_V.row(v).transpose();
-    from /= static_cast<double>(loop.size());
-    if (Eigen::Vector2d(from.x() - axis.x(), from.z() - axis.z()).norm() < options.limb_offset) continue;
     // The limb: the rest faces on the loop's side of the level set.
     if (pattern.limb_of_rest_face.empty()) pattern.limb_of_rest_face.assign(static_cast<size_t>(mesh.rest_F.rows()), -1);
     for (int f = 0; f < mesh.rest_F.rows(); ++f)
       if (pattern.limb_of_rest_face[static_cast<size_t>(f)] < 0 &&
-          (d[mesh.rest_F(f, 0)] + d[mesh.rest_F(f, 1)] + d[mesh.rest_F(f, 2)]) / 3.0 < found)
+          (o.d[mesh.rest_F(f, 0)] + o.d[mesh.rest_F(f, 1)] + o.d[mesh.rest_F(f, 2)]) / 3.0 < o.found)
         pattern.limb_of_rest_face[static_cast<size_t>(f)] = static_cast<int>(pattern.limbs.size());
-    pattern.limbs.push_back({name, from.x() > axis.x()});
+    pattern.limbs.push_back({o.name, o.from.x() > axis.x()});
     PatternSeam seam{"armhole" + std::to_string(seams.size() + 1), "armhole", "", {}, true, true};
-    seam.reason = "the tube ending at the boundary " + name + " (a sleeve) meets the body " + metres(found) +
+    seam.reason = "the tube ending at the boundary " + o.name + " (a sleeve) meets the body " + metres(o.found) +
                   " from it, where its cross-section starts to grow fast: a seam around it there (" +
                   metres(curve_length(mesh.V, mesh.F, sets.front())) + ")";
     seams.push_back(seam);

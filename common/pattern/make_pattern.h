@@ -61,12 +61,15 @@ struct PatternOptions {
   // Armholes: a loop ending a limb's tube (centroid at least limb_offset from
   // the body's vertical axis) gets a seam at the geodesic level set whose
   // length first grows faster than armhole_slope (m/m, fitted over
-  // +-slope_window), at least min_sleeve_length from the loop.
+  // +-slope_window), at least min_sleeve_length from the loop. Two limbs
+  // mirrored across the axis (their distances from it, heights and armhole
+  // distances equal within mirror_tolerance) share the mean armhole distance.
   bool armholes = true;
   double min_sleeve_length = 0.04;  // metres
   double armhole_slope = 2.0;
   double slope_window = 0.03;       // metres
   double limb_offset = 0.12;        // metres
+  double mirror_tolerance = 0.25;   // fraction
   double sliver_area = 1e-4;        // m^2: smaller pieces an armhole cuts off join their neighbour
 
   double front_back_cost = 4.0;     // topology cuts: cost of length facing front or back against sideways
