@@ -880,7 +880,7 @@ ArapRun injective_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Ei
     run.energy = next;
     run.iterations = it + 1;
     if (run.energy <= 1e-24 * area_scale) break;
-    if (decrease <= options.tolerance * run.energy) break;
+    if (decrease <= options.injective_tolerance * run.energy) break;
   }
   return run;
 }
