@@ -22,11 +22,7 @@ namespace gp {
 struct FlattenOptions {
   int max_iterations = 500;          // local/global iterations
   double tolerance = 1e-6;           // stop when the relative energy decrease is below this
-  // The injective iterations' own stop: they start where plain iterations
-  // folded, around a sliver of the rest shape that no map flattens well, and
-  // past this spend thousands of iterations (each a factorization) lowering
-  // only that sliver's distortion (pattern README, "Flatten").
-  double injective_tolerance = 1e-5;
+  double injective_tolerance = 1e-5;  // the same for the injective iterations (why: pattern README, "Flatten")
   double line_search_margin = 0.9;   // fraction of the largest flip-free step taken
   // Weight of boundary edges' 3D length against the triangle beside them
   // (seams are sewn edge to edge); 0 lets the boundary float.
