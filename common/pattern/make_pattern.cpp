@@ -315,6 +315,7 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
     Eigen::VectorXd d;          // geodesic distance from the loop, per rest vertex
     double found = -1.0;        // distance of its armhole, metres
     Eigen::Vector3d from;       // the loop's centroid
+    bool paired = false;        // found is the mean of a mirrored pair's
   };
   std::vector<Opening> openings;
   for (const auto& loop : boundary_loops(mesh.rest_F)) {
@@ -385,7 +386,10 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
                           std::abs(ra - rb) <= options.mirror_tolerance * std::max(ra, rb) &&
                           std::abs(a.from.y() - b.from.y()) <= options.mirror_tolerance * std::max(ra, rb) &&
                           std::abs(a.found - b.found) <= options.mirror_tolerance * std::max(a.found, b.found);
-    if (mirrored) a.found = b.found = 0.5 * (a.found + b.found);
+    if (mirrored) {
+      a.found = b.found = 0.5 * (a.found + b.found);
+      a.paired = b.paired = true;
+    }
   }
   for (const Opening& o : openings) {
     Eigen::VectorXd dm(mesh.V.rows());
@@ -407,8 +411,9 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
     pattern.limbs.push_back({o.name, o.from.x() > axis.x()});
     PatternSeam seam{"armhole" + std::to_string(seams.size() + 1), "armhole", "", {}, true, true};
     seam.reason = "the tube ending at the boundary " + o.name + " (a sleeve) meets the body " + metres(o.found) +
-                  " from it, where its cross-section starts to grow fast: a seam around it there (" +
-                  metres(curve_length(mesh.V, mesh.F, sets.front())) + ")";
+                  " from it, where its cross-section starts to grow fast" +
+                  (o.paired ? " (the mean of it and its mirror image, so that both sleeves are cut alike)" : "") +
+                  ": a seam around it there (" + metres(curve_length(mesh.V, mesh.F, sets.front())) + ")";
     seams.push_back(seam);
     curves.push_back(sets.front());
   }
