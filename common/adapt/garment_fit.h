@@ -19,6 +19,7 @@
 
 #include "adapt/fit_verification.h"
 #include "adapt/garment_motion.h"
+#include "spec/option_fields.h"
 
 namespace gp::adapt {
 
@@ -27,6 +28,65 @@ struct FitOptions {
   FitCriteria criteria;     // the verification's bounds
   bool verify = true;       // false: one adaptation cycle, no verification
   int max_cycles = 3;       // adaptation cycles at most
+  // The stage's own admission rule, recorded with the fit: the pose set's
+  // design pose may be another body than the garment was designed on (the
+  // garment is carried to it before the fit); refused otherwise.
+  bool other_body = false;
+};
+
+// The fit's options as its report records them and the sewn-fit check reads
+// them back (spec/option_fields.h): one flat list, keys with their units.
+// motion.threads is left out, since it changes no result.
+struct FitOptionFields {
+  template <class Fields>
+  void operator()(FitOptions& o, Fields& f) const {
+    MotionRunOptions& m = o.motion;
+    AdaptOptions& a = m.adaptation;
+    cloth::SimulatorOptions& s = m.solver;
+    f.flag("adapt", m.adapt);
+    f.flag("other_body", o.other_body);
+    f.number("dt_s", s.dt, Range::positive());
+    f.integer("substeps", m.substeps, Range::between(1, 1000));
+    f.integer("adapt_every", m.adapt_every, Range::between(1, 100000));
+    f.integer("adaptation_lag", m.adaptation_lag, Range::between(0, 99999));
+    f.number("delta", a.delta, Range::between(0.0, 10.0));
+    f.number("margin", a.margin, Range::between(0.0, 1.0));
+    f.number("hysteresis", a.hysteresis, Range::between(0.0, 1.0));
+    f.number("smoothing_length_m", a.smoothing_length, Range::non_negative());
+    f.integer("adapt_rounds", a.rounds, Range::between(1, 100));
+    f.flag("adapt_during_transitions", m.adapt_during_transitions);
+    f.number("adapt_speed_m_per_s", m.adapt_speed, Range::positive());
+    f.number("max_area_growth", m.max_area_growth, Range::between(1.0, 1000.0));
+    f.number("max_face_growth", a.max_face_growth, Range::between(1.0, 1000.0));
+    f.flag("verify", o.verify);
+    f.integer("max_cycles", o.max_cycles, Range::between(1, 100));
+    f.number("arap_tolerance", a.arap.tolerance, Range::positive());
+    f.number("arap_stretch_tolerance", a.arap.stretch_tolerance, Range::non_negative());
+    f.integer("arap_max_iterations", a.arap.max_iterations, Range::between(1, 1e9));
+    f.number("settle_speed_m_per_s", m.settle_speed, Range::positive());
+    f.number("settle_stretch_change", m.settle_stretch_change, Range::non_negative());
+    f.integer("settle_max_steps", m.settle_max_steps, Range::between(0, 1e7));
+    f.number("settle_damping", m.settle_damping, Range::between(0.0, 1.0));
+    f.integer("fixed_point_steps", m.fixed_point_steps, Range::between(1, 1e9));
+    f.number("fixed_point_area_change", m.fixed_point_area_change, Range::non_negative());
+    f.number("reach_m", m.reach, Range::non_negative());
+    f.names("contact", m.velocity_contacts, "velocity", "projection");
+    f.number("contact_band_m", m.contact_band, Range::non_negative());
+    f.names("continuous_contact", m.continuous_contact, "on", "off");
+    f.number("contact_thickness_m", m.contact.thickness, Range::positive());
+    f.number("pin_clearance", m.pin_clearance, Range::between(0.0, 1.0));
+    f.names("hand_hulls", m.contact_surface.hulls, "on", "off");
+    f.number("hull_thin_m", m.contact_surface.thin, Range::positive());
+    f.number("hull_min_extent_m", m.contact_surface.min_extent, Range::non_negative());
+    f.number("initial_push_speed_m_per_s", m.initial_push_speed, Range::positive());
+    f.number("contact_release_fraction", s.contact_release_fraction, Range::non_negative());
+    f.choice("solver", s.strategy, cloth::solver_strategy_names());
+    f.number("cg_tolerance", s.cg_tolerance, Range::positive());
+    f.integer("cg_max_iterations", s.cg_max_iterations, Range::between(1, 1e9));
+    f.integer("fresh_factor_max_iterations", s.fresh_factor_max_iterations, Range::between(1, 1e9));
+    f.number("factorization_cost", s.factorization_cost, Range::non_negative());
+    f.flag("warp_preconditioner", s.warp_preconditioner);
+  }
 };
 
 struct FitCycle {

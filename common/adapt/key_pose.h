@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include "collision/crossings.h"
+#include "spec/spec_object.h"
 
 namespace gp::adapt {
 
@@ -38,6 +39,18 @@ struct FitCriteria {
   // Body edges through cloth triangles plus cloth edges through body
   // triangles (collision/crossings.h): fails above this count.
   long max_crossings = 0;
+};
+
+// The criteria as a report records them and a reader takes them back
+// (spec/option_fields.h).
+struct FitCriteriaFields {
+  template <class Fields>
+  void operator()(FitCriteria& c, Fields& f) const {
+    f.number("max_area_fraction_above_limit", c.max_area_above, Range::between(0.0, 1.0));
+    f.number("p99_margin", c.p99_margin, Range::non_negative());
+    f.number("max_penetration_m", c.max_penetration, Range::non_negative());
+    f.integer("max_crossings", c.max_crossings, Range::non_negative());
+  }
 };
 
 // Sets k's max, p99 (area-weighted) and mean stretch and the area fraction

@@ -13,13 +13,12 @@
 
 namespace gp::cloth {
 
-const char* solver_strategy_name(SolverStrategy s) {
-  switch (s) {
-    case SolverStrategy::pcg_reused_factor: return "pcg_reused_factor";
-    case SolverStrategy::refactor_every_step: return "refactor_every_step";
-    case SolverStrategy::pcg_jacobi: return "pcg_jacobi";
-  }
-  return "unknown";
+const std::vector<std::pair<SolverStrategy, const char*>>& solver_strategy_names() {
+  static const std::vector<std::pair<SolverStrategy, const char*>> names = {
+      {SolverStrategy::pcg_reused_factor, "pcg_reused_factor"},
+      {SolverStrategy::refactor_every_step, "refactor_every_step"},
+      {SolverStrategy::pcg_jacobi, "pcg_jacobi"}};
+  return names;
 }
 
 std::vector<std::pair<int, long>> most_inverted_faces(const SolverCounters& counters, int count) {

@@ -43,7 +43,8 @@ namespace gp::cloth {
 
 enum class SolverStrategy { pcg_reused_factor, refactor_every_step, pcg_jacobi };
 
-const char* solver_strategy_name(SolverStrategy s);
+// Every strategy with its name in reports and options.
+const std::vector<std::pair<SolverStrategy, const char*>>& solver_strategy_names();
 
 struct SimulatorOptions {
   double dt = 0.01;  // time step [s]; the paper's 2.5 ms jerks the cloth through transitions (adapt/README.md)

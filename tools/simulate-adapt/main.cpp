@@ -40,8 +40,7 @@ int main(int argc, char** argv) {
   app.add_option("--garment", garment_path, "Garment file (garment.json, garment/1); its mesh sits beside it")
       ->required();
   app.add_flag("--no-adapt", no_adapt, "Keep the rest shape fixed (evaluate a single-pose design)");
-  bool other_body = false;
-  app.add_flag("--other-body", other_body,
+  app.add_flag("--other-body", fit_options.other_body,
                "Fit the garment to a pose set whose design pose is another body than the one it was designed on "
                "(by default that is refused, exit 5)");
   bool no_verify = false;
@@ -179,6 +178,7 @@ int main(int argc, char** argv) {
   return tool.run(argc, argv, [&] {
     const auto start = std::chrono::steady_clock::now();
     options.adapt = !no_adapt;
+    options.adaptation_lag = gp::adapt::applied_adaptation_lag(options);  // recorded as run
     fit_options.verify = !no_verify;
     options.velocity_contacts = contact == "velocity";
     options.continuous_contact = continuous == "on";
@@ -208,7 +208,7 @@ int main(int argc, char** argv) {
                               garment_path);
     }
     const gp::DesignPoseMatch design = gp::match_design_pose(garment, poses);
-    if (!design.same && !other_body)
+    if (!design.same && !fit_options.other_body)
       throw gp::GeometryError("pose '" + garment.body.design_pose + "' of the pose set is another body than the "
                               "garment was designed on (its vertex checksum " + design.actual.substr(0, 16) +
                               ", the garment file's " + design.expected.substr(0, 16) +
@@ -321,67 +321,21 @@ int main(int argc, char** argv) {
         poses_json.push_back(gp::adapt::to_json(check, name));
       }
       verified = {{"verdict", verification->passed() ? "pass" : "fail"},
-                  {"criteria",
-                   {{"max_area_fraction_above_limit", criteria.max_area_above},
-                    {"p99_margin", criteria.p99_margin},
-                    {"max_penetration_m", criteria.max_penetration},
-                    {"max_crossings", criteria.max_crossings}}},
+                  {"criteria", gp::write_options(criteria, gp::adapt::FitCriteriaFields{})},
                   {"steps", verification->steps},
                   {"rejected_steps", verification->rejected_steps},
                   {"key_poses", poses_json}};
     }
     gp::OrderedJson report;
     report["schema"] = gp::schema_tag("simulate-adapt-report", 1);
-    report["options"] = {{"poses", poses_path},
-                         {"motion", motion_path},
-                         {"garment", garment_path},
-                         {"adapt", options.adapt},
-                         {"other_body", other_body},
-                         {"dt_s", options.solver.dt},
-                         {"substeps", options.substeps},
-                         {"adapt_every", options.adapt_every},
-                         {"adaptation_lag", gp::adapt::applied_adaptation_lag(options)},
-                         {"delta", options.adaptation.delta},
-                         {"margin", options.adaptation.margin},
-                         {"hysteresis", options.adaptation.hysteresis},
-                         {"smoothing_length_m", options.adaptation.smoothing_length},
-                         {"adapt_rounds", options.adaptation.rounds},
-                         {"adapt_during_transitions", options.adapt_during_transitions},
-                         {"adapt_speed_m_per_s", options.adapt_speed},
-                         {"max_area_growth", options.max_area_growth},
-                         {"max_face_growth", options.adaptation.max_face_growth},
-                         {"verify", fit_options.verify},
-                         {"max_cycles", fit_options.max_cycles},
-                         {"arap_tolerance", options.adaptation.arap.tolerance},
-                         {"arap_stretch_tolerance", options.adaptation.arap.stretch_tolerance},
-                         {"arap_max_iterations", options.adaptation.arap.max_iterations},
-                         {"settle_speed_m_per_s", options.settle_speed},
-                         {"settle_stretch_change", options.settle_stretch_change},
-                         {"settle_max_steps", options.settle_max_steps},
-                         {"settle_damping", options.settle_damping},
-                         {"fixed_point_steps", options.fixed_point_steps},
-                         {"fixed_point_area_change", options.fixed_point_area_change},
-                         {"reach_m", options.reach},
-                         {"contact", contact},
-                         {"contact_band_m", options.contact_band},
-                         {"continuous_contact", continuous},
-                         {"contact_thickness_m", options.contact.thickness},
-                         {"pin_clearance", options.pin_clearance},
-                         {"hand_hulls", hand_hulls},
-                         {"hull_thin_m", options.contact_surface.thin},
-                         {"hull_min_extent_m", options.contact_surface.min_extent},
-                         {"initial_push_speed_m_per_s", options.initial_push_speed},
-                         {"contact_release_fraction", options.solver.contact_release_fraction},
-                         {"solver", gp::cloth::solver_strategy_name(options.solver.strategy)},
-                         {"cg_tolerance", options.solver.cg_tolerance},
-                         {"cg_max_iterations", options.solver.cg_max_iterations},
-                         {"fresh_factor_max_iterations", options.solver.fresh_factor_max_iterations},
-                         {"factorization_cost", options.solver.factorization_cost},
-                         {"warp_preconditioner", options.solver.warp_preconditioner},
-                         {"threads", tool.common().threads},
-                         {"motion_effective", gp::to_json(motion)},
-                         {"material", gp::to_json(garment.material)},
-                         {"comfort_offset_m", garment.offset}};
+    // The fit's options under the keys the sewn-fit check reads them back by
+    // (adapt/garment_fit.h), between the inputs and the effective motion.
+    report["options"] = {{"poses", poses_path}, {"motion", motion_path}, {"garment", garment_path}};
+    report["options"].update(gp::write_options(fit_options, gp::adapt::FitOptionFields{}));
+    report["options"]["threads"] = tool.common().threads;
+    report["options"]["motion_effective"] = gp::to_json(motion);
+    report["options"]["material"] = gp::to_json(garment.material);
+    report["options"]["comfort_offset_m"] = garment.offset;
     if (carried) {
       report["other_body"] = {{"design_pose", garment.body.design_pose},
                               {"garment_file_sha256", design.expected},

@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 
+#include "adapt/garment_fit.h"
 #include "core/error.h"
 #include "core/sha256.h"
 #include "garment/garment_file.h"
@@ -21,6 +22,7 @@
 #include "pattern/sewn_fit.h"
 #include "pose/pose_set.h"
 #include "spec/json_file.h"
+#include "spec/option_fields.h"
 #include "testing/command.h"
 #include "testing/files.h"
 #include "testing/test_meshes.h"
@@ -240,21 +242,35 @@ TEST_CASE("the sewn-fit check passes a good pattern and fails one shrunk by 5 %"
 
 TEST_CASE("the fit's settings are read from its report, strictly", "[sewn_fit]") {
   const fs::path dir = testing::fresh_temp_dir("sewn-fit-settings");
-  Json report = {{"schema", "simulate-adapt-report/1"},
-                 {"options",
-                  {{"poses", "p.json"}, {"motion", "m.json"}, {"dt_s", 0.005}, {"substeps", 2}, {"delta", 0.08},
-                   {"settle_speed_m_per_s", 0.04}, {"settle_stretch_change", 1e-3}, {"settle_max_steps", 700},
-                   {"settle_damping", 0.5}, {"reach_m", 0.12}, {"contact", "velocity"}, {"contact_band_m", 5e-4},
-                   {"continuous_contact", "off"}, {"contact_thickness_m", 1e-3}, {"hand_hulls", "off"},
-                   {"hull_thin_m", 0.02}, {"hull_min_extent_m", 0.12},
-                   {"initial_push_speed_m_per_s", 0.1}, {"contact_release_fraction", 0.1},
-                   {"solver", "pcg_reused_factor"}, {"cg_tolerance", 1e-4}, {"cg_max_iterations", 40},
-                   {"fresh_factor_max_iterations", 200}, {"factorization_cost", 20.0},
-                   {"warp_preconditioner", true}}},
-                 {"verification",
-                  {{"criteria",
-                    {{"max_area_fraction_above_limit", 0.02}, {"p99_margin", 0.03}, {"max_penetration_m", 0.004},
-                     {"max_crossings", 1}}}}}};
+  // The options as simulate-adapt writes them, every one away from its default.
+  adapt::FitOptions fit;
+  adapt::MotionRunOptions& m = fit.motion;
+  m.solver.dt = 0.005;
+  m.substeps = 2;
+  m.adaptation.delta = 0.08;
+  m.settle_max_steps = 700;
+  m.settle_damping = 0.5;
+  m.continuous_contact = false;
+  m.velocity_contacts = false;
+  m.contact_surface.hulls = false;
+  m.contact_surface.thin = 0.02;
+  m.contact_surface.min_extent = 0.12;
+  m.contact.thickness = 1e-3;
+  m.solver.strategy = cloth::SolverStrategy::pcg_reused_factor;
+  m.solver.cg_max_iterations = 41;
+  m.solver.warp_preconditioner = false;
+  m.reach = 0.12;
+  adapt::FitCriteria criteria;
+  criteria.max_area_above = 0.02;
+  criteria.p99_margin = 0.03;
+  criteria.max_penetration = 0.004;
+  criteria.max_crossings = 1;
+  OrderedJson options = {{"poses", "p.json"}, {"motion", "m.json"}};
+  options.update(write_options(fit, adapt::FitOptionFields{}));
+  options["motion_effective"] = {{"schema", "motion/1"}};  // beside the options, not read
+  OrderedJson report = {{"schema", "simulate-adapt-report/1"},
+                        {"options", options},
+                        {"verification", {{"criteria", write_options(criteria, adapt::FitCriteriaFields{})}}}};
   write_json_file(dir / "r.json", report);
   const FitSettings s = read_fit_settings(dir / "r.json");
   CHECK(s.poses == "p.json");
@@ -265,12 +281,17 @@ TEST_CASE("the fit's settings are read from its report, strictly", "[sewn_fit]")
   CHECK(s.run.settle_max_steps == 700);
   CHECK(s.run.settle_damping == 0.5);
   CHECK(!s.run.continuous_contact);
+  CHECK(!s.run.velocity_contacts);
   CHECK(!s.run.contact_surface.hulls);
   CHECK(s.run.contact_surface.thin == 0.02);
   CHECK(s.run.contact_surface.min_extent == 0.12);
-  CHECK(s.run.velocity_contacts);
+  CHECK(s.run.contact.thickness == 1e-3);
+  CHECK(s.run.reach == 0.12);
   CHECK(s.run.solver.strategy == cloth::SolverStrategy::pcg_reused_factor);
-  CHECK(!s.run.adapt);
+  CHECK(s.run.solver.cg_max_iterations == 41);
+  CHECK(!s.run.solver.warp_preconditioner);
+  CHECK(!s.run.adapt);  // the sewn garment is checked, never adapted
+  CHECK(s.run.threads == 1);
   CHECK(s.criteria.max_area_above == 0.02);
   CHECK(s.criteria.p99_margin == 0.03);
   CHECK(s.criteria.max_penetration == 0.004);
@@ -288,6 +309,16 @@ TEST_CASE("the fit's settings are read from its report, strictly", "[sewn_fit]")
   } catch (const SpecError& e) {
     CHECK(e.where().find("delta") != std::string::npos);
   }
+  report["options"]["delta"] = 0.1;
+  report["options"]["solver"] = "gauss_seidel";
+  write_json_file(dir / "r.json", report);
+  try {
+    read_fit_settings(dir / "r.json");
+    FAIL("no error");
+  } catch (const SpecError& e) {
+    CHECK(e.where().find("/options/solver") != std::string::npos);
+  }
+  report["options"]["solver"] = "refactor_every_step";
   report["schema"] = "export-rest-report/1";
   write_json_file(dir / "r.json", report);
   CHECK_THROWS_AS(read_fit_settings(dir / "r.json"), SpecError);

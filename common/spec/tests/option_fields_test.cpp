@@ -1,0 +1,116 @@
+#include <catch2/catch.hpp>
+
+#include "core/error.h"
+#include "spec/option_fields.h"
+
+namespace {
+
+enum class Shape { round, square, flat };
+
+struct Toy {
+  double length = 0.5;  // m
+  int count = 3;
+  long big = 7;
+  bool on = true;
+  bool velocity = true;  // "velocity" or "projection"
+  Shape shape = Shape::square;
+};
+
+struct ToyFields {
+  template <class Fields>
+  void operator()(Toy& t, Fields& f) const {
+    f.number("length_m", t.length, gp::Range::positive());
+    f.integer("count", t.count, gp::Range::between(1, 10));
+    f.integer("big", t.big, gp::Range::non_negative());
+    f.flag("on", t.on);
+    f.names("contact", t.velocity, "velocity", "projection");
+    f.choice("shape", t.shape,
+             gp::ChoiceNames<Shape>{{Shape::round, "round"}, {Shape::square, "square"}, {Shape::flat, "flat"}});
+  }
+};
+
+std::string spec_error(const gp::Json& j, bool required) {
+  try {
+    Toy t;
+    const gp::SpecObject o(j, "toy.json");
+    gp::read_options(o, required, t, ToyFields{});
+  } catch (const gp::SpecError& e) {
+    return e.message();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("options are written in their list's order and read back to the same values", "[spec]") {
+  Toy t;
+  t.length = 1e-7;
+  t.count = 10;
+  t.big = 1L << 40;
+  t.on = false;
+  t.velocity = false;
+  t.shape = Shape::flat;
+  const gp::OrderedJson j = gp::write_options(t, ToyFields{});
+  CHECK(j.dump() ==
+        R"({"length_m":1e-07,"count":10,"big":1099511627776,"on":false,"contact":"projection","shape":"flat"})");
+
+  Toy back;
+  const gp::Json parsed = gp::Json::parse(j.dump());
+  const gp::SpecObject o(parsed, "toy.json");
+  gp::read_options(o, true, back, ToyFields{});
+  o.finish();  // every key written is a key read
+  CHECK(back.length == t.length);
+  CHECK(back.count == 10);
+  CHECK(back.big == t.big);
+  CHECK(!back.on);
+  CHECK(!back.velocity);
+  CHECK(back.shape == Shape::flat);
+}
+
+TEST_CASE("options are read strictly: missing, mistyped, out-of-range and unknown values are named", "[spec]") {
+  const gp::Json full = gp::Json::parse(gp::write_options(Toy{}, ToyFields{}).dump());
+  CHECK(spec_error(full, true).empty());
+
+  gp::Json j = full;
+  j.erase("count");
+  CHECK_THAT(spec_error(j, true), Catch::Contains("missing field") && Catch::Contains("/count"));
+  // Not required: a missing field keeps its value.
+  {
+    Toy t;
+    t.count = 4;
+    const gp::SpecObject o(j, "toy.json");
+    gp::read_options(o, false, t, ToyFields{});
+    CHECK(t.count == 4);
+  }
+
+  j = full;
+  j["count"] = 11;
+  CHECK_THAT(spec_error(j, false), Catch::Contains("toy.json") && Catch::Contains("/count"));
+  j = full;
+  j["count"] = 2.5;
+  CHECK_THAT(spec_error(j, false), Catch::Contains("/count"));
+  j = full;
+  j["length_m"] = 0.0;
+  CHECK_THAT(spec_error(j, false), Catch::Contains("/length_m"));
+  j = full;
+  j["length_m"] = "0.5";
+  CHECK_THAT(spec_error(j, false), Catch::Contains("/length_m"));
+  j = full;
+  j["on"] = 1;
+  CHECK_THAT(spec_error(j, false), Catch::Contains("/on"));
+  j = full;
+  j["contact"] = "friction";
+  CHECK_THAT(spec_error(j, false), Catch::Contains("/contact") && Catch::Contains("projection"));
+  j = full;
+  j["shape"] = "oval";
+  CHECK_THAT(spec_error(j, false), Catch::Contains("/shape") && Catch::Contains("round"));
+
+  // A key the list does not name is left to the caller, whose finish()
+  // rejects it where the object holds options only.
+  j = full;
+  j["colour"] = "red";
+  Toy t;
+  const gp::SpecObject o(j, "toy.json");
+  gp::read_options(o, true, t, ToyFields{});
+  CHECK_THROWS_AS(o.finish(), gp::SpecError);
+}
