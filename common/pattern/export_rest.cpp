@@ -273,6 +273,7 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
       {"flatten_ease_weight", po.flatten.ease_weight},
       {"flatten_iterations", po.flatten.max_iterations},
       {"flatten_tolerance", po.flatten.tolerance},
+      {"final_tolerance", po.flatten.final_tolerance},
       {"line_search_margin", po.flatten.line_search_margin},
       {"boundary_weight", po.flatten.boundary_weight},
       {"max_boundary_weight", po.max_boundary_weight},

@@ -885,6 +885,24 @@ ArapRun injective_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Ei
   return run;
 }
 
+namespace {
+
+// The result's distortion figures and the overlaps of its outline.
+void measure_result(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<int>& loop,
+                    const Eigen::VectorXi* material_ids, FlattenResult& result) {
+  result.stats = distortion_stats(V, F, result.UV);
+  Eigen::MatrixXd P(static_cast<int>(loop.size()), 2);
+  for (size_t k = 0; k < loop.size(); ++k) P.row(static_cast<int>(k)) = result.UV.row(loop[k]);
+  std::vector<int> at, material;
+  if (material_ids)
+    for (int v : loop) material.push_back((*material_ids)[v]);
+  result.overlap_vertex_ids.clear();
+  result.boundary_overlaps = polygon_self_intersects(P, &at, material_ids ? &material : nullptr);
+  for (int k : at) result.overlap_vertex_ids.push_back(loop[static_cast<size_t>(k)]);
+}
+
+}  // namespace
+
 FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                             const FlattenOptions& options, const Eigen::VectorXi* material_ids) {
   const auto loops = boundary_loops(F);
@@ -973,15 +991,26 @@ FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     }
   }
   if (!result.UV.allFinite()) throw NumericalError("the flattening produced non-finite coordinates");
-  result.stats = distortion_stats(V, F, result.UV);
-  Eigen::MatrixXd P(static_cast<int>(loop.size()), 2);
-  for (size_t k = 0; k < loop.size(); ++k) P.row(static_cast<int>(k)) = result.UV.row(loop[k]);
-  std::vector<int> at, material;
-  if (material_ids)
-    for (int v : loop) material.push_back((*material_ids)[v]);
-  result.boundary_overlaps = polygon_self_intersects(P, &at, material_ids ? &material : nullptr);
-  for (int k : at) result.overlap_vertex_ids.push_back(loop[static_cast<size_t>(k)]);
+  measure_result(V, F, loop, material_ids, result);
   return result;
+}
+
+void polish_flattening(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, FlattenResult& result,
+                       const FlattenOptions& options, const Eigen::VectorXi* material_ids) {
+  // Injective results minimise another energy, and a piece that kept its
+  // flips has no flip-free start.
+  if (result.initialization.find("injective") != std::string::npos || count_flips(result.UV, F) > 0) return;
+  FlattenOptions tight = options;
+  tight.tolerance = options.final_tolerance;
+  tight.max_iterations = 20 * options.max_iterations;
+  Eigen::MatrixXd UV = result.UV;
+  // Flip-free steps from a flip-free start: the polish cannot fold the piece.
+  const ArapRun run = arap_flatten(V, F, UV, tight, false);
+  if (!UV.allFinite() || count_flips(UV, F) > 0 || !(run.energy <= result.energy)) return;
+  result.UV = UV;
+  result.iterations += run.iterations;
+  result.energy = run.energy;
+  measure_result(V, F, boundary_loops(F).front(), material_ids, result);
 }
 
 }  // namespace gp

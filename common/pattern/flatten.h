@@ -23,6 +23,10 @@ struct FlattenOptions {
   int max_iterations = 500;          // local/global iterations
   double tolerance = 1e-6;           // stop when the relative energy decrease is below this
   double injective_tolerance = 1e-5;  // the same for the injective iterations (why: pattern README, "Flatten")
+  // The same for the output pieces' last iterations (polish_flattening):
+  // a piece's flat shape then no longer depends on the last bits of its
+  // input (why: pattern README, "Flatten").
+  double final_tolerance = 1e-12;
   double line_search_margin = 0.9;   // fraction of the largest flip-free step taken
   // Weight of boundary edges' 3D length against the triangle beside them
   // (seams are sewn edge to edge); 0 lets the boundary float.
@@ -126,6 +130,13 @@ struct FlattenResult {
 // vertex's uncut vertex, for the outline's overlap test.
 FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                             const FlattenOptions& options = {}, const Eigen::VectorXi* material_ids = nullptr);
+
+// Resumes a plain (not injective) flip-free flattening of flatten_piece with
+// flip-free steps until its energy falls by less than final_tolerance in an
+// iteration (at most 20 max_iterations), and measures it again; `result` is
+// left as it was where that does not lower the energy.
+void polish_flattening(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, FlattenResult& result,
+                       const FlattenOptions& options, const Eigen::VectorXi* material_ids = nullptr);
 
 // Whether the closed polygon P (#P by 2) crosses or touches itself, with the
 // vertices starting crossing segments. Segments sharing a `material_ids` id

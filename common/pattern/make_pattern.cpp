@@ -655,6 +655,23 @@ void flatten_pieces(Pattern& pattern, const PatternOptions& options, FlattenCach
                                     [](const PatternPiece& p) { return p.meets_limit; });
 }
 
+// The output pieces' flattenings iterated on to final_tolerance: the cutter's
+// decisions are made on flattenings stopped at `tolerance`, and the pieces
+// it hands out are their converged shapes.
+void polish_pieces(Pattern& pattern, const PatternOptions& options, const FlattenCache& cache) {
+  for (size_t c = 0; c < pattern.pieces.size(); ++c) {
+    PatternPiece& p = pattern.pieces[c];
+    FlattenOptions flatten = options.flatten;  // with the piece's own seam weight, as flattened
+    const auto w = cache.boundary_weight.find(piece_key(pattern, c));
+    if (w != cache.boundary_weight.end()) flatten.boundary_weight = w->second;
+    polish_flattening(p.V, p.F, p.flat, flatten, &p.mesh_vertex_ids);
+    p.stats = material_distortion(pattern, c);
+    p.meets_limit = meets_limit(p, options);
+  }
+  pattern.meets_limit = std::all_of(pattern.pieces.begin(), pattern.pieces.end(),
+                                    [](const PatternPiece& p) { return p.meets_limit; });
+}
+
 bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
   std::set<int> within;
   pattern.seams_within_tolerance = seam_sides_match(pattern, options, 1.0, nullptr);
@@ -931,8 +948,10 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   // The output has no flipped triangle: pieces left with flips are
   // flattened injectively.
   flatten_pieces(pattern, options, cache, true);
-  pattern.seams_within_tolerance = seam_sides_match(pattern, options, 1.0, nullptr);
   lap("merge");
+  polish_pieces(pattern, options, cache);
+  pattern.seams_within_tolerance = seam_sides_match(pattern, options, 1.0, nullptr);
+  lap("polish");
   pattern.seconds = seconds;
   return pattern;
 }

@@ -73,6 +73,11 @@ int main(int argc, char** argv) {
   app.add_option("--flatten-tolerance", po.flatten.tolerance,
                  "Flattening stops when its energy falls by less than this fraction in an iteration [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  app.add_option("--final-tolerance", po.flatten.final_tolerance,
+                 "The output pieces' flattenings are iterated on until their energy falls by less than this fraction "
+                 "in an iteration, so that the printed pieces do not depend on the last bits of the rest shape "
+                 "[fraction]")
+      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
   app.add_option("--snap-fraction", po.smoothing.trace.snap_fraction,
                  "A cut crossing an edge closer than this fraction of its length to an end runs through that end [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.5));
