@@ -47,6 +47,12 @@ std::vector<std::string> check_pose(const KeyPoseResult& k, double delta, const 
                   k.crossings.crossings(), criteria.max_crossings);
     failures.push_back(line);
   }
+  if (criteria.require_settled && !k.settled) {
+    std::snprintf(line, sizeof(line),
+                  "the cloth did not settle within %d steps (largest net vertex speed %.3f m/s over the last check)",
+                  k.settle_steps, k.max_net_speed);
+    failures.push_back(line);
+  }
   return failures;
 }
 

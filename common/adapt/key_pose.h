@@ -39,6 +39,9 @@ struct FitCriteria {
   // Body edges through cloth triangles plus cloth edges through body
   // triangles (collision/crossings.h): fails above this count.
   long max_crossings = 0;
+  // Fails a key pose whose cloth still moved at the settle cap: its figures
+  // are a snapshot of cloth on its way (a skirt the hand drags), not a fit.
+  bool require_settled = true;
 };
 
 // The criteria as a report records them and a reader takes them back
@@ -50,6 +53,7 @@ struct FitCriteriaFields {
     f.number("p99_margin", c.p99_margin, Range::non_negative());
     f.number("max_penetration_m", c.max_penetration, Range::non_negative());
     f.integer("max_crossings", c.max_crossings, Range::non_negative());
+    f.flag("require_settled", c.require_settled);
   }
 };
 
@@ -61,8 +65,8 @@ void stretch_figures(const Eigen::VectorXd& s, const Eigen::VectorXd& area, doub
 // 1.134 above 1.120"); empty when they hold. delta: the stretch limit.
 std::vector<std::string> stretch_failures(const KeyPoseResult& k, double delta, const FitCriteria& criteria);
 
-// All bounds a key pose's figures exceed (stretch, penetration, crossings);
-// empty when it passes.
+// All bounds a key pose's figures exceed (stretch, penetration, crossings,
+// settling); empty when it passes.
 std::vector<std::string> check_pose(const KeyPoseResult& k, double delta, const FitCriteria& criteria);
 
 }  // namespace gp::adapt

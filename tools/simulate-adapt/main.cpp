@@ -65,6 +65,10 @@ int main(int argc, char** argv) {
                  "Verification: a key pose fails when more body edges pass through cloth triangles and cloth "
                  "edges through body triangles [count]")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
+  bool allow_unsettled = false;
+  app.add_flag("--verify-allow-unsettled", allow_unsettled,
+               "Verification: judge a key pose whose cloth still moves at the settle cap by its figures alone (by "
+               "default such a pose fails: its figures are a snapshot of moving cloth)");
   app.add_option("--dt", options.solver.dt, "Simulation time step [s]")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--substeps", options.substeps, "Simulation steps per interpolation frame [count]")
       ->capture_default_str()->check(CLI::Range(1, 1000));
@@ -180,6 +184,7 @@ int main(int argc, char** argv) {
     options.adapt = !no_adapt;
     options.adaptation_lag = gp::adapt::applied_adaptation_lag(options);  // recorded as run
     fit_options.verify = !no_verify;
+    criteria.require_settled = !allow_unsettled;
     options.velocity_contacts = contact == "velocity";
     options.continuous_contact = continuous == "on";
     options.contact_surface.hulls = hand_hulls == "on";
