@@ -631,6 +631,20 @@ void cut_to_disks(Pattern& pattern, const PatternOptions& options, const Pattern
   throw GeometryError("cutting the pieces into disks did not finish");
 }
 
+namespace {
+
+// The flattening options of the piece with `key`: its own seam weight where
+// match_seams raised it.
+FlattenOptions piece_flatten_options(const PatternOptions& options, const FlattenCache& cache,
+                                     const std::vector<int>& key) {
+  FlattenOptions flatten = options.flatten;
+  const auto w = cache.boundary_weight.find(key);
+  if (w != cache.boundary_weight.end()) flatten.boundary_weight = w->second;
+  return flatten;
+}
+
+}  // namespace
+
 void flatten_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache, bool injective) {
   for (size_t c = 0; c < pattern.pieces.size(); ++c) {
     PatternPiece& p = pattern.pieces[c];
@@ -639,10 +653,8 @@ void flatten_pieces(Pattern& pattern, const PatternOptions& options, FlattenCach
     auto it = cache.results.find(key);
     // A plain flattening without flips is what the injective one returns too.
     if (it == cache.results.end() || (injective && it->second.stats.flipped_triangles > 0)) {
-      FlattenOptions flatten = options.flatten;
+      FlattenOptions flatten = piece_flatten_options(options, cache, key);
       flatten.injective_fallback = injective;
-      const auto w = cache.boundary_weight.find(key);
-      if (w != cache.boundary_weight.end()) flatten.boundary_weight = w->second;
       cache.results[key] = flatten_piece(p.V, p.F, flatten, &p.mesh_vertex_ids);
       it = cache.results.find(key);
       ++pattern.flattenings;
@@ -655,22 +667,24 @@ void flatten_pieces(Pattern& pattern, const PatternOptions& options, FlattenCach
                                     [](const PatternPiece& p) { return p.meets_limit; });
 }
 
+namespace {
+
 // The output pieces' flattenings iterated on to final_tolerance: the cutter's
 // decisions are made on flattenings stopped at `tolerance`, and the pieces
 // it hands out are their converged shapes.
 void polish_pieces(Pattern& pattern, const PatternOptions& options, const FlattenCache& cache) {
   for (size_t c = 0; c < pattern.pieces.size(); ++c) {
     PatternPiece& p = pattern.pieces[c];
-    FlattenOptions flatten = options.flatten;  // with the piece's own seam weight, as flattened
-    const auto w = cache.boundary_weight.find(piece_key(pattern, c));
-    if (w != cache.boundary_weight.end()) flatten.boundary_weight = w->second;
-    polish_flattening(p.V, p.F, p.flat, flatten, &p.mesh_vertex_ids);
+    polish_flattening(p.V, p.F, p.flat, piece_flatten_options(options, cache, piece_key(pattern, c)),
+                      &p.mesh_vertex_ids);
     p.stats = material_distortion(pattern, c);
     p.meets_limit = meets_limit(p, options);
   }
   pattern.meets_limit = std::all_of(pattern.pieces.begin(), pattern.pieces.end(),
                                     [](const PatternPiece& p) { return p.meets_limit; });
 }
+
+}  // namespace
 
 bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
   std::set<int> within;
