@@ -1004,7 +1004,8 @@ void polish_flattening(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Flatt
   tight.tolerance = options.final_tolerance;
   tight.max_iterations = 20 * options.max_iterations;
   Eigen::MatrixXd UV = result.UV;
-  // Flip-free steps from a flip-free start: the polish cannot fold the piece.
+  // Plain steps (the line search would only shorten them); a polish that
+  // folds the piece is not taken.
   const ArapRun run = arap_flatten(V, F, UV, tight, false);
   if (!UV.allFinite() || count_flips(UV, F) > 0 || !(run.energy <= result.energy)) return;
   result.UV = UV;

@@ -131,10 +131,10 @@ struct FlattenResult {
 FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                             const FlattenOptions& options = {}, const Eigen::VectorXi* material_ids = nullptr);
 
-// Resumes a plain (not injective) flip-free flattening of flatten_piece with
-// flip-free steps until its energy falls by less than final_tolerance in an
-// iteration (at most 20 max_iterations), and measures it again; `result` is
-// left as it was where that does not lower the energy.
+// Resumes a plain (not injective) flip-free flattening of flatten_piece
+// until its energy falls by less than final_tolerance in an iteration (at
+// most 20 max_iterations), and measures it again; `result` is left as it was
+// where that folds a triangle or does not lower the energy.
 void polish_flattening(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, FlattenResult& result,
                        const FlattenOptions& options, const Eigen::VectorXi* material_ids = nullptr);
 

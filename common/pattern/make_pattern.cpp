@@ -633,6 +633,18 @@ void cut_to_disks(Pattern& pattern, const PatternOptions& options, const Pattern
 
 namespace {
 
+// Every piece's distortion against the material and whether it, and the
+// pattern, meet the limit, from the pieces' current flattenings.
+void measure_pieces(Pattern& pattern, const PatternOptions& options) {
+  for (size_t c = 0; c < pattern.pieces.size(); ++c) {
+    PatternPiece& p = pattern.pieces[c];
+    p.stats = material_distortion(pattern, c);
+    p.meets_limit = meets_limit(p, options);
+  }
+  pattern.meets_limit = std::all_of(pattern.pieces.begin(), pattern.pieces.end(),
+                                    [](const PatternPiece& p) { return p.meets_limit; });
+}
+
 // The flattening options of the piece with `key`: its own seam weight where
 // match_seams raised it.
 FlattenOptions piece_flatten_options(const PatternOptions& options, const FlattenCache& cache,
@@ -660,11 +672,8 @@ void flatten_pieces(Pattern& pattern, const PatternOptions& options, FlattenCach
       ++pattern.flattenings;
     }
     p.flat = it->second;
-    p.stats = material_distortion(pattern, c);
-    p.meets_limit = meets_limit(p, options);
   }
-  pattern.meets_limit = std::all_of(pattern.pieces.begin(), pattern.pieces.end(),
-                                    [](const PatternPiece& p) { return p.meets_limit; });
+  measure_pieces(pattern, options);
 }
 
 namespace {
@@ -677,11 +686,8 @@ void polish_pieces(Pattern& pattern, const PatternOptions& options, const Flatte
     PatternPiece& p = pattern.pieces[c];
     polish_flattening(p.V, p.F, p.flat, piece_flatten_options(options, cache, piece_key(pattern, c)),
                       &p.mesh_vertex_ids);
-    p.stats = material_distortion(pattern, c);
-    p.meets_limit = meets_limit(p, options);
   }
-  pattern.meets_limit = std::all_of(pattern.pieces.begin(), pattern.pieces.end(),
-                                    [](const PatternPiece& p) { return p.meets_limit; });
+  measure_pieces(pattern, options);
 }
 
 }  // namespace

@@ -88,9 +88,10 @@ struct PatternOptions {
   FlattenOptions flatten = default_flatten();
 
   // Ease priced at a tenth of compression (curvature no cut relieves
-  // becomes ease, and compression eats the sewn garment's stretch budget;
-  // the measurement is in the pattern README, "Flatten"); edges held at their 3D length with weight 40, which keeps
-  // the example garments' seams within tolerance without a second pass.
+  // becomes ease, and compression eats the sewn garment's stretch budget:
+  // pattern README, "Flatten"); edges held at their 3D length with weight
+  // 40, which keeps the example garments' seams within tolerance without a
+  // second pass.
   static FlattenOptions default_flatten() {
     FlattenOptions f;
     f.ease_weight = 0.1;
