@@ -10,6 +10,7 @@
 
 #include "core/math.h"
 #include "mesh/laplacian.h"
+#include "mesh/point_triangle.h"
 #include "mesh/topology.h"
 #include "pattern/flatten.h"
 
@@ -62,40 +63,13 @@ CurvePoint closest_point(const PatternPiece& p, const Eigen::Vector3d& x, Eigen:
   double best = std::numeric_limits<double>::infinity();
   CurvePoint at;
   for (int f = 0; f < p.F.rows(); ++f) {
-    const Eigen::Vector3d a = p.V.row(p.F(f, 0)), b = p.V.row(p.F(f, 1)), c = p.V.row(p.F(f, 2));
-    // Closest point of the triangle (Ericson, Real-Time Collision Detection, 5.1.5).
-    const Eigen::Vector3d ab = b - a, ac = c - a, ap = x - a;
-    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-    Eigen::Vector3d w;
-    if (d1 <= 0 && d2 <= 0) w = {1, 0, 0};
-    else {
-      const Eigen::Vector3d bp = x - b;
-      const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-      const Eigen::Vector3d cp = x - c;
-      const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-      const double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
-      if (d3 >= 0 && d4 <= d3) w = {0, 1, 0};
-      else if (d6 >= 0 && d5 <= d6) w = {0, 0, 1};
-      else if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-        const double v = d1 / (d1 - d3);
-        w = {1 - v, v, 0};
-      } else if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-        const double v = d2 / (d2 - d6);
-        w = {1 - v, 0, v};
-      } else if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-        const double v = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        w = {0, 1 - v, v};
-      } else {
-        const double den = va + vb + vc;
-        w = den != 0.0 ? Eigen::Vector3d(va / den, vb / den, vc / den) : Eigen::Vector3d(1.0 / 3, 1.0 / 3, 1.0 / 3);
-      }
-    }
-    const Eigen::Vector3d y = w[0] * a + w[1] * b + w[2] * c;
-    const double d = (y - x).squaredNorm();
+    const TriangleClosestPoint q =
+        closest_point_on_triangle(x, p.V.row(p.F(f, 0)), p.V.row(p.F(f, 1)), p.V.row(p.F(f, 2)));
+    const double d = (q.point - x).squaredNorm();
     if (d < best) {
       best = d;
-      at = CurvePoint::in_face(f, w);
-      on = y;
+      at = CurvePoint::in_face(f, q.bary);
+      on = q.point;
     }
   }
   return at;
