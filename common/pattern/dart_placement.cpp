@@ -58,21 +58,35 @@ double distance_to_outline(const PatternPiece& p, const Eigen::Vector3d& q) {
   return d;
 }
 
-// The point of the piece closest to x, as a piece-local face point.
-CurvePoint closest_point(const PatternPiece& p, const Eigen::Vector3d& x, Eigen::Vector3d& on) {
+// The point of the piece closest to x, as a piece-local curve point: a
+// vertex or an edge point where it lies on one within `snap` (barycentric),
+// else a face point. A point on an edge given as a face point would be
+// inserted as a second vertex beside the edge's, leaving triangles of no
+// area (a mirror image of a tip lands on a symmetric mesh's edges).
+CurvePoint closest_point(const PatternPiece& p, const Eigen::Vector3d& x, Eigen::Vector3d& on, double snap = 1e-6) {
   double best = std::numeric_limits<double>::infinity();
-  CurvePoint at;
+  int face = -1;
+  Eigen::Vector3d bary = Eigen::Vector3d::Zero();
   for (int f = 0; f < p.F.rows(); ++f) {
     const TriangleClosestPoint q =
         closest_point_on_triangle(x, p.V.row(p.F(f, 0)), p.V.row(p.F(f, 1)), p.V.row(p.F(f, 2)));
     const double d = (q.point - x).squaredNorm();
     if (d < best) {
       best = d;
-      at = CurvePoint::in_face(f, q.bary);
+      face = f;
+      bary = q.bary;
       on = q.point;
     }
   }
-  return at;
+  if (face < 0) return CurvePoint{};
+  int k = 0;
+  if (bary.maxCoeff(&k) >= 1.0 - snap) return CurvePoint::at_vertex(p.F(face, k));
+  if (bary.minCoeff(&k) <= snap) {
+    const int a = p.F(face, (k + 1) % 3), b = p.F(face, (k + 2) % 3);
+    const double t = bary[(k + 2) % 3] / (bary[(k + 1) % 3] + bary[(k + 2) % 3]);
+    return CurvePoint::on_edge(a, b, t);
+  }
+  return CurvePoint::in_face(face, bary);
 }
 
 // Mode of sum_i w_i kernel(|x - X_i|) by mean shift from x.
@@ -158,13 +172,11 @@ CurvePoint outline_point(const PatternPiece& p, size_t k, double t, const Patter
       .front();
 }
 
-}  // namespace
-
-Eigen::MatrixXd conformal_chart(const PatternPiece& piece) {
-  return lscm_flatten(piece.V, piece.F, piece.boundary, FlattenOptions{}.min_weight_fraction);
-}
-
-std::vector<DartTip> dart_tips(const Pattern& pattern, size_t c, const PatternOptions& options, int count) {
+// The samples whose kernel density places dart tips in piece c: inner
+// vertices with their angle defects (or, conformal placement, their
+// compression -u per unit of a mean kernel's area).
+void curvature_samples(const Pattern& pattern, size_t c, const PatternOptions& options,
+                       std::vector<Eigen::Vector3d>& X, std::vector<double>& value) {
   const PatternPiece& p = pattern.pieces[c];
   const int n = static_cast<int>(p.V.rows());
   const double r = options.kernel_radius;
@@ -173,8 +185,6 @@ std::vector<DartTip> dart_tips(const Pattern& pattern, size_t c, const PatternOp
   // The piece's angle defects: the rest shape's at its own vertices, zero at
   // points a cut added on an edge or in a face (their angles sum to 2 pi).
   const std::vector<double> K = angle_defects(p.V, p.F);
-  std::vector<Eigen::Vector3d> X;
-  std::vector<double> value;
   if (options.dart_placement == PatternOptions::DartPlacement::conformal) {
     const std::vector<double> u = log_conformal_factor(p, K);
     const Eigen::VectorXd mass = lumped_mass(p.V, p.F);
@@ -192,6 +202,20 @@ std::vector<DartTip> dart_tips(const Pattern& pattern, size_t c, const PatternOp
         value.push_back(K[static_cast<size_t>(v)]);
       }
   }
+}
+
+}  // namespace
+
+Eigen::MatrixXd conformal_chart(const PatternPiece& piece) {
+  return lscm_flatten(piece.V, piece.F, piece.boundary, FlattenOptions{}.min_weight_fraction);
+}
+
+std::vector<DartTip> dart_tips(const Pattern& pattern, size_t c, const PatternOptions& options, int count) {
+  const PatternPiece& p = pattern.pieces[c];
+  const double r = options.kernel_radius;
+  std::vector<Eigen::Vector3d> X;
+  std::vector<double> value;
+  curvature_samples(pattern, c, options, X, value);
   const size_t m = X.size();
   // Kernel density of the signed values at every sample, and its positive
   // part as the weights of the mean shift.
@@ -230,8 +254,7 @@ std::vector<DartTip> dart_tips(const Pattern& pattern, size_t c, const PatternOp
     DartTip tip;
     tip.at = closest_point(p, mode, tip.point);
     for (size_t i = 0; i < m; ++i)
-      tip.curvature += (options.dart_placement == PatternOptions::DartPlacement::conformal ? value[i] : value[i]) *
-                       kernel((X[i] - tip.point).norm(), r);
+      tip.curvature += value[i] * kernel((X[i] - tip.point).norm(), r);
     if (tip.curvature < options.min_dart_angle) break;  // weaker modes follow
     if (distance_to_outline(p, tip.point) < options.tip_margin) continue;
     tips.push_back(tip);
@@ -290,9 +313,7 @@ std::optional<SurfaceCurve> dart_curve(const PatternPiece& p, const Eigen::Matri
   return std::nullopt;
 }
 
-std::optional<SurfaceCurve> panel_curve(const Pattern& pattern, size_t c, const Eigen::MatrixXd& chart,
-                                        const PatternOptions& options, std::string* where) {
-  const PatternPiece& p = pattern.pieces[c];
+std::optional<Eigen::Vector3d> panel_centre(const PatternPiece& p, const PatternOptions& options) {
   // The centroid of the one-sided energy of the piece's conformal
   // flattening that keeps its boundary's length (log conformal factor u:
   // L u = -K, u = 0 on the boundary; energy u^2 where u < 0, ease_weight u^2
@@ -311,8 +332,29 @@ std::optional<SurfaceCurve> panel_curve(const Pattern& pattern, size_t c, const 
     total += e;
   }
   if (!(total > 0.0)) return std::nullopt;
+  return Eigen::Vector3d(centroid / total);
+}
+
+std::optional<DartTip> dart_tip_near(const Pattern& pattern, size_t c, const Eigen::Vector3d& x,
+                                     double min_curvature, const PatternOptions& options) {
+  const PatternPiece& p = pattern.pieces[c];
+  DartTip tip;
+  tip.at = closest_point(p, x, tip.point);
+  if (distance_to_outline(p, tip.point) < options.tip_margin) return std::nullopt;
+  std::vector<Eigen::Vector3d> X;
+  std::vector<double> value;
+  curvature_samples(pattern, c, options, X, value);
+  for (size_t i = 0; i < X.size(); ++i) tip.curvature += value[i] * kernel((X[i] - tip.point).norm(), options.kernel_radius);
+  if (!(tip.curvature >= min_curvature)) return std::nullopt;
+  return tip;
+}
+
+std::optional<SurfaceCurve> panel_curve(const Pattern& pattern, size_t c, const Eigen::MatrixXd& chart,
+                                        const Eigen::Vector3d& centre, const PatternOptions& options,
+                                        std::string* where) {
+  const PatternPiece& p = pattern.pieces[c];
   Eigen::Vector3d on;
-  const CurvePoint mode = closest_point(p, centroid / total, on);
+  const CurvePoint mode = closest_point(p, centre, on);
   const Eigen::Vector2d x = chart_position(p, chart, mode);
   // The grain in the chart: the area-weighted gradient of the rest height.
   Eigen::Vector2d up = Eigen::Vector2d::Zero();

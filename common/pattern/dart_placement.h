@@ -41,9 +41,23 @@ std::optional<SurfaceCurve> dart_curve(const PatternPiece& piece, const Eigen::M
 // Whether two 2D polylines (#points by 2) cross or touch, shared ends aside.
 bool polylines_cross(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 
-// A panel seam in piece c leaving no part under min_piece_area (`where`
-// describes it); nullopt when none fits.
+// A tip in piece c at its point nearest to x (the mirror image of another
+// tip), with the curvature the kernel gathers around it; nullopt within
+// tip_margin of the outline or with less curvature than `min_curvature`
+// (radians): a dart where the cloth has nothing to take in would be a slit.
+std::optional<DartTip> dart_tip_near(const Pattern& pattern, size_t c, const Eigen::Vector3d& x,
+                                     double min_curvature, const PatternOptions& options);
+
+// Where piece p's panel seam runs through: the centroid of the one-sided
+// energy of its boundary-length-keeping conformal flattening (metres, not
+// necessarily on the piece); nullopt for a piece with no such energy.
+std::optional<Eigen::Vector3d> panel_centre(const PatternPiece& p, const PatternOptions& options);
+
+// A panel seam in piece c along the grain through the piece's point nearest
+// to `centre`, leaving no part under min_piece_area (`where` describes it);
+// nullopt when none fits.
 std::optional<SurfaceCurve> panel_curve(const Pattern& pattern, size_t c, const Eigen::MatrixXd& chart,
-                                        const PatternOptions& options, std::string* where = nullptr);
+                                        const Eigen::Vector3d& centre, const PatternOptions& options,
+                                        std::string* where = nullptr);
 
 }  // namespace gp

@@ -280,6 +280,7 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
       added.push_back({{"name", pattern.seams[i].name},
                        {"kind", pattern.seams[i].kind},
                        {"length_3d", seams[i].length_3d},
+                       {"mirror", pattern.seams[i].mirror.empty() ? OrderedJson() : OrderedJson(pattern.seams[i].mirror)},
                        {"reason", pattern.seams[i].reason}});
   j["added_cuts"] = added;
   j["merged_cuts"] = pattern.merged_cuts;

@@ -14,6 +14,7 @@
 #include "pattern/rest_diagnostics.h"
 #include "pattern/svg_writer.h"
 #include "pose/pose_set.h"
+#include "spec/option_fields.h"
 
 namespace gp {
 namespace fs = std::filesystem;
@@ -68,11 +69,7 @@ OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOpti
           {"motion", result.fit.motion},
           {"start", "garment as designed"},
           {"delta", result.fit.delta()},
-          {"criteria",
-           {{"max_area_fraction_above_limit", c.max_area_above},
-            {"p99_margin", c.p99_margin},
-            {"max_penetration_m", c.max_penetration},
-            {"max_crossings", c.max_crossings}}},
+          {"criteria", write_options(c, adapt::FitCriteriaFields{})},
           {"error", result.sewn_fit_error.empty() ? OrderedJson(nullptr) : OrderedJson(result.sewn_fit_error)},
           {"failure", failed ? OrderedJson(result.sewn_fit_error.empty() ? sewn_fit_failure(sewn, result.pattern)
                                                                          : result.sewn_fit_error)
@@ -258,6 +255,8 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
       {"tip_margin", po.tip_margin},
       {"min_dart_length", po.min_dart_length},
       {"max_pieces", po.max_pieces},
+      {"mirror", po.mirror},
+      {"mirror_overlap", po.mirror_overlap},
       {"min_panel_relief", po.min_panel_relief},
       {"stretch_budget", result.stretch_budget},
       {"budget_share", po.budget_share},

@@ -19,8 +19,10 @@
 #include "core/stopwatch.h"
 #include "mesh/heat_geodesics.h"
 #include "mesh/measures.h"
+#include "mesh/point_triangle.h"
 #include "mesh/topology.h"
 #include "pattern/dart_placement.h"
+#include "pattern/piece_mirror.h"
 
 namespace gp {
 namespace {
@@ -149,6 +151,32 @@ std::vector<int> piece_rest_faces(const Pattern& pattern, size_t c) {
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
+}
+
+// The point of piece p on the plane x = plane_x (where its edges cross it)
+// nearest to the piece's point nearest to `from`; `from` itself where no
+// edge crosses the plane.
+Eigen::Vector3d point_on_plane(const PatternPiece& p, double plane_x, const Eigen::Vector3d& from) {
+  // The piece's point nearest to `from`: the centroid of a back lies inside
+  // the body, and the plane point nearest to it could be on either side.
+  Eigen::Vector3d near = from;
+  double best = std::numeric_limits<double>::infinity();
+  for (int f = 0; f < p.F.rows(); ++f) {
+    const TriangleClosestPoint q =
+        closest_point_on_triangle(from, p.V.row(p.F(f, 0)), p.V.row(p.F(f, 1)), p.V.row(p.F(f, 2)));
+    if ((q.point - from).squaredNorm() < best) best = (q.point - from).squaredNorm(), near = q.point;
+  }
+  Eigen::Vector3d on = from;
+  best = std::numeric_limits<double>::infinity();
+  for (int f = 0; f < p.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d a = p.V.row(p.F(f, k)), b = p.V.row(p.F(f, (k + 1) % 3));
+      const double da = a.x() - plane_x, db = b.x() - plane_x;
+      if ((da < 0.0) == (db < 0.0) || da == db) continue;
+      const Eigen::Vector3d x = a + (da / (da - db)) * (b - a);
+      if ((x - near).squaredNorm() < best) best = (x - near).squaredNorm(), on = x;
+    }
+  return on;
 }
 
 }  // namespace
@@ -731,20 +759,48 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, Pane
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
     return pattern.pieces[a].stats.area_3d > pattern.pieces[b].stats.area_3d;
   });
+  if (order.empty()) return 0;
+  // A tailor cuts both sides of the body alike: a piece's mirror image gets
+  // the mirror image of its darts and panel seam, whether or not it is over
+  // the limit itself.
+  const PieceMirror mirror = options.mirror ? mirror_pieces(pattern, options.mirror_overlap) : PieceMirror{};
+  auto partner = [&](size_t c) { return mirror.partner.empty() ? -1 : mirror.partner[c]; };
+  std::vector<char> done(pattern.pieces.size(), 0);
+  // Pieces given a cut this round (a piece's mirror image that was given
+  // none, on its own, still takes the mirror image of the piece's).
+  std::vector<char> cut(pattern.pieces.size(), 0);
   int pieces = static_cast<int>(pattern.pieces.size());
-  for (size_t c : order) {
+
+  // What a piece was given: its dart tips and the point its panel seam runs
+  // through, and the names of the cuts.
+  struct Given {
+    std::vector<DartTip> tips;
+    std::vector<std::string> darts;
+    std::optional<Eigen::Vector3d> centre;
+    std::string panel;
+  };
+  // Mirror images are judged and removed together (review_panels,
+  // merge_small_pieces).
+  auto pair_mirrors = [&](PatternSeam& seam, const std::string& image) {
+    if (image.empty()) return;
+    seam.mirror = image;
+    for (PatternSeam& s : seams)
+      if (s.name == image) s.mirror = seam.name;
+  };
+  auto place = [&](size_t c, const Given* source, size_t source_piece) {
+    Given given;
     const PatternPiece& p = pattern.pieces[c];
-    const std::string over = "piece " + p.name + " exceeds the limit (compression " +
-                             percent(p.stats.worst1_compression) + " over its worst 1 %, ease " +
-                             percent(p.stats.worst5_ease) + " over its worst 5 %): ";
+    const std::string over =
+        source ? "piece " + p.name + " is cut as its mirror image " + pattern.pieces[source_piece].name + " is: "
+               : "piece " + p.name + " exceeds the limit (compression " + percent(p.stats.worst1_compression) +
+                     " over its worst 1 %, ease " + percent(p.stats.worst5_ease) + " over its worst 5 %): ";
     Eigen::MatrixXd chart;
     try {
       chart = conformal_chart(p);
     } catch (const NumericalError&) {
       pattern.notes.push_back("piece " + p.name + ": no conformal chart to place a dart or seam in");
-      continue;
+      return given;
     }
-    bool placed = false;
     // Darts first (a tailor darts before adding a seam): every tip strong
     // enough at once, up to the piece's budget.
     const int left = options.max_darts - static_cast<int>(p.dart_seams.size());
@@ -757,7 +813,8 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, Pane
         for (int v = 0; v < p.V.rows(); ++v) local[p.mesh_vertex_ids[v]] = v;
         for (int d : p.dart_seams) {
           std::vector<Eigen::Vector2d> pts;
-          for (int v : pattern.seams[static_cast<size_t>(d)].vertex_ids) {
+          const auto& ids = pattern.seams[static_cast<size_t>(d)].vertex_ids;
+          for (int v : ids) {
             const auto it = local.find(v);
             if (it != local.end()) pts.push_back(chart.row(it->second).transpose());
           }
@@ -766,30 +823,70 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, Pane
           drawn.push_back(P);
         }
       }
-      for (const DartTip& tip : dart_tips(pattern, c, options, left)) {
+      auto add_dart = [&](const DartTip& tip, const std::string& how, const std::string& mirror_of) {
+        if (static_cast<int>(given.tips.size()) >= left) return;
         const auto curve = dart_curve(p, chart, tip, options, drawn);
-        if (!curve) continue;
+        if (!curve) return;
         drawn.push_back(curve_positions(chart, p.F, *curve));
         char deg[32];
         std::snprintf(deg, sizeof(deg), "%.1f", tip.curvature * 180.0 / M_PI);
         PatternSeam seam{"dart" + std::to_string(++darts), "dart", "", {}, false, true};
-        seam.reason = over + "dart to the mode of its " +
-                      (options.dart_placement == PatternOptions::DartPlacement::conformal ? "log conformal factor"
-                                                                                           : "Gaussian curvature") +
-                      " (" + deg + " degrees within " + metres(options.kernel_radius) + "), " +
+        pair_mirrors(seam, mirror_of);
+        seam.reason = over + how + " (" + deg + " degrees within " + metres(options.kernel_radius) + "), " +
                       metres(curve_length(p.V, p.F, *curve)) + " long";
+        given.tips.push_back(tip);
+        given.darts.push_back(seam.name);
         seams.push_back(seam);
         curves.push_back(piece_to_mesh(p, *curve));
-        placed = true;
+      };
+      const std::string mode = std::string("dart to the mode of its ") +
+                               (options.dart_placement == PatternOptions::DartPlacement::conformal
+                                    ? "log conformal factor"
+                                    : "Gaussian curvature");
+      if (source) {
+        for (size_t i = 0; i < source->tips.size(); ++i)
+          if (const auto tip = dart_tip_near(pattern, c, mirror.reflect(source->tips[i].point), options.min_dart_angle,
+                                             options))
+            add_dart(*tip, "the mirror image of " + source->darts[i], source->darts[i]);
+      } else {
+        for (const DartTip& tip : dart_tips(pattern, c, options, left)) add_dart(tip, mode, "");
       }
     }
     const std::vector<int> rest_faces = piece_rest_faces(pattern, c);
-    const bool refused = ledger && ledger->refused.count(rest_faces);
-    if (!placed && pieces < options.max_pieces && !refused) {
+    // A piece whose mirror image's panel seam did not pay is refused too.
+    const int d = partner(c);
+    const bool refused =
+        ledger && (ledger->refused.count(rest_faces) ||
+                   (d >= 0 && d != static_cast<int>(c) &&
+                    ledger->refused.count(piece_rest_faces(pattern, static_cast<size_t>(d)))));
+    // A piece and its mirror image take two pieces from the budget together.
+    const int cost = !source && d >= 0 && d != static_cast<int>(c) && !cut[static_cast<size_t>(d)] ? 2 : 1;
+    if (given.tips.empty() && pieces + cost <= options.max_pieces && !refused && (!source || source->centre)) {
+      std::optional<Eigen::Vector3d> centre =
+          source ? std::optional<Eigen::Vector3d>(mirror.reflect(*source->centre)) : panel_centre(p, options);
+      // A piece across the plane is split as a tailor splits a front or a
+      // back: by a centre seam (two mirrored seams were tried; README.md,
+      // "Both sides cut alike").
+      std::string how;
+      if (centre && !source && partner(c) == static_cast<int>(c)) {
+        centre = point_on_plane(p, mirror.plane_x, *centre);
+        how = "centre seam along the grain at the middle of the body, at the height of the centroid of its conformal "
+              "distortion energy";
+      }
       std::string where;
-      const auto curve = panel_curve(pattern, c, chart, options, &where);
+      auto curve = centre ? panel_curve(pattern, c, chart, *centre, options, &where) : std::nullopt;
+      if (source) where = "the mirror image of " + source->panel;
+      if (source && !curve) {
+        // No room where the image falls (the two sides of a scanned body
+        // differ): the piece's own panel seam, so that both sides are split.
+        centre = panel_centre(p, options);
+        curve = centre ? panel_curve(pattern, c, chart, *centre, options) : std::nullopt;
+        where += ", through its own centroid (the mirrored point leaves no room)";
+      }
       if (curve) {
+        if (!how.empty()) where = how;
         PatternSeam seam{"panel" + std::to_string(++panels), "panel", "", {}, false, true};
+        if (source) pair_mirrors(seam, source->panel);
         seam.reason = over + where + ", " + metres(curve_length(p.V, p.F, *curve)) + " long";
         seams.push_back(seam);
         curves.push_back(piece_to_mesh(p, *curve));
@@ -797,73 +894,180 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, Pane
           ledger->trials.push_back(
               {seam.name, rest_faces, panel_excess(material_faces(pattern, c), options), p.stats.worst1_compression});
         ++pieces;
-        placed = true;
+        given.centre = centre;
+        given.panel = seam.name;
       }
     }
-    if (!placed)
-      pattern.notes.push_back(over + "no further dart or panel seam fits" +
-                              (refused ? " (a panel seam did not relieve it)"
-                                       : pieces >= options.max_pieces ? " (the pattern has its most pieces)" : ""));
+    if (given.tips.empty() && !given.centre) {
+      if (source)
+        pattern.notes.push_back(over + "no dart or panel seam fits where its mirror image has one");
+      else
+        pattern.notes.push_back(over + "no further dart or panel seam fits" +
+                                (refused ? " (a panel seam did not relieve it)"
+                                         : pieces + cost > options.max_pieces ? " (the pattern has its most pieces)" : ""));
+    }
+    return given;
+  };
+
+  for (size_t c : order) {
+    if (done[c]) continue;
+    done[c] = 1;
+    const Given given = place(c, nullptr, c);
+    cut[c] = !given.tips.empty() || given.centre;
+    const int d = partner(c);
+    if (d < 0 || d == static_cast<int>(c) || cut[static_cast<size_t>(d)]) continue;
+    if (!cut[c]) continue;  // the mirror image decides for itself
+    done[static_cast<size_t>(d)] = 1;
+    const Given image = place(static_cast<size_t>(d), &given, c);
+    cut[static_cast<size_t>(d)] = !image.tips.empty() || image.centre;
+    // A panel seam whose mirror image has no room is not cut either, and the
+    // piece gets no other: one side split and the other not is no pattern.
+    if (!given.panel.empty() && image.panel.empty()) {
+      for (size_t i = 0; i < seams.size(); ++i)
+        if (seams[i].name == given.panel) {
+          seams.erase(seams.begin() + static_cast<long>(i));
+          curves.erase(curves.begin() + static_cast<long>(i));
+          break;
+        }
+      if (ledger) {
+        auto& trials = ledger->trials;
+        trials.erase(std::remove_if(trials.begin(), trials.end(),
+                                    [&](const PanelTrial& t) { return t.seam == given.panel; }),
+                     trials.end());
+        ledger->refused.insert(piece_rest_faces(pattern, c));
+      }
+      --panels;
+      --pieces;
+      pattern.notes.push_back("piece " + pattern.pieces[c].name + ": no panel seam, as its mirror image " +
+                              pattern.pieces[static_cast<size_t>(d)].name + " has no room for one");
+    }
   }
   if (seams.empty()) return 0;
   insert_cuts(pattern, seams, curves);
   return static_cast<int>(seams.size());
 }
 
+namespace {
+
+// Takes the seams at `indices` out of the pattern (pieces not reassembled);
+// a cut whose mirror image goes loses its pairing.
+void erase_seams(Pattern& pattern, std::vector<size_t> indices) {
+  std::sort(indices.rbegin(), indices.rend());
+  std::set<std::string> gone;
+  for (size_t i : indices) {
+    gone.insert(pattern.seams[i].name);
+    pattern.seams.erase(pattern.seams.begin() + static_cast<long>(i));
+  }
+  for (PatternSeam& s : pattern.seams)
+    if (gone.count(s.mirror)) s.mirror.clear();
+}
+
+// Where a panel seam runs on the pattern as it is.
+struct PanelSides {
+  size_t seam = 0;       // index in pattern.seams
+  std::set<int> pieces;  // the pieces on either side: the parts of the piece it split
+  double length = 0.0;   // metres
+};
+
+std::optional<PanelSides> panel_sides(const Pattern& pattern, const std::string& name) {
+  PanelSides j;
+  j.seam = pattern.seams.size();
+  for (size_t i = 0; i < pattern.seams.size(); ++i)
+    if (pattern.seams[i].name == name) j.seam = i;
+  if (j.seam >= pattern.seams.size()) return std::nullopt;
+  for (const CutEdge& e : pattern.cut.edges)
+    if (static_cast<size_t>(e.seam) == j.seam) {
+      j.pieces.insert(pattern.piece_of_face[static_cast<size_t>(e.left_face)]);
+      j.pieces.insert(pattern.piece_of_face[static_cast<size_t>(e.right_face)]);
+      j.length += e.length;
+    }
+  return j;
+}
+
+}  // namespace
+
 int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache& cache, PanelLedger& ledger) {
   int removed = 0;
   // In the order they were placed, each judged on the pattern as the
-  // removals before it left it (a removal changes no other piece).
+  // removals before it left it (a removal changes no other piece); a seam
+  // and its mirror image together.
   const std::vector<PanelTrial> trials = std::move(ledger.trials);
   ledger.trials.clear();
-  for (const PanelTrial& trial : trials) {
-    size_t seam = pattern.seams.size();
-    for (size_t i = 0; i < pattern.seams.size(); ++i)
-      if (pattern.seams[i].name == trial.seam) seam = i;
-    if (seam >= pattern.seams.size()) continue;
-    // The pieces on either side of the seam: the piece it split.
-    std::set<int> sides;
-    double length = 0.0;
-    for (const CutEdge& e : pattern.cut.edges)
-      if (static_cast<size_t>(e.seam) == seam) {
-        sides.insert(pattern.piece_of_face[static_cast<size_t>(e.left_face)]);
-        sides.insert(pattern.piece_of_face[static_cast<size_t>(e.right_face)]);
-        length += e.length;
+  std::set<std::string> judged;
+  for (const PanelTrial& first : trials) {
+    if (judged.count(first.seam)) continue;
+    std::vector<const PanelTrial*> group{&first};
+    judged.insert(first.seam);
+    const auto j0 = panel_sides(pattern, first.seam);
+    if (!j0) continue;
+    const std::string& image = pattern.seams[j0->seam].mirror;
+    for (const PanelTrial& t : trials)
+      if (!image.empty() && t.seam == image && !judged.count(t.seam)) {
+        group.push_back(&t);
+        judged.insert(t.seam);
       }
+    // Judged together: the cloth beyond the limit in the pieces they split
+    // (one piece for two seams in a piece across the plane) against that in
+    // all their parts, and their whole length.
+    std::vector<PanelSides> js;
+    std::set<int> parts;
+    std::set<std::vector<int>> split;
+    double length = 0.0, before = 0.0, compression = 0.0;
+    bool tight = false;
+    for (const PanelTrial* t : group) {
+      const auto j = panel_sides(pattern, t->seam);
+      if (!j) continue;
+      js.push_back(*j);
+      parts.insert(j->pieces.begin(), j->pieces.end());
+      length += j->length;
+      if (split.insert(t->rest_faces).second) before += t->excess_before;
+      compression = std::max(compression, t->compression_before);
+      tight = tight || t->compression_before > options.budget_share * options.stretch_budget;
+    }
     double after = 0.0;
-    for (int c : sides) after += panel_excess(material_faces(pattern, static_cast<size_t>(c)), options);
-    const double relief = trial.excess_before - after;
-    char buf[200];
-    std::snprintf(buf, sizeof(buf), "%.1f of the piece's %.1f cm^2 of cloth beyond the limit (%.0f cm^2 per metre of seam)",
-                  1e4 * relief, 1e4 * trial.excess_before, length > 0.0 ? 1e4 * relief / length : 0.0);
+    bool within = true;
+    for (int c : parts) {
+      after += panel_excess(material_faces(pattern, static_cast<size_t>(c)), options);
+      within = within && pattern.pieces[static_cast<size_t>(c)].meets_limit;
+    }
+    const double relief = before - after;
+    char buf[220];
+    std::snprintf(buf, sizeof(buf), "%.1f of the %s %.1f cm^2 of cloth beyond the limit (%.0f cm^2 per metre of seam)",
+                  1e4 * relief, split.size() > 1 ? "two mirrored pieces'" : "piece's", 1e4 * before,
+                  length > 0.0 ? 1e4 * relief / length : 0.0);
     // A seam that brings both its pieces within the limit does what the
     // cutter is for, however little cloth that took, where the compression
     // it relieved ate much of the fit's stretch budget.
-    const bool within = std::all_of(sides.begin(), sides.end(),
-                                    [&](int c) { return pattern.pieces[static_cast<size_t>(c)].meets_limit; });
-    const bool tight = trial.compression_before > options.budget_share * options.stretch_budget;
     if (relief >= options.min_panel_relief * length || (within && tight)) {
-      char budget[160] = "";
+      char budget[180] = "";
       if (relief < options.min_panel_relief * length)
         std::snprintf(budget, sizeof(budget),
                       ", and both its pieces meet the limit (the piece was compressed by %.2f %%, more than %.0f %% of "
                       "the stretch budget %.3f)",
-                      100.0 * trial.compression_before, 100.0 * options.budget_share, options.stretch_budget);
-      pattern.seams[seam].reason += std::string("; it relieved ") + buf + budget;
+                      100.0 * compression, 100.0 * options.budget_share, options.stretch_budget);
+      for (const PanelSides& j : js) pattern.seams[j.seam].reason += std::string("; it relieved ") + buf + budget;
       continue;
     }
     Pattern without = pattern;
-    const std::string name = without.seams[seam].name;
-    without.seams.erase(without.seams.begin() + static_cast<long>(seam));
+    std::vector<size_t> gone;
+    std::vector<std::string> names;
+    for (const PanelSides& j : js) {
+      gone.push_back(j.seam);
+      names.push_back(pattern.seams[j.seam].name);
+    }
+    erase_seams(without, gone);
     assemble_pieces(without);
     if (!std::all_of(without.pieces.begin(), without.pieces.end(), [](const PatternPiece& p) { return is_disk(p); }))
       continue;
     flatten_pieces(without, options, cache, true);
-    without.merged_cuts.push_back(name);
-    without.notes.push_back(name + " removed: it relieved only " + buf);
-    ledger.refused.insert(trial.rest_faces);
+    for (const std::string& name : names) {
+      without.merged_cuts.push_back(name);
+      without.notes.push_back(name + " removed: " + (js.size() > 1 ? "with its mirror image it" : "it") +
+                              " relieved only " + buf);
+    }
+    for (const PanelTrial* t : group) ledger.refused.insert(t->rest_faces);
     pattern = std::move(without);
-    ++removed;
+    removed += static_cast<int>(names.size());
   }
   return removed;
 }
@@ -887,47 +1091,62 @@ void merge_small_pieces(Pattern& pattern, const PatternOptions& options, Flatten
         best_area = a, best_seam = static_cast<size_t>(e.seam);
     }
     if (best_seam >= pattern.seams.size()) return;
-    tried.insert(pattern.seams[best_seam].name);
+    // The cut goes with its mirror image, as both sides are cut alike.
+    std::vector<size_t> gone{best_seam};
+    for (size_t i = 0; i < pattern.seams.size(); ++i)
+      if (!pattern.seams[best_seam].mirror.empty() && pattern.seams[i].name == pattern.seams[best_seam].mirror)
+        gone.push_back(i);
+    for (size_t i : gone) tried.insert(pattern.seams[i].name);
     Pattern trial = pattern;
-    trial.seams.erase(trial.seams.begin() + static_cast<long>(best_seam));
+    erase_seams(trial, gone);
     assemble_pieces(trial);
     if (!std::all_of(trial.pieces.begin(), trial.pieces.end(), [](const PatternPiece& p) { return is_disk(p); }))
       continue;
     flatten_pieces(trial, options, cache, true);
-    trial.merged_cuts.push_back(pattern.seams[best_seam].name);
+    for (size_t i : gone) trial.merged_cuts.push_back(pattern.seams[i].name);
     pattern = std::move(trial);
   }
 }
 
 void remove_overlapping_darts(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
-  std::set<std::string> tried;
+  auto overlaps = [](const Pattern& x) {
+    int n = 0;
+    for (const PatternPiece& p : x.pieces) n += p.flat.boundary_overlaps ? 1 : 0;
+    return n;
+  };
   for (;;) {
-    // The first dart (by seam order) of a piece whose outline overlaps itself.
-    size_t dart = pattern.seams.size();
+    // Of the darts in pieces whose outline overlaps itself, the one whose
+    // removal removes an overlap, adds none and leaves the least cloth
+    // beyond the limit (panel_excess): with two darts in a piece, the one
+    // whose sides crossed, which had too little curvature to take in.
+    const int before = overlaps(pattern);
+    if (before == 0) return;
+    std::optional<Pattern> best;
+    double best_excess = std::numeric_limits<double>::infinity();
+    std::string best_name;
     for (const PatternPiece& p : pattern.pieces) {
       if (!p.flat.boundary_overlaps) continue;
-      for (int d : p.dart_seams)
-        if (!tried.count(pattern.seams[static_cast<size_t>(d)].name)) dart = std::min(dart, static_cast<size_t>(d));
+      for (int d : p.dart_seams) {
+        Pattern trial = pattern;
+        erase_seams(trial, {static_cast<size_t>(d)});
+        assemble_pieces(trial);
+        if (!std::all_of(trial.pieces.begin(), trial.pieces.end(), [](const PatternPiece& q) { return is_disk(q); }))
+          continue;
+        flatten_pieces(trial, options, cache, true);
+        if (overlaps(trial) >= before) continue;
+        double excess = 0.0;
+        for (size_t c = 0; c < trial.pieces.size(); ++c) excess += panel_excess(material_faces(trial, c), options);
+        if (excess < best_excess) {
+          best_excess = excess;
+          best_name = pattern.seams[static_cast<size_t>(d)].name;
+          best = std::move(trial);
+        }
+      }
     }
-    if (dart >= pattern.seams.size()) return;
-    const std::string name = pattern.seams[dart].name;
-    tried.insert(name);
-    Pattern trial = pattern;
-    trial.seams.erase(trial.seams.begin() + static_cast<long>(dart));
-    assemble_pieces(trial);
-    if (!std::all_of(trial.pieces.begin(), trial.pieces.end(), [](const PatternPiece& p) { return is_disk(p); }))
-      continue;
-    flatten_pieces(trial, options, cache, true);
-    // Kept out only where it removes an overlap and adds none.
-    auto overlaps = [](const Pattern& x) {
-      int n = 0;
-      for (const PatternPiece& p : x.pieces) n += p.flat.boundary_overlaps ? 1 : 0;
-      return n;
-    };
-    if (overlaps(trial) >= overlaps(pattern)) continue;
-    trial.merged_cuts.push_back(name);
-    trial.notes.push_back(name + " removed: its sides crossed in the flat piece, which overlapped itself");
-    pattern = std::move(trial);
+    if (!best) return;
+    best->merged_cuts.push_back(best_name);
+    best->notes.push_back(best_name + " removed: its sides crossed in the flat piece, which overlapped itself");
+    pattern = std::move(*best);
   }
 }
 

@@ -44,6 +44,16 @@ struct PatternOptions {
   double tip_margin = 0.05;         // metres: a dart's tip lies at least this far inside its piece
   double min_dart_length = 0.05;    // metres
   int max_pieces = 12;              // panel seams stop at this many pieces
+  // Both sides of the body cut alike (piece_mirror.h): a piece's mirror
+  // image gets the mirror image of its darts and panel seam, two such panel
+  // seams stay or go together, and a piece that is its own mirror image (a
+  // whole back) gets a centre seam. Pieces pair where their mirror images
+  // share at least mirror_overlap of their area. A mirrored dart needs the
+  // curvature a piece's own dart needs (min_dart_angle): a scanned body's
+  // two sides differ, and a dart where the cloth has little to take in has
+  // sides that cross.
+  bool mirror = true;
+  double mirror_overlap = 0.6;      // fraction of a piece's area
   // A panel seam stays where it relieves this much of its piece's excess
   // (panel_excess) per metre: seam length weighed against distortion, as in
   // variational surface cutting (Sharp and Crane 2018).
@@ -168,15 +178,18 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, Pane
 // Phase 5b: a panel seam on trial that relieved less than min_panel_relief
 // per metre (and left a piece over the limit or split one compressed by at
 // most budget_share of stretch_budget) is removed (merged_cuts) and its piece
-// refused; returns how many.
+// refused; returns how many. A seam and its mirror image (PatternSeam::mirror)
+// are judged on their relief and length together and removed together.
 int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache& cache, PanelLedger& ledger);
 
-// Phase 6: removes added cuts bordering a piece under min_piece_area (pieces
-// stay disks; armholes stay).
+// Phase 6: removes added cuts bordering a piece under min_piece_area, each
+// with its mirror image (pieces stay disks; armholes stay).
 void merge_small_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
 
 // Phase 6b: removes a dart whose sides crossed (the piece wanted less cloth
-// there) when that leaves fewer overlapping pieces; listed in merged_cuts.
+// there) when that leaves fewer overlapping pieces and adds none: of several
+// such darts, the one that leaves the least cloth beyond the limit
+// (panel_excess); listed in merged_cuts.
 void remove_overlapping_darts(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
 
 // All phases.

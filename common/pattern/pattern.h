@@ -43,6 +43,7 @@ struct PatternSeam {
   std::vector<int> vertex_ids;  // path in the pattern mesh (a dart: mouth first, tip last)
   bool closed = false;
   bool smoothed = false;        // runs through triangles along a smooth curve (else along rest edges)
+  std::string mirror;           // an added cut: the one cut as its mirror image (make_pattern.h), else empty
 };
 
 struct PatternPiece {

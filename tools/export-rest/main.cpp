@@ -59,6 +59,12 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(1, 1000));
   app.add_option("--min-piece-area", po.min_piece_area, "Added cuts leave no piece smaller than this [m^2]")
       ->capture_default_str()->check(CLI::Range(0.0, 100.0));
+  bool no_mirror = false;
+  app.add_flag("--no-mirror", no_mirror,
+               "Cut each piece on its own (default: a piece's mirror image across the body gets the mirror image of its darts and panel seams)");
+  app.add_option("--mirror-overlap", po.mirror_overlap,
+                 "Two pieces are mirror images where their mirrored areas share this much of each [fraction]")
+      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
   bool no_armholes = false;
   app.add_flag("--no-armholes", no_armholes, "No seam around a sleeve where it meets the body");
   bool edge_cuts = false;
@@ -118,6 +124,7 @@ int main(int argc, char** argv) {
                                                  : gp::PatternOptions::DartPlacement::curvature;
     po.smooth = !edge_cuts;
     po.armholes = !no_armholes;
+    po.mirror = !no_mirror;
     if (po.p95_limit > po.max_limit) throw gp::UsageError("--p95-limit must not exceed --max-limit", "--p95-limit");
     o.tolerance.absolute = po.seam_tolerance;
     o.tolerance.relative = po.seam_tolerance_relative;

@@ -1,0 +1,191 @@
+// Both sides of the body cut alike (piece_mirror.h, make_pattern.h).
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "mesh/topology.h"
+#include "pattern/make_pattern.h"
+#include "pattern/piece_mirror.h"
+#include "pattern/seam_spec.h"
+#include "testing/test_meshes.h"
+#include <Eigen/Geometry>
+
+using namespace gp;
+
+namespace {
+
+// A sheet facing the front (+z) with two bumps at x = -+a, the body's
+// right one `right_height` and its left one `left_height` high: a scanned
+// body's two shoulder blades, never quite alike.
+Mesh two_bumps(double right_height, double left_height) {
+  const int nx = 40, ny = 32;
+  const double sx = 0.5, sy = 0.4, a = 0.11, s = 0.035;
+  Mesh m = testing::make_grid(nx, ny, sx, sy);  // x in [0, sx], z in [0, sy], y = 0
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
+    const double x = m.V(v, 0) - 0.5 * sx, y = m.V(v, 2) - 0.5 * sy;
+    const auto bump = [&](double cx, double h) { return h * std::exp(-((x - cx) * (x - cx) + y * y) / (2 * s * s)); };
+    m.V.row(v) = Eigen::RowVector3d(x, y, bump(-a, right_height) + bump(a, left_height));
+  }
+  // make_grid's normals point to +y; the sheet faces +z after the swap of
+  // y and z, so its faces are turned back.
+  m.F.col(1).swap(m.F.col(2));
+  return m;
+}
+
+// The darts' tips (their last vertices), in 3D.
+std::vector<Eigen::Vector3d> dart_tip_points(const Pattern& pattern) {
+  std::vector<Eigen::Vector3d> tips;
+  for (const PatternSeam& s : pattern.seams)
+    if (s.kind == "dart") tips.push_back(pattern.mesh.V.row(s.vertex_ids.back()).transpose());
+  return tips;
+}
+
+
+// A user seam from the bottom edge to the top along the grid column at x.
+std::vector<SeamPath> vertical_seam(double x) {
+  const int nx = 40, ny = 32;
+  const int i = static_cast<int>(std::lround((x + 0.25) / 0.5 * nx));
+  SeamPath seam;
+  seam.name = "seam";
+  for (int j = 0; j <= ny; ++j) seam.vertex_ids.push_back(j * (nx + 1) + i);
+  seam.click_ids = {seam.vertex_ids.front(), seam.vertex_ids.back()};
+  seam.where = "test";
+  return {seam};
+}
+
+int count_kind(const Pattern& pattern, const std::string& kind) {
+  int n = 0;
+  for (const PatternSeam& s : pattern.seams) n += s.kind == kind;
+  return n;
+}
+
+// Every added cut of `kind` names a mirror image, which names it back.
+void check_mirrored(const Pattern& pattern, const std::string& kind) {
+  for (const PatternSeam& s : pattern.seams) {
+    if (s.kind != kind) continue;
+    INFO(s.name << ": " << s.reason);
+    REQUIRE(!s.mirror.empty());
+    const auto image = std::find_if(pattern.seams.begin(), pattern.seams.end(),
+                                    [&](const PatternSeam& t) { return t.name == s.mirror; });
+    REQUIRE(image != pattern.seams.end());
+    CHECK(image->mirror == s.name);
+    CHECK(image->kind == kind);
+  }
+}
+
+// Two dart tips are mirror images across x = plane_x within `tolerance`.
+void check_mirror_tips(const std::vector<Eigen::Vector3d>& tips, double plane_x, double tolerance) {
+  REQUIRE(tips.size() == 2);
+  INFO("tips " << tips[0].transpose() << " and " << tips[1].transpose() << ", plane x = " << plane_x);
+  CHECK(std::abs(tips[0].x() + tips[1].x() - 2.0 * plane_x) < tolerance);
+  CHECK(std::abs(tips[0].y() - tips[1].y()) < tolerance);
+  CHECK(std::abs(tips[0].x() - tips[1].x()) > 0.15);
+}
+
+void check_sound(const Pattern& pattern) {
+  for (const PatternPiece& p : pattern.pieces) {
+    INFO(p.name);
+    CHECK(p.flat.stats.flipped_triangles == 0);
+    CHECK(!p.flat.boundary_overlaps);
+    CHECK(p.stats.worst5_ease < 0.2);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("pieces pair with their mirror images, mutually", "[pattern][mirror]") {
+  const Mesh m = two_bumps(0.02, 0.04);
+  PatternOptions o;
+  o.max_darts = 0;
+  o.max_pieces = 1;  // the user's seam only
+  // Down the middle: two halves, each the other's image.
+  const Pattern halves = make_pattern(m.V, m.F, vertical_seam(0.0), o);
+  REQUIRE(halves.pieces.size() == 2);
+  const PieceMirror a = mirror_pieces(halves, o.mirror_overlap);
+  CHECK(a.partner == std::vector<int>{1, 0});
+  // The plane through the area centroid, nudged to the higher bump's side.
+  CHECK(a.plane_x > 0.0);
+  CHECK(a.plane_x < 0.005);
+  // At x = 0.15: the wide piece is its own image; the strip's image lies in
+  // the wide piece, which is not the strip's, so the strip has none.
+  const Pattern strip = make_pattern(m.V, m.F, vertical_seam(0.15), o);
+  REQUIRE(strip.pieces.size() == 2);
+  const PieceMirror b = mirror_pieces(strip, o.mirror_overlap);
+  const int wide = strip.pieces[0].stats.area_3d > strip.pieces[1].stats.area_3d ? 0 : 1;
+  CHECK(b.partner[static_cast<size_t>(wide)] == wide);
+  CHECK(b.partner[static_cast<size_t>(1 - wide)] == -1);
+}
+
+TEST_CASE("two mirrored pieces are cut alike: darts", "[pattern][mirror]") {
+  // The body's left bump (49 degrees of curvature within the kernel) takes a
+  // dart; its right half, half as high (15 degrees), meets the limit
+  // without one but has the curvature a dart needs.
+  const Mesh m = two_bumps(0.02, 0.04);
+  PatternOptions o;
+  o.min_dart_angle = 0.2;
+  o.mirror = false;
+  const Pattern alone = make_pattern(m.V, m.F, vertical_seam(0.0), o);
+  CHECK(count_kind(alone, "dart") == 1);
+  o.mirror = true;
+  const Pattern both = make_pattern(m.V, m.F, vertical_seam(0.0), o);
+  REQUIRE(both.pieces.size() == 2);
+  CHECK(count_kind(both, "dart") == 2);
+  for (const PatternPiece& p : both.pieces) CHECK(p.dart_seams.size() == 1);
+  check_mirrored(both, "dart");
+  check_mirror_tips(dart_tip_points(both), mirror_pieces(both, o.mirror_overlap).plane_x, 0.005);
+  check_sound(both);
+  for (const PatternPiece& p : both.pieces) CHECK(p.meets_limit);
+
+  // A bump a quarter as high (4 degrees) has too little curvature for a
+  // dart, whose sides would cross: that side stays uncut, with a note.
+  const Mesh flat_right = two_bumps(0.01, 0.04);
+  const Pattern one = make_pattern(flat_right.V, flat_right.F, vertical_seam(0.0), o);
+  CHECK(count_kind(one, "dart") == 1);
+  bool noted = false;
+  for (const std::string& n : one.notes) noted = noted || n.find("where its mirror image has one") != std::string::npos;
+  CHECK(noted);
+  check_sound(one);
+}
+
+TEST_CASE("two mirrored pieces are cut alike: panel seams, kept together", "[pattern][mirror]") {
+  const Mesh m = two_bumps(0.01, 0.04);
+  PatternOptions o;
+  o.max_darts = 0;
+  o.mirror = false;
+  const Pattern alone = make_pattern(m.V, m.F, vertical_seam(0.0), o);
+  CHECK(count_kind(alone, "panel") == 1);
+  CHECK(alone.pieces.size() == 3);
+  o.mirror = true;
+  const Pattern both = make_pattern(m.V, m.F, vertical_seam(0.0), o);
+  CHECK(count_kind(both, "panel") == 2);
+  CHECK(both.pieces.size() == 4);
+  check_mirrored(both, "panel");
+  check_sound(both);
+  // Judged together: both carry the pair's relief.
+  for (const PatternSeam& s : both.seams)
+    if (s.kind == "panel") CHECK(s.reason.find("two mirrored pieces'") != std::string::npos);
+}
+
+TEST_CASE("of two darts whose piece overlaps, the one whose sides crossed goes", "[pattern][darts]") {
+  // With a low curvature bar both bumps get a dart; the low bump's (9
+  // degrees) has too little to take in, its sides cross and the piece's
+  // outline overlaps. Taking out that dart, not the first one placed (the
+  // high bump's, 49 degrees), leaves the piece within reach of the limit.
+  const Mesh m = two_bumps(0.016, 0.04);
+  PatternOptions o;
+  o.min_dart_angle = 0.1;
+  o.mirror = false;
+  const Pattern pattern = make_pattern(m.V, m.F, {}, o);
+  REQUIRE(pattern.pieces.size() == 1);
+  const std::vector<Eigen::Vector3d> tips = dart_tip_points(pattern);
+  REQUIRE(tips.size() == 1);
+  CHECK(tips[0].x() > 0.09);  // the high bump's, on the body's left
+  CHECK(!pattern.pieces[0].flat.boundary_overlaps);
+  bool removed = false;
+  for (const std::string& n : pattern.notes) removed = removed || n.find("its sides crossed") != std::string::npos;
+  CHECK(removed);
+  CHECK(pattern.pieces[0].stats.worst1_compression < 0.03);
+}
