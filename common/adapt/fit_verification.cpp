@@ -25,6 +25,7 @@ OrderedJson to_json(const PoseCheck& check, const std::string& mesh) {
           {"p99_stretch", k.p99_stretch},
           {"mean_stretch", k.mean_stretch},
           {"area_fraction_above_limit", k.area_fraction_above},
+          {"area_fraction_torn", check.area_fraction_torn},
           {"deepest_penetration_m", k.deepest_penetration},
           {"crossings", collision::to_json(k.crossings)},
           {"steps", k.steps},
@@ -65,6 +66,7 @@ FitVerification judge_run(const MotionRunResult& run, double delta, const FitCri
   for (const KeyPoseResult& k : run.keys) {
     PoseCheck check;
     check.failures = check_pose(k, delta, criteria);
+    check.area_fraction_torn = area_fraction_above(k, criteria.tear_stretch);
     check.figures = k;
     v.poses.push_back(std::move(check));
   }

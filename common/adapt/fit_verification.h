@@ -19,6 +19,7 @@ namespace gp::adapt {
 struct PoseCheck {
   KeyPoseResult figures;              // drape, stretch and penetration figures of the key pose
   std::vector<std::string> failures;  // one sentence per bound exceeded (empty: passed)
+  double area_fraction_torn = 0.0;    // rest-area fraction stretched beyond the criteria's tear_stretch
   bool passed() const { return failures.empty(); }
 };
 

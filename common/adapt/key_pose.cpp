@@ -16,6 +16,16 @@ void stretch_figures(const Eigen::VectorXd& s, const Eigen::VectorXd& area, doub
     if (s(f) > limit) above += area(f);
   }
   k.area_fraction_above = total > 0.0 ? above / total : 0.0;
+  k.face_max_stretch = s;
+  k.face_rest_area = area;
+}
+
+double area_fraction_above(const KeyPoseResult& k, double stretch) {
+  const double total = k.face_rest_area.sum();
+  double above = 0.0;
+  for (Eigen::Index f = 0; f < k.face_max_stretch.size() && f < k.face_rest_area.size(); ++f)
+    if (k.face_max_stretch(f) > stretch) above += k.face_rest_area(f);
+  return total > 0.0 ? above / total : 0.0;
 }
 
 std::vector<std::string> stretch_failures(const KeyPoseResult& k, double delta, const FitCriteria& criteria) {
@@ -37,6 +47,12 @@ std::vector<std::string> stretch_failures(const KeyPoseResult& k, double delta, 
 std::vector<std::string> check_pose(const KeyPoseResult& k, double delta, const FitCriteria& criteria) {
   std::vector<std::string> failures = stretch_failures(k, delta, criteria);
   char line[200];
+  const double torn = area_fraction_above(k, criteria.tear_stretch);
+  if (torn > criteria.max_torn_area) {
+    std::snprintf(line, sizeof(line), "%.2f %% of the area stretched beyond %.2f, where cloth tears (at most %.2f %%)",
+                  100.0 * torn, criteria.tear_stretch, 100.0 * criteria.max_torn_area);
+    failures.push_back(line);
+  }
   if (k.deepest_penetration > criteria.max_penetration) {
     std::snprintf(line, sizeof(line), "a cloth vertex %.1f mm inside the body (at most %.1f mm)",
                   1e3 * k.deepest_penetration, 1e3 * criteria.max_penetration);

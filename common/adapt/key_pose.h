@@ -16,6 +16,7 @@ struct KeyPoseResult {
   int key = 0;                        // index in the motion's key sequence
   Eigen::MatrixXd V_draped;           // #V by 3
   Eigen::VectorXd face_max_stretch;   // #F, largest principal stretch against the rest shape
+  Eigen::VectorXd face_rest_area;     // #F, rest areas (m^2)
   double max_stretch = 0.0;
   double p99_stretch = 0.0;           // 99th percentile over faces, weighted by rest area
   double mean_stretch = 0.0;          // rest-area weighted mean
@@ -42,6 +43,12 @@ struct FitCriteria {
   // Fails a key pose whose cloth still moved at the settle cap: its figures
   // are a snapshot of cloth on its way (a skirt the hand drags), not a fit.
   bool require_settled = true;
+  // Cloth stretched beyond tear_stretch would tear (woven cloth breaks at a
+  // few tens of percent): a pose fails when more than max_torn_area of the
+  // rest area is, however little that is of the 1 + delta budget. A hand
+  // that grips and drags a skirt stretches a few triangles by 2-4.
+  double tear_stretch = 1.5;
+  double max_torn_area = 0.001;    // rest-area fraction: fails above
 };
 
 // The criteria as a report records them and a reader takes them back
@@ -54,19 +61,24 @@ struct FitCriteriaFields {
     f.number("max_penetration_m", c.max_penetration, Range::non_negative());
     f.integer("max_crossings", c.max_crossings, Range::non_negative());
     f.flag("require_settled", c.require_settled);
+    f.number("tear_stretch", c.tear_stretch, Range::between(1.0, 100.0));
+    f.number("max_torn_area_fraction", c.max_torn_area, Range::between(0.0, 1.0));
   }
 };
 
 // Sets k's max, p99 (area-weighted) and mean stretch and the area fraction
-// above `limit` from per-face stretches s and areas (both #F).
+// above `limit` from per-face stretches s and areas (both #F), and keeps both.
 void stretch_figures(const Eigen::VectorXd& s, const Eigen::VectorXd& area, double limit, KeyPoseResult& k);
 
 // The stretch bounds a key pose's figures exceed, in words ("p99 stretch
 // 1.134 above 1.120"); empty when they hold. delta: the stretch limit.
 std::vector<std::string> stretch_failures(const KeyPoseResult& k, double delta, const FitCriteria& criteria);
 
-// All bounds a key pose's figures exceed (stretch, penetration, crossings,
-// settling); empty when it passes.
+// The rest-area fraction of k's faces whose largest stretch exceeds `stretch`.
+double area_fraction_above(const KeyPoseResult& k, double stretch);
+
+// All bounds a key pose's figures exceed (stretch, torn cloth, penetration,
+// crossings, settling); empty when it passes.
 std::vector<std::string> check_pose(const KeyPoseResult& k, double delta, const FitCriteria& criteria);
 
 }  // namespace gp::adapt

@@ -65,6 +65,13 @@ int main(int argc, char** argv) {
                  "Verification: a key pose fails when more body edges pass through cloth triangles and cloth "
                  "edges through body triangles [count]")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--verify-tear-stretch", criteria.tear_stretch,
+                 "Verification: cloth stretched beyond this would tear [ratio]")
+      ->capture_default_str()->check(CLI::Range(1.0, 100.0));
+  app.add_option("--verify-max-torn-area", criteria.max_torn_area,
+                 "Verification: a key pose fails when more than this fraction of the area is stretched beyond the "
+                 "tear stretch [1]")
+      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
   bool allow_unsettled = false;
   app.add_flag("--verify-allow-unsettled", allow_unsettled,
                "Verification: judge a key pose whose cloth still moves at the settle cap by its figures alone (by "

@@ -6,6 +6,7 @@
 
 #include "adapt/key_pose.h"
 
+using gp::adapt::area_fraction_above;
 using gp::adapt::check_pose;
 using gp::adapt::FitCriteria;
 using gp::adapt::KeyPoseResult;
@@ -21,6 +22,11 @@ KeyPoseResult fitting_pose() {
   k.deepest_penetration = 0.0019;
   k.settled = true;
   k.settle_steps = 200;
+  // 1,000 faces of 1 cm^2, one stretched to 1.3: 0.1 % of the area beyond
+  // 1.1, none beyond the tear stretch.
+  k.face_rest_area = Eigen::VectorXd::Constant(1000, 1e-4);
+  k.face_max_stretch = Eigen::VectorXd::Constant(1000, 1.02);
+  k.face_max_stretch(7) = 1.3;
   return k;
 }
 
@@ -67,5 +73,26 @@ TEST_CASE("a key pose whose cloth still moves at the settle cap fails, unless al
   CHECK(failures.front() ==
         "the cloth did not settle within 1000 steps (largest net vertex speed 0.083 m/s over the last check)");
   criteria.require_settled = false;
+  CHECK(check_pose(k, 0.1, criteria).empty());
+}
+
+TEST_CASE("a key pose whose cloth would tear fails, however little of the budget that is", "[adapt][verdict]") {
+  const FitCriteria criteria;  // tear stretch 1.5, at most 0.1 % of the area beyond it
+  KeyPoseResult k = fitting_pose();
+  CHECK(area_fraction_above(k, criteria.tear_stretch) == 0.0);
+  // One small face at 3.6 (half a square centimetre): 0.05 % of the area.
+  k.face_max_stretch(100) = 3.6;
+  k.face_rest_area(100) = 0.5e-4;
+  CHECK(area_fraction_above(k, criteria.tear_stretch) == Approx(0.5e-4 / (999 * 1e-4 + 0.5e-4)));
+  CHECK(check_pose(k, 0.1, criteria).empty());
+  k.face_rest_area(100) = 1e-4;
+  // A hand gripping the skirt, two faces: 0.2 %, beyond the bound, and the
+  // only bound that fails.
+  k.face_max_stretch(101) = 1.51;
+  const auto failures = check_pose(k, 0.1, criteria);
+  REQUIRE(failures.size() == 1);
+  CHECK(failures.front() == "0.20 % of the area stretched beyond 1.50, where cloth tears (at most 0.10 %)");
+  // Weighted by rest area: the same two faces at a tenth of the area hold.
+  k.face_rest_area(100) = k.face_rest_area(101) = 1e-5;
   CHECK(check_pose(k, 0.1, criteria).empty());
 }
