@@ -18,6 +18,14 @@ struct SeamTolerance {
   double relative = 0.005;   // fraction of the 3D length
 };
 
+struct SeamToleranceFields {
+  template <class Fields>
+  void operator()(SeamTolerance& t, Fields& f) const {
+    f.number("absolute_m", t.absolute, Range::non_negative());
+    f.number("relative", t.relative, Range::non_negative());
+  }
+};
+
 struct SeamMeasure {
   double length_3d = 0.0;                   // metres, cut edges of the seam
   double left_2d = 0.0, right_2d = 0.0;     // flat lengths of its two sides, metres

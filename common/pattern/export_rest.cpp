@@ -230,7 +230,6 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
 
 OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestOptions& options) {
   const PatternOptions& po = options.pattern;
-  const LayoutOptions& lo = options.layout;
   OrderedJson report;
   report["schema"] = schema_tag("export-rest-report", 1);
   report["input"] = {{"rest", options.rest},
@@ -239,53 +238,15 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
                      {"seams", options.seams},
                      {"vertices", result.rest.V.rows()},
                      {"faces", result.rest.F.rows()}};
-  OrderedJson limit;
-  if (po.symmetric)
-    limit = {{"kind", "symmetric"}, {"p95_error", po.p95_limit}, {"max_error", po.max_limit}};
-  else
-    limit = {{"kind", "one-sided"},
-             {"compression_worst1", po.compression_worst1},
-             {"ease_worst5", po.ease_worst5}};
-  report["options"] = {
-      {"limit", limit},
-      {"dart_placement", po.dart_placement == PatternOptions::DartPlacement::conformal ? "conformal" : "curvature"},
-      {"max_darts", po.max_darts},
-      {"kernel_radius", po.kernel_radius},
-      {"min_dart_angle_deg", po.min_dart_angle * 180.0 / M_PI},
-      {"tip_margin", po.tip_margin},
-      {"min_dart_length", po.min_dart_length},
-      {"max_pieces", po.max_pieces},
-      {"mirror", po.mirror},
-      {"mirror_overlap", po.mirror_overlap},
-      {"min_panel_relief", po.min_panel_relief},
-      {"stretch_budget", result.stretch_budget},
-      {"budget_share", po.budget_share},
-
-      {"min_piece_area", po.min_piece_area},
-      {"max_rounds", po.max_rounds},
-      {"front_back_cost", po.front_back_cost},
-      {"smooth", po.smooth},
-      {"smoothing_wavelength", po.smoothing.wavelength},
-      {"smoothing_tolerance", po.smoothing.tolerance},
-      {"smoothing_band_rings", po.smoothing.band_rings},
-      {"snap_fraction", po.smoothing.trace.snap_fraction},
-      {"flatten_ease_weight", po.flatten.ease_weight},
-      {"flatten_iterations", po.flatten.max_iterations},
-      {"flatten_tolerance", po.flatten.tolerance},
-      {"final_tolerance", po.flatten.final_tolerance},
-      {"line_search_margin", po.flatten.line_search_margin},
-      {"boundary_weight", po.flatten.boundary_weight},
-      {"max_boundary_weight", po.max_boundary_weight},
-      {"match_margin", po.match_margin},
-      {"seam_allowance", lo.seam_allowance},
-      {"notch_spacing", lo.notch_spacing},
-      {"notch_length", lo.notch_length},
-      {"sheet_width", lo.sheet_width},
-      {"gap", lo.gap},
-      {"margin", lo.margin},
-      {"seam_mismatch_tolerance", {{"absolute", options.tolerance.absolute}, {"relative", options.tolerance.relative}}},
-      {"threads", options.threads},
-      {"seam_spec", options.seams.empty() ? OrderedJson() : to_json(result.spec)}};
+  // The cutter's options with the stretch budget it used (the fit's delta
+  // with --fit).
+  PatternOptions used = options.pattern;
+  used.stretch_budget = result.stretch_budget;
+  report["options"] = {{"pattern", write_options(used, PatternOptionFields{})},
+                       {"layout", write_options(options.layout, LayoutOptionFields{})},
+                       {"seam_mismatch_tolerance", write_options(options.tolerance, SeamToleranceFields{})},
+                       {"threads", options.threads},
+                       {"seam_spec", options.seams.empty() ? OrderedJson() : to_json(result.spec)}};
   report["sewn_fit"] = sewn_fit_report(result, options);
   report["rest_shape"] = result.rest_shape;
   const OrderedJson body = pattern_report(result.pattern, result.layout, po, options.tolerance);

@@ -17,6 +17,8 @@
 #include <vector>
 #include <Eigen/Core>
 
+#include "spec/option_fields.h"
+
 namespace gp {
 
 struct FlattenOptions {
@@ -37,6 +39,23 @@ struct FlattenOptions {
   double min_weight_fraction = 0.1;  // a triangle weighs its area, at least this fraction of the mean
   int anderson_window = 6;           // iterates mixed by Anderson acceleration (Peng et al. 2018); 0: none
   bool injective_fallback = true;    // flips left: rerun injectively (false: return them)
+};
+
+// The options as a report records them (spec/option_fields.h).
+struct FlattenOptionFields {
+  template <class Fields>
+  void operator()(FlattenOptions& o, Fields& f) const {
+    f.integer("max_iterations", o.max_iterations, Range::between(1, 1e9));
+    f.number("tolerance", o.tolerance, Range::positive());
+    f.number("injective_tolerance", o.injective_tolerance, Range::positive());
+    f.number("final_tolerance", o.final_tolerance, Range::positive());
+    f.number("line_search_margin", o.line_search_margin, Range::between(0.0, 1.0));
+    f.number("boundary_weight", o.boundary_weight, Range::non_negative());
+    f.number("ease_weight", o.ease_weight, Range::between(0.0, 1.0));
+    f.number("min_weight_fraction", o.min_weight_fraction, Range::between(0.0, 1.0));
+    f.integer("anderson_window", o.anderson_window, Range::between(0, 1000));
+    f.flag("injective_fallback", o.injective_fallback);
+  }
 };
 
 // Distortion statistics of a flattening. All area-weighted over 3D area.

@@ -15,6 +15,7 @@
 
 #include "pattern/pattern.h"
 #include "pattern/seam_allowance.h"
+#include "spec/option_fields.h"
 
 namespace gp {
 
@@ -27,6 +28,20 @@ struct LayoutOptions {
   double notch_spacing = 0.1;    // metres along a seam
   double notch_length = 0.006;   // metres, into the seam allowance
   double simplify_tolerance = 1e-4;  // metres, outline simplification before offsetting
+};
+
+// The options as a report records them (the title aside: it is the garment's name).
+struct LayoutOptionFields {
+  template <class Fields>
+  void operator()(LayoutOptions& o, Fields& f) const {
+    f.number("seam_allowance_m", o.seam_allowance, Range::non_negative());
+    f.number("gap_m", o.gap, Range::non_negative());
+    f.number("sheet_width_m", o.sheet_width, Range::positive());
+    f.number("margin_m", o.margin, Range::non_negative());
+    f.number("notch_spacing_m", o.notch_spacing, Range::positive());
+    f.number("notch_length_m", o.notch_length, Range::non_negative());
+    f.number("simplify_tolerance_m", o.simplify_tolerance, Range::non_negative());
+  }
 };
 
 struct Notch {

@@ -110,6 +110,49 @@ struct PatternOptions {
   }
 };
 
+// The options as a report records them (spec/option_fields.h).
+struct PatternOptionFields {
+  template <class Fields>
+  void operator()(PatternOptions& o, Fields& f) const {
+    f.names("limit", o.symmetric, "symmetric", "one-sided");
+    f.number("compression_worst1", o.compression_worst1, Range::between(0.0, 1.0));
+    f.number("ease_worst5", o.ease_worst5, Range::non_negative());
+    f.number("p95_limit", o.p95_limit, Range::non_negative());
+    f.number("max_limit", o.max_limit, Range::non_negative());
+    f.choice("dart_placement", o.dart_placement,
+             ChoiceNames<PatternOptions::DartPlacement>{{PatternOptions::DartPlacement::curvature, "curvature"},
+                                                        {PatternOptions::DartPlacement::conformal, "conformal"}});
+    f.integer("max_darts", o.max_darts, Range::between(0, 100));
+    f.number("kernel_radius_m", o.kernel_radius, Range::positive());
+    f.number("min_dart_angle_rad", o.min_dart_angle, Range::non_negative());
+    f.number("tip_margin_m", o.tip_margin, Range::non_negative());
+    f.number("min_dart_length_m", o.min_dart_length, Range::non_negative());
+    f.integer("max_pieces", o.max_pieces, Range::between(0, 1e6));
+    f.flag("mirror", o.mirror);
+    f.number("mirror_overlap", o.mirror_overlap, Range::between(0.0, 1.0));
+    f.number("min_panel_relief_m2_per_m", o.min_panel_relief, Range::non_negative());
+    f.number("stretch_budget", o.stretch_budget, Range::non_negative());
+    f.number("budget_share", o.budget_share, Range::non_negative());
+    f.number("min_piece_area_m2", o.min_piece_area, Range::non_negative());
+    f.integer("max_rounds", o.max_rounds, Range::between(1, 1e6));
+    f.flag("armholes", o.armholes);
+    f.number("min_sleeve_length_m", o.min_sleeve_length, Range::non_negative());
+    f.number("armhole_slope", o.armhole_slope, Range::positive());
+    f.number("slope_window_m", o.slope_window, Range::positive());
+    f.number("limb_offset_m", o.limb_offset, Range::non_negative());
+    f.number("mirror_tolerance", o.mirror_tolerance, Range::non_negative());
+    f.number("sliver_area_m2", o.sliver_area, Range::non_negative());
+    f.number("front_back_cost", o.front_back_cost, Range::positive());
+    f.flag("smooth", o.smooth);
+    f.group("smoothing", o.smoothing, EdgePathSmoothingFields{});
+    f.number("seam_tolerance_m", o.seam_tolerance, Range::non_negative());
+    f.number("seam_tolerance_relative", o.seam_tolerance_relative, Range::non_negative());
+    f.number("match_margin", o.match_margin, Range::non_negative());
+    f.number("max_boundary_weight", o.max_boundary_weight, Range::non_negative());
+    f.group("flatten", o.flatten, FlattenOptionFields{});
+  }
+};
+
 // No flipped triangle, no overlapping outline, distortion within the limit.
 bool meets_limit(const PatternPiece& piece, const PatternOptions& options);
 

@@ -13,6 +13,8 @@
 #include <vector>
 #include <Eigen/Core>
 
+#include "spec/option_fields.h"
+
 namespace gp {
 
 struct CurvePoint {
@@ -46,6 +48,15 @@ struct TraceOptions {
   int max_steps = 100000;  // triangles walked, a guard against loops
 };
 
+struct TraceOptionFields {
+  template <class Fields>
+  void operator()(TraceOptions& o, Fields& f) const {
+    f.number("snap_fraction", o.snap_fraction, Range::between(0.0, 0.5));
+    f.number("min_edge_fraction", o.min_edge_fraction, Range::between(0.0, 0.5));
+    f.integer("max_steps", o.max_steps, Range::between(1, 1e9));
+  }
+};
+
 // Traces the polyline P (#P by 2) in the chart UV (#V by 2, F counter-
 // clockwise) from `start` to `end` (vertex, boundary-edge or face points at
 // P's first and last rows); `row_vertex` (per row, -1: none) names vertices
@@ -76,6 +87,17 @@ struct EdgePathSmoothing {
   double click_tolerance = 1.0;  // the same for clicked points (snapped to a corner of their face)
   int band_rings = 4;         // the chart: faces within this many vertex rings of the path
   TraceOptions trace;
+};
+
+struct EdgePathSmoothingFields {
+  template <class Fields>
+  void operator()(EdgePathSmoothing& o, Fields& f) const {
+    f.number("wavelength_m", o.wavelength, Range::non_negative());
+    f.number("tolerance", o.tolerance, Range::non_negative());
+    f.number("click_tolerance", o.click_tolerance, Range::non_negative());
+    f.integer("band_rings", o.band_rings, Range::between(0, 1000));
+    f.group("trace", o.trace, TraceOptionFields{});
+  }
 };
 
 // The edge path `vertex_ids` (V #V by 3, F #F by 3; `closed` returns to its

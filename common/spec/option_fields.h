@@ -4,6 +4,7 @@
 //   f.number(key, double&, Range)       f.integer(key, int or long&, Range)
 //   f.flag(key, bool&)                  f.names(key, bool&, "if true", "if false")
 //   f.choice(key, Enum&, {{Enum::a, "a"}, ...})
+//   f.group(key, Sub&, SubFields{})     a nested options struct, as an object
 // and the generic writer and strict reader below serialise it: a report
 // records the options under the same keys, in the same order, that a reader
 // of the report accepts, and no tool lists the keys by hand.
@@ -20,6 +21,11 @@ namespace gp {
 
 template <class Enum>
 using ChoiceNames = std::vector<std::pair<Enum, const char*>>;
+
+template <class Options, class FieldList>
+OrderedJson write_options(const Options& options, FieldList fields);
+template <class Options, class FieldList>
+void read_options(const SpecObject& in, bool required, Options& options, FieldList fields);
 
 // Writes every field into an ordered JSON object.
 class OptionsWriter {
@@ -44,6 +50,10 @@ class OptionsWriter {
       }
     }
     out_[key] = nullptr;  // not reached while every enumerator is named
+  }
+  template <class Sub, class SubFields>
+  void group(const char* key, const Sub& v, SubFields fields) {
+    out_[key] = write_options(v, fields);
   }
 
  private:
@@ -82,6 +92,10 @@ class OptionsReader {
     for (const auto& [value, n] : names) {
       if (name == n) v = value;
     }
+  }
+  template <class Sub, class SubFields>
+  void group(const char* key, Sub& v, SubFields fields) {
+    if (present(key)) read_options(in_.object(key), required_, v, fields);
   }
 
  private:

@@ -267,7 +267,7 @@ TEST_CASE("panel seams that relieve too little are taken out again", "[cli][shir
   const Json& sa = ra["summary"];
   const Json& sb = rb["summary"];
   INFO(sa.dump() << "\n" << sb.dump());
-  CHECK(ra["options"]["min_panel_relief"].get<double>() == Approx(0.01));
+  CHECK(ra["options"]["pattern"]["min_panel_relief_m2_per_m"].get<double>() == Approx(0.01));
   // Fewer pieces and less seam, no worse at its worst.
   CHECK(sa["pieces"].get<int>() <= 8);
   CHECK(sa["pieces"].get<int>() < sb["pieces"].get<int>());

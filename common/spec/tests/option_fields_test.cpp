@@ -114,3 +114,52 @@ TEST_CASE("options are read strictly: missing, mistyped, out-of-range and unknow
   gp::read_options(o, true, t, ToyFields{});
   CHECK_THROWS_AS(o.finish(), gp::SpecError);
 }
+
+namespace {
+
+struct Box {
+  double width = 0.2;  // m
+  Toy inner;
+};
+
+struct BoxFields {
+  template <class Fields>
+  void operator()(Box& b, Fields& f) const {
+    f.number("width_m", b.width, gp::Range::positive());
+    f.group("inner", b.inner, ToyFields{});
+  }
+};
+
+}  // namespace
+
+TEST_CASE("a nested options struct is written as an object and read back strictly", "[spec]") {
+  Box b;
+  b.width = 3.0;
+  b.inner.count = 9;
+  b.inner.shape = Shape::round;
+  const gp::OrderedJson j = gp::write_options(b, BoxFields{});
+  CHECK(j.dump() ==
+        R"({"width_m":3.0,"inner":{"length_m":0.5,"count":9,"big":7,"on":true,"contact":"velocity","shape":"round"}})");
+  const gp::Json parsed = gp::Json::parse(j.dump());
+  Box back;
+  gp::read_options(gp::SpecObject(parsed, "box.json"), true, back, BoxFields{});
+  CHECK(back.width == 3.0);
+  CHECK(back.inner.count == 9);
+  CHECK(back.inner.shape == Shape::round);
+  // A field missing inside the group is named by its pointer.
+  gp::Json missing = parsed;
+  missing["inner"].erase("count");
+  try {
+    Box c;
+    gp::read_options(gp::SpecObject(missing, "box.json"), true, c, BoxFields{});
+    FAIL("no error for a missing nested field");
+  } catch (const gp::SpecError& e) {
+    CHECK(std::string(e.message()).find("/inner/count") != std::string::npos);
+  }
+  // Not required: the group keeps its values where the object is absent.
+  gp::Json none = parsed;
+  none.erase("inner");
+  Box d;
+  gp::read_options(gp::SpecObject(none, "box.json"), false, d, BoxFields{});
+  CHECK(d.inner.count == 3);
+}
