@@ -416,17 +416,8 @@ OrderedJson avatar_report(const AvatarSpec& spec, const AvatarOptions& o, const 
   OrderedJson j;
   j["schema"] = schema_tag("make-avatar-report", 1);
   j["name"] = spec.name;
-  OrderedJson opt;
-  opt["target_vertices"] = o.target_vertices;
+  OrderedJson opt = write_options(o, AvatarOptionFields{});
   opt["poses"] = r.poses.names;
-  opt["cell_m_at_1_70"] = o.cell;
-  opt["girth_correction_iterations"] = o.girth_correction_iterations;
-  opt["relax_iterations"] = o.relax_iterations;
-  opt["posed_min_angle_degrees"] = o.posed_min_angle;
-  opt["skinning_falloff_m_at_1_70"] = o.skinning.falloff;
-  opt["skinning_smoothing_iterations"] = o.skinning.smoothing_iterations;
-  opt["skinning_hip_falloff_scale"] = o.skinning.hip_falloff_scale;
-  opt["check_self_intersection"] = o.check_self_intersection;
   j["options"] = opt;
   j["measurements"] = to_json(r.measurements);
   OrderedJson mesh;

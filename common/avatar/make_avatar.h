@@ -61,6 +61,21 @@ struct AvatarOptions {
   bool check_self_intersection = true;
 };
 
+// The options as a report records them (spec/option_fields.h); the poses,
+// a list, are recorded beside them as produced.
+struct AvatarOptionFields {
+  template <class Fields>
+  void operator()(AvatarOptions& o, Fields& f) const {
+    f.integer("target_vertices", o.target_vertices, Range::between(100, 1e7));
+    f.number("cell_m_at_1_70", o.cell, Range::positive());
+    f.integer("girth_correction_iterations", o.girth_correction_iterations, Range::between(0, 1000));
+    f.number("posed_min_angle_degrees", o.posed_min_angle, Range::between(0.0, 60.0));
+    f.group("skinning", o.skinning, SkinningOptionFields{});
+    f.integer("relax_iterations", o.relax_iterations, Range::between(0, 1000));
+    f.flag("check_self_intersection", o.check_self_intersection);
+  }
+};
+
 struct GirthResult {
   std::string name;                                  // landmark ("chest", "wrist_left", ...)
   std::string field;                                 // measurement ("chest", "wrist", ...)

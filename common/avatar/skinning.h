@@ -8,6 +8,7 @@
 
 #include "avatar/body_shape.h"
 #include "avatar/skeleton.h"
+#include "spec/option_fields.h"
 
 namespace gp {
 
@@ -20,6 +21,17 @@ struct SkinningOptions {
   // Factor on `falloff` between torso and thigh: the hip folds far more than the shoulder
   // (sitting), and a wider transition spreads the crease over more skin.
   double hip_falloff_scale = 2.5;
+};
+
+// The options as a report records them (spec/option_fields.h).
+struct SkinningOptionFields {
+  template <class Fields>
+  void operator()(SkinningOptions& o, Fields& f) const {
+    f.number("falloff_m_at_1_70", o.falloff, Range::positive());
+    f.integer("smoothing_iterations", o.smoothing_iterations, Range::between(0, 1e6));
+    f.number("reference_edge_m_at_1_70", o.reference_edge, Range::positive());
+    f.number("hip_falloff_scale", o.hip_falloff_scale, Range::positive());
+  }
 };
 
 // #V by kJointCount weights, rows summing to 1: the parts within `falloff` of a vertex's nearest

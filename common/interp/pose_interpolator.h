@@ -32,6 +32,7 @@
 #include "interp/gradient_poisson.h"
 #include "linalg/cholmod_solver.h"
 #include "pose/pose_set.h"
+#include "spec/option_fields.h"
 
 namespace gp {
 
@@ -57,6 +58,21 @@ struct InterpolationOptions {
   // which dominates the per-frame path, is faster than the supernodal factor's on a body-sized
   // mesh (tools/interp-poses/README.md, "Speed and accuracy").
   CholmodOptions solver = {CholmodOptions::Method::simplicial};
+};
+
+// The options as a report records them (spec/option_fields.h); explicit
+// anchor ids come from the motion spec, which the report carries whole.
+struct InterpolationOptionFields {
+  template <class Fields>
+  void operator()(InterpolationOptions& o, Fields& f) const {
+    f.choice("method", o.method,
+             ChoiceNames<InterpolationMethod>{{InterpolationMethod::nonlinear, "nonlinear"},
+                                              {InterpolationMethod::linear, "linear"}});
+    f.number("anchor_fraction", o.anchor.fraction, Range::between(0.0, 1.0));
+    f.choice("solver", o.solver.method,
+             ChoiceNames<CholmodOptions::Method>{{CholmodOptions::Method::supernodal, "supernodal"},
+                                                 {CholmodOptions::Method::simplicial, "simplicial"}});
+  }
 };
 
 // What was computed for one pose pair.

@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include "spec/option_fields.h"
+
 namespace gp {
 
 struct MeshCheckOptions {
@@ -19,6 +21,17 @@ struct MeshCheckOptions {
   double duplicate_distance_fraction = 1e-9;
   // How many offending element ids to keep per finding.
   int max_examples = 10;
+};
+
+// The options as a report records them (spec/option_fields.h).
+struct MeshCheckOptionFields {
+  template <class Fields>
+  void operator()(MeshCheckOptions& o, Fields& f) const {
+    f.number("degenerate_area_fraction", o.degenerate_area_fraction, Range::non_negative());
+    f.number("needle_angle_degrees", o.needle_angle_degrees, Range::between(0.0, 60.0));
+    f.number("duplicate_distance_fraction", o.duplicate_distance_fraction, Range::non_negative());
+    f.integer("max_examples", o.max_examples, Range::between(0, 1e6));
+  }
 };
 
 // Counts and a few example ids per finding (ids are vertices, edges as vertex

@@ -399,21 +399,9 @@ OrderedJson register_check_report(const RegisterCheckResult& r, const RegisterCh
   j["schema"] = schema_tag("register-check-report", 1);
   j["verdict"] = r.verdict();
   j["exit_code"] = static_cast<int>(r.exit_code());
-  OrderedJson opt;
-  opt["reference"] = o.reference.empty() ? r.poses[r.reference].name : o.reference;
-  opt["units"] = o.units;
-  opt["height_m"] = o.height > 0 ? OrderedJson(o.height) : OrderedJson(nullptr);
-  opt["up"] = o.up;
-  opt["reorder"] = o.reorder;
-  opt["triangulate"] = o.triangulate;
-  opt["allow_open"] = o.allow_open;
-  opt["max_edge_ratio"] = o.max_edge_ratio;
-  opt["self_intersections"] = o.self_intersections;
-  opt["threads"] = o.threads;
-  opt["degenerate_area_fraction"] = o.mesh.degenerate_area_fraction;
-  opt["needle_angle_degrees"] = o.mesh.needle_angle_degrees;
-  opt["duplicate_distance_fraction"] = o.mesh.duplicate_distance_fraction;
-  j["options"] = opt;
+  RegisterCheckOptions used = o;
+  if (used.reference.empty()) used.reference = r.poses[r.reference].name;
+  j["options"] = write_options(used, RegisterCheckOptionFields{});
   j["reference"] = r.poses[r.reference].name;
   if (r.units) {
     OrderedJson u;

@@ -42,6 +42,25 @@ struct RegisterCheckOptions {
   MeshCheckOptions mesh;
 };
 
+// The options as a report records them (spec/option_fields.h).
+struct RegisterCheckOptionFields {
+  template <class Fields>
+  void operator()(RegisterCheckOptions& o, Fields& f) const {
+    f.text("reference", o.reference);
+    f.text("units", o.units);
+    f.number("height_m", o.height, Range::non_negative());
+    f.text("up", o.up);
+    f.flag("reorder", o.reorder);
+    f.flag("triangulate", o.triangulate);
+    f.flag("allow_open", o.allow_open);
+    f.number("max_edge_ratio", o.max_edge_ratio, Range::between(1.0, 1e300));
+    f.flag("self_intersections", o.self_intersections);
+    f.integer("threads", o.threads, Range::between(1, 1024));
+    f.integer("worst_edges", o.worst_edges, Range::between(0, 1e6));
+    f.group("mesh", o.mesh, MeshCheckOptionFields{});
+  }
+};
+
 struct PoseInput {
   std::string name;
   std::filesystem::path file;

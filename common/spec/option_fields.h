@@ -3,6 +3,7 @@
 // template, `fields(Options&, Fields&)`, calling for each field one of
 //   f.number(key, double&, Range)       f.integer(key, int or long&, Range)
 //   f.flag(key, bool&)                  f.names(key, bool&, "if true", "if false")
+//   f.text(key, std::string&)
 //   f.choice(key, Enum&, {{Enum::a, "a"}, ...})
 //   f.group(key, Sub&, SubFields{})     a nested options struct, as an object
 // and the generic writer and strict reader below serialise it: a report
@@ -38,6 +39,7 @@ class OptionsWriter {
     out_[key] = v;
   }
   void flag(const char* key, bool v) { out_[key] = v; }
+  void text(const char* key, const std::string& v) { out_[key] = v; }
   void names(const char* key, bool v, const char* if_true, const char* if_false) {
     out_[key] = v ? if_true : if_false;
   }
@@ -79,6 +81,9 @@ class OptionsReader {
   }
   void flag(const char* key, bool& v) {
     if (present(key)) v = in_.boolean(key, v);
+  }
+  void text(const char* key, std::string& v) {
+    if (present(key)) v = in_.string(key, v);
   }
   void names(const char* key, bool& v, const char* if_true, const char* if_false) {
     if (present(key)) v = in_.choice(key, v ? if_true : if_false, {if_true, if_false}) == if_true;

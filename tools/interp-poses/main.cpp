@@ -251,9 +251,8 @@ int main(int argc, char** argv) {
     in["poses"] = inputs;
     in["motion"] = motion_path;
     report["inputs"] = in;
-    gp::OrderedJson opt;
-    opt["method"] = gp::to_string(options.method);
-    opt["solver"] = solver_name;
+    // The library's options, then the stage's own (what it writes).
+    gp::OrderedJson opt = gp::write_options(options, gp::InterpolationOptionFields{});
     opt["frames"] = frame_list;
     opt["keys_only"] = keys_only;
     opt["float32"] = float32;

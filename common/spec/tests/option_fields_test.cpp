@@ -119,6 +119,7 @@ namespace {
 
 struct Box {
   double width = 0.2;  // m
+  std::string label = "box";
   Toy inner;
 };
 
@@ -126,6 +127,7 @@ struct BoxFields {
   template <class Fields>
   void operator()(Box& b, Fields& f) const {
     f.number("width_m", b.width, gp::Range::positive());
+    f.text("label", b.label);
     f.group("inner", b.inner, ToyFields{});
   }
 };
@@ -137,13 +139,15 @@ TEST_CASE("a nested options struct is written as an object and read back strictl
   b.width = 3.0;
   b.inner.count = 9;
   b.inner.shape = Shape::round;
+  b.label = "crate";
   const gp::OrderedJson j = gp::write_options(b, BoxFields{});
   CHECK(j.dump() ==
-        R"({"width_m":3.0,"inner":{"length_m":0.5,"count":9,"big":7,"on":true,"contact":"velocity","shape":"round"}})");
+        R"({"width_m":3.0,"label":"crate","inner":{"length_m":0.5,"count":9,"big":7,"on":true,"contact":"velocity","shape":"round"}})");
   const gp::Json parsed = gp::Json::parse(j.dump());
   Box back;
   gp::read_options(gp::SpecObject(parsed, "box.json"), true, back, BoxFields{});
   CHECK(back.width == 3.0);
+  CHECK(back.label == "crate");
   CHECK(back.inner.count == 9);
   CHECK(back.inner.shape == Shape::round);
   // A field missing inside the group is named by its pointer.
