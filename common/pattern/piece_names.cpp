@@ -71,7 +71,21 @@ void name_pieces(Pattern& pattern) {
       const size_t rank = static_cast<size_t>(std::find(parts.begin(), parts.end(), c) - parts.begin());
       std::string part;
       if (parts.size() == 2) part = rank == 0 ? " front" : " back";
-      else if (parts.size() > 2) part = " " + std::to_string(rank + 1);
+      if (parts.size() == 4) {
+        // Two across the arm, twice along it: the two nearer the body (by
+        // distance from the garment's centroid, for an arm held out or
+        // down) are the upper sleeve, each pair front and back.
+        std::vector<size_t> along = parts;
+        std::stable_sort(along.begin(), along.end(), [&](size_t a, size_t b) {
+          return (frames[a].centroid - axis).norm() < (frames[b].centroid - axis).norm();
+        });
+        const bool upper = std::find(along.begin(), along.begin() + 2, c) != along.begin() + 2;
+        const size_t other = upper ? (along[0] == c ? along[1] : along[0]) : (along[2] == c ? along[3] : along[2]);
+        names[c] = std::string(upper ? "upper " : "lower ") + side + " sleeve" +
+                   (frames[c].centroid.z() >= frames[other].centroid.z() ? " front" : " back");
+        continue;
+      }
+      if (parts.size() > 2) part = " " + std::to_string(rank + 1);
       names[c] = side + " sleeve" + part;
       continue;
     }

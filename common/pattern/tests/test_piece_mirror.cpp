@@ -9,6 +9,7 @@
 #include "mesh/topology.h"
 #include "pattern/make_pattern.h"
 #include "pattern/piece_mirror.h"
+#include "pattern/piece_names.h"
 #include "pattern/seam_spec.h"
 #include "testing/test_meshes.h"
 #include <Eigen/Geometry>
@@ -188,4 +189,41 @@ TEST_CASE("of two darts whose piece overlaps, the one whose sides crossed goes",
   for (const std::string& n : pattern.notes) removed = removed || n.find("its sides crossed") != std::string::npos;
   CHECK(removed);
   CHECK(pattern.pieces[0].stats.worst1_compression < 0.03);
+}
+
+TEST_CASE("a sleeve in four parts is named upper and lower, front and back", "[pattern][names]") {
+  // A torso triangle about the origin and a left sleeve (+x) of four small
+  // triangles: two near the body (x = 0.3) and two near the cuff (x = 0.6),
+  // in front (z > 0) and behind.
+  Pattern pattern;
+  pattern.limbs = {{"cuff_left", true}};
+  std::vector<Eigen::Matrix3d> triangles;
+  Eigen::Matrix3d torso;
+  torso << -0.2, 1.0, 0.1, 0.2, 1.0, 0.1, 0.0, 1.4, 0.1;
+  triangles.push_back(torso);
+  for (double x : {0.3, 0.6})
+    for (double z : {0.04, -0.04}) {
+      Eigen::Matrix3d t;
+      t << x, 1.3, z, x + 0.05, 1.3, z, x, 1.35, z;
+      triangles.push_back(t);
+    }
+  pattern.mesh.rest_V.resize(3 * static_cast<Eigen::Index>(triangles.size()), 3);
+  pattern.mesh.rest_F.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+  for (size_t i = 0; i < triangles.size(); ++i) {
+    PatternPiece piece;
+    piece.V = triangles[i];
+    piece.F = Eigen::RowVector3i(0, 1, 2);
+    piece.face_ids = {static_cast<int>(i)};
+    pattern.pieces.push_back(piece);
+    pattern.mesh.rest_V.middleRows(3 * static_cast<Eigen::Index>(i), 3) = triangles[i];
+    pattern.mesh.rest_F.row(static_cast<Eigen::Index>(i)) = Eigen::RowVector3i(0, 1, 2).array() + 3 * static_cast<int>(i);
+    pattern.mesh.rest_face.push_back(static_cast<int>(i));
+    pattern.limb_of_rest_face.push_back(i == 0 ? -1 : 0);
+  }
+  name_pieces(pattern);
+  CHECK(pattern.pieces[1].name == "upper left sleeve front");
+  CHECK(pattern.pieces[2].name == "upper left sleeve back");
+  CHECK(pattern.pieces[3].name == "lower left sleeve front");
+  CHECK(pattern.pieces[4].name == "lower left sleeve back");
+  CHECK(mirror_name(pattern.pieces[3].name) == "lower right sleeve front");
 }
