@@ -349,6 +349,24 @@ std::optional<DartTip> dart_tip_near(const Pattern& pattern, size_t c, const Eig
   return tip;
 }
 
+Eigen::Vector3d centre_seam_point(const PatternPiece& p, double plane_x, const Eigen::Vector3d& from) {
+  // From the piece's point nearest to `from`: the centroid of a back lies
+  // inside the body, and the plane point nearest to it could be on either side.
+  Eigen::Vector3d near;
+  closest_point(p, from, near);
+  Eigen::Vector3d on = from;
+  double best = std::numeric_limits<double>::infinity();
+  for (int f = 0; f < p.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d a = p.V.row(p.F(f, k)), b = p.V.row(p.F(f, (k + 1) % 3));
+      const double da = a.x() - plane_x, db = b.x() - plane_x;
+      if ((da < 0.0) == (db < 0.0) || da == db) continue;
+      const Eigen::Vector3d x = a + (da / (da - db)) * (b - a);
+      if ((x - near).squaredNorm() < best) best = (x - near).squaredNorm(), on = x;
+    }
+  return on;
+}
+
 std::optional<SurfaceCurve> panel_curve(const Pattern& pattern, size_t c, const Eigen::MatrixXd& chart,
                                         const Eigen::Vector3d& centre, const PatternOptions& options,
                                         std::string* where) {

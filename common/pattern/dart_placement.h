@@ -53,6 +53,11 @@ std::optional<DartTip> dart_tip_near(const Pattern& pattern, size_t c, const Eig
 // necessarily on the piece); nullopt for a piece with no such energy.
 std::optional<Eigen::Vector3d> panel_centre(const PatternPiece& p, const PatternOptions& options);
 
+// The point of piece p on the plane x = plane_x (where its edges cross it)
+// nearest to the piece's point nearest to `from`: where a centre seam runs
+// through; `from` itself where no edge crosses the plane.
+Eigen::Vector3d centre_seam_point(const PatternPiece& p, double plane_x, const Eigen::Vector3d& from);
+
 // A panel seam in piece c along the grain through the piece's point nearest
 // to `centre`, leaving no part under min_piece_area (`where` describes it);
 // nullopt when none fits.

@@ -19,7 +19,6 @@
 #include "core/stopwatch.h"
 #include "mesh/heat_geodesics.h"
 #include "mesh/measures.h"
-#include "mesh/point_triangle.h"
 #include "mesh/topology.h"
 #include "pattern/dart_placement.h"
 #include "pattern/piece_mirror.h"
@@ -153,32 +152,6 @@ std::vector<int> piece_rest_faces(const Pattern& pattern, size_t c) {
   return out;
 }
 
-// The point of piece p on the plane x = plane_x (where its edges cross it)
-// nearest to the piece's point nearest to `from`; `from` itself where no
-// edge crosses the plane.
-Eigen::Vector3d point_on_plane(const PatternPiece& p, double plane_x, const Eigen::Vector3d& from) {
-  // The piece's point nearest to `from`: the centroid of a back lies inside
-  // the body, and the plane point nearest to it could be on either side.
-  Eigen::Vector3d near = from;
-  double best = std::numeric_limits<double>::infinity();
-  for (int f = 0; f < p.F.rows(); ++f) {
-    const TriangleClosestPoint q =
-        closest_point_on_triangle(from, p.V.row(p.F(f, 0)), p.V.row(p.F(f, 1)), p.V.row(p.F(f, 2)));
-    if ((q.point - from).squaredNorm() < best) best = (q.point - from).squaredNorm(), near = q.point;
-  }
-  Eigen::Vector3d on = from;
-  best = std::numeric_limits<double>::infinity();
-  for (int f = 0; f < p.F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d a = p.V.row(p.F(f, k)), b = p.V.row(p.F(f, (k + 1) % 3));
-      const double da = a.x() - plane_x, db = b.x() - plane_x;
-      if ((da < 0.0) == (db < 0.0) || da == db) continue;
-      const Eigen::Vector3d x = a + (da / (da - db)) * (b - a);
-      if ((x - near).squaredNorm() < best) best = (x - near).squaredNorm(), on = x;
-    }
-  return on;
-}
-
 }  // namespace
 
 double panel_excess(const std::vector<MaterialFace>& faces, const PatternOptions& options) {
@@ -220,7 +193,7 @@ Pattern cut_user_seams(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
     std::vector<int> fixed;
     for (int v : s.vertex_ids)
       if (uses[static_cast<size_t>(v)] > 1 || on_boundary[static_cast<size_t>(v)]) fixed.push_back(v);
-    PatternSeam seam{s.name, "user", "", {}, s.closed, false};
+    PatternSeam seam{s.name, "user", "", {}, s.closed, false, {}};
     SurfaceCurve c;
     if (options.smooth) {
       c = smooth_edge_path(V, F, s.vertex_ids, fixed, s.closed, options.smoothing, &seam.smoothed, s.click_ids);
@@ -437,7 +410,7 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
           (o.d[mesh.rest_F(f, 0)] + o.d[mesh.rest_F(f, 1)] + o.d[mesh.rest_F(f, 2)]) / 3.0 < o.found)
         pattern.limb_of_rest_face[static_cast<size_t>(f)] = static_cast<int>(pattern.limbs.size());
     pattern.limbs.push_back({o.name, o.from.x() > axis.x()});
-    PatternSeam seam{"armhole" + std::to_string(seams.size() + 1), "armhole", "", {}, true, true};
+    PatternSeam seam{"armhole" + std::to_string(seams.size() + 1), "armhole", "", {}, true, true, {}};
     seam.reason = "the tube ending at the boundary " + o.name + " (a sleeve) meets the body " + metres(o.found) +
                   " from it, where its cross-section starts to grow fast" +
                   (o.paired ? " (the mean of it and its mirror image, so that both sleeves are cut alike)" : "") +
@@ -637,7 +610,7 @@ void cut_to_disks(Pattern& pattern, const PatternOptions& options, const Pattern
                  " to the boundary " + loop_name(loops[static_cast<size_t>(loop_of[static_cast<size_t>(reached)])]) +
                  " along the shortest path that keeps off the front and back";
       }
-      PatternSeam seam{"join" + std::to_string(++count), "topology", reason, {}, false, false};
+      PatternSeam seam{"join" + std::to_string(++count), "topology", reason, {}, false, false, {}};
       SurfaceCurve c;
       if (options.smooth && path.size() > 2) {
         // Smoothed in the piece itself, so that it cannot cross into another.
@@ -830,7 +803,7 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, Pane
         drawn.push_back(curve_positions(chart, p.F, *curve));
         char deg[32];
         std::snprintf(deg, sizeof(deg), "%.1f", tip.curvature * 180.0 / M_PI);
-        PatternSeam seam{"dart" + std::to_string(++darts), "dart", "", {}, false, true};
+        PatternSeam seam{"dart" + std::to_string(++darts), "dart", "", {}, false, true, {}};
         pair_mirrors(seam, mirror_of);
         seam.reason = over + how + " (" + deg + " degrees within " + metres(options.kernel_radius) + "), " +
                       metres(curve_length(p.V, p.F, *curve)) + " long";
@@ -869,7 +842,7 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, Pane
       // "Both sides cut alike").
       std::string how;
       if (centre && !source && partner(c) == static_cast<int>(c)) {
-        centre = point_on_plane(p, mirror.plane_x, *centre);
+        centre = centre_seam_point(p, mirror.plane_x, *centre);
         how = "centre seam along the grain at the middle of the body, at the height of the centroid of its conformal "
               "distortion energy";
       }
@@ -885,7 +858,7 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, Pane
       }
       if (curve) {
         if (!how.empty()) where = how;
-        PatternSeam seam{"panel" + std::to_string(++panels), "panel", "", {}, false, true};
+        PatternSeam seam{"panel" + std::to_string(++panels), "panel", "", {}, false, true, {}};
         if (source) pair_mirrors(seam, source->panel);
         seam.reason = over + where + ", " + metres(curve_length(p.V, p.F, *curve)) + " long";
         seams.push_back(seam);
@@ -1007,11 +980,9 @@ int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache&
         judged.insert(t.seam);
       }
     // Judged together: the cloth beyond the limit in the pieces they split
-    // (one piece for two seams in a piece across the plane) against that in
-    // all their parts, and their whole length.
+    // against that in all their parts, and their whole length.
     std::vector<PanelSides> js;
     std::set<int> parts;
-    std::set<std::vector<int>> split;
     double length = 0.0, before = 0.0, compression = 0.0;
     bool tight = false;
     for (const PanelTrial* t : group) {
@@ -1020,7 +991,7 @@ int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache&
       js.push_back(*j);
       parts.insert(j->pieces.begin(), j->pieces.end());
       length += j->length;
-      if (split.insert(t->rest_faces).second) before += t->excess_before;
+      before += t->excess_before;
       compression = std::max(compression, t->compression_before);
       tight = tight || t->compression_before > options.budget_share * options.stretch_budget;
     }
@@ -1033,7 +1004,7 @@ int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache&
     const double relief = before - after;
     char buf[220];
     std::snprintf(buf, sizeof(buf), "%.1f of the %s %.1f cm^2 of cloth beyond the limit (%.0f cm^2 per metre of seam)",
-                  1e4 * relief, split.size() > 1 ? "two mirrored pieces'" : "piece's", 1e4 * before,
+                  1e4 * relief, js.size() > 1 ? "two mirrored pieces'" : "piece's", 1e4 * before,
                   length > 0.0 ? 1e4 * relief / length : 0.0);
     // A seam that brings both its pieces within the limit does what the
     // cutter is for, however little cloth that took, where the compression

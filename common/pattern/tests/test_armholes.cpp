@@ -38,8 +38,8 @@ TEST_CASE("slivers between an armhole and a user seam join the piece across the 
     armhole.push_back(CurvePoint::at_vertex(id(i, j)));
   for (int i = 10; i >= 0; --i) armhole.push_back(CurvePoint::at_vertex(id(i, 5)));
 
-  const std::vector<PatternSeam> seams{{"side", "user", "", {}, false, false},
-                                       {"armhole1", "armhole", "", {}, false, true}};
+  const std::vector<PatternSeam> seams{{"side", "user", "", {}, false, false, {}},
+                                       {"armhole1", "armhole", "", {}, false, true, {}}};
   Pattern pattern;
   pattern.mesh = pattern_mesh_of_rest(grid.V, grid.F);
   insert_cuts(pattern, seams, {user, armhole});
