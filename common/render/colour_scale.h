@@ -34,6 +34,7 @@ class ColourScale {
   double value_at(double position) const;
   double min_value() const;
   double max_value() const;
+  bool log_axis() const { return log_axis_; }
   const std::string& title() const { return title_; }
   const std::vector<ScaleTick>& ticks() const { return ticks_; }
 

@@ -28,6 +28,15 @@ struct FitReportOptions {
   std::filesystem::path font;            // TrueType font for labels; empty: DejaVu Sans
 };
 
+// The options that decide the pictures, as a report records them.
+struct FitReportOptionFields {
+  template <class Fields>
+  void operator()(FitReportOptions& o, Fields& f) const {
+    f.group("sheet", o.sheet, SheetOptionFields{});
+    f.integer("pattern_width_px", o.pattern_width, Range::between(100, 20000));
+  }
+};
+
 // The folder `make deps` installs three.js into (compiled in).
 std::filesystem::path default_three_dir();
 

@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "core/text_format.h"
+#include "render/colour_scale.h"
 #include "spec/spec_object.h"
 #include "report/report_assets.h"
 
@@ -151,7 +152,9 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
 
   // Pictures and 3D views per pose.
   section(h, "renders", "The garment on the body");
-  h += "<p>Colour: the largest principal stretch of each triangle on a fixed scale from 1.0 to 1.3; the limit " +
+  const render::ColourScale stretch = render::stretch_scale(run.delta);
+  h += "<p>Colour: the largest principal stretch of each triangle on a fixed scale from " +
+       format_fixed(stretch.min_value(), 1) + " to " + format_fixed(stretch.max_value(), 1) + "; the limit " +
        limit + " is marked on the legend. Compression shows as 1.0. The body is grey. In the 3D views drag to "
        "turn, scroll to zoom, right-drag to move.</p>\n";
   for (size_t i = 0; i < run.keys.size(); ++i) {

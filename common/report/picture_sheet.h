@@ -12,6 +12,7 @@
 #include "render/rasterizer.h"
 #include "render/text.h"
 #include "render/views.h"
+#include "spec/option_fields.h"
 
 namespace gp::report {
 
@@ -22,6 +23,20 @@ struct SheetOptions {
   Eigen::Vector3d front = Eigen::Vector3d::UnitZ();  // the body's front direction (+y is up)
   double margin = 0.06;          // space around the framed box, fraction of its size
   int threads = 1;               // views rendered in parallel (same pixels for any count)
+};
+
+// The options that decide the pictures, as a report records them
+// (spec/option_fields.h). The front direction and the thread count are not
+// among them: the tool records the one as its axis name, and the other does
+// not change a pixel.
+struct SheetOptionFields {
+  template <class Fields>
+  void operator()(SheetOptions& o, Fields& f) const {
+    f.integer("view_width_px", o.view_width, Range::between(64, 4096));
+    f.integer("view_height_px", o.view_height, Range::between(64, 4096));
+    f.integer("supersampling", o.supersampling, Range::between(1, 8));
+    f.number("margin", o.margin, Range::non_negative());
+  }
 };
 
 // Cameras for the front, side and back views that show `box` whole, centred,

@@ -67,14 +67,16 @@ int main(int argc, char** argv) {
     gp::OrderedJson report;
     report["schema"] = gp::schema_tag("fit-report", 1);
     report["input"] = {{"fit", fit_dir}, {"key_poses", run.keys.size()}, {"no_adapt_run", run.fit_no_adapt.has_value()}};
-    report["options"] = {{"view_width", options.sheet.view_width},
-                         {"view_height", options.sheet.view_height},
-                         {"supersampling", options.sheet.supersampling},
-                         {"front", front},
-                         {"margin", options.sheet.margin},
-                         {"pattern_width", options.pattern_width},
-                         {"stretch_scale", {{"min", 1.0}, {"max", 1.3}, {"limit", 1.0 + run.delta}}},
-                         {"growth_scale", {{"min", 0.5}, {"max", 2.0}, {"log_axis", true}}}};
+    // The colour scales are fixed (render/colour_scale.h); recorded so that a
+    // reader of the pictures knows their ends without the page.
+    const auto scale_json = [](const gp::render::ColourScale& scale) {
+      return gp::OrderedJson{{"min", scale.min_value()}, {"max", scale.max_value()}, {"log_axis", scale.log_axis()}};
+    };
+    report["options"] = gp::write_options(options, gp::report::FitReportOptionFields{});
+    report["options"]["front"] = front;
+    report["options"]["stretch_scale"] = scale_json(gp::render::stretch_scale(run.delta));
+    report["options"]["stretch_scale"]["limit"] = 1.0 + run.delta;
+    report["options"]["growth_scale"] = scale_json(gp::render::growth_scale());
     report["checks"] = checks;
     report["failed_checks"] = failed;
     report["files"] = result.files;

@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "render/text.h"
 #include "report/checks.h"
+#include "report/fit_report.h"
 #include "report/fit_run.h"
 #include "report/html_report.h"
 #include "report/picture_sheet.h"
@@ -220,4 +221,39 @@ TEST_CASE("fit-report: --help lists its options, a missing folder exits 3 naming
   CHECK_THAT(missing.err, Catch::Contains((dir / "poses" / "report.json").string()));
   CHECK(std::count(missing.err.begin(), missing.err.end(), '\n') == 1);
   CHECK(!fs::exists(dir / "report"));
+}
+
+TEST_CASE("fit-report's options are recorded by their field list and read back strictly", "[report]") {
+  FitReportOptions options;
+  options.sheet.view_width = 300;
+  options.sheet.supersampling = 2;
+  options.sheet.margin = 0.1;
+  options.pattern_width = 900;
+  const gp::OrderedJson written = gp::write_options(options, FitReportOptionFields{});
+  CHECK(written["sheet"]["view_width_px"] == 300);
+  CHECK(written["pattern_width_px"] == 900);
+  FitReportOptions back;
+  gp::read_options(gp::SpecObject(Json::parse(written.dump()), "report.json", "/options"), true, back,
+                   FitReportOptionFields{});
+  CHECK(back.sheet.view_width == 300);
+  CHECK(back.sheet.view_height == SheetOptions{}.view_height);
+  CHECK(back.sheet.supersampling == 2);
+  CHECK(back.sheet.margin == 0.1);
+  CHECK(back.pattern_width == 900);
+  // Out of the range the command line accepts, or missing: named by file and JSON pointer.
+  const auto error_of = [&back](const Json& j) -> std::string {
+    try {
+      gp::read_options(gp::SpecObject(j, "report.json", "/options"), true, back, FitReportOptionFields{});
+    } catch (const gp::SpecError& e) {
+      return e.message();
+    }
+    return "";
+  };
+  Json bad = Json::parse(written.dump());
+  bad["sheet"]["supersampling"] = 9;
+  CHECK_THAT(error_of(bad), Catch::Contains("report.json") && Catch::Contains("/options/sheet/supersampling") &&
+                                Catch::Contains("out of range"));
+  bad = Json::parse(written.dump());
+  bad.erase("pattern_width_px");
+  CHECK_THAT(error_of(bad), Catch::Contains("missing field") && Catch::Contains("/options/pattern_width_px"));
 }
