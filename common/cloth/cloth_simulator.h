@@ -16,8 +16,7 @@
 //    Q A_old^-1 Q^T, Q the per-vertex rotations of the cloth since the factorization (exact for
 //    rigid rotations, which otherwise make this anisotropic system's factor go stale fastest).
 //  - refactor_every_step (default): a fresh numeric factorization every step (of the membrane
-//    pattern, see membrane_pattern_preconditioner) and CG with it; a factorization costs about 20
-//    CG iterations, less than a stale factor costs in extra ones.
+//    pattern, see membrane_pattern_preconditioner) and CG with it.
 //  - pcg_jacobi: conjugate gradients with a diagonal preconditioner (baseline).
 //
 // Numerical safety: after every step positions and velocities must be finite, no triangle may flip

@@ -2,36 +2,7 @@
 // The garment file (schema "garment/1"), beside the garment mesh: what the
 // mesh cannot hold. Written by make-garment and extend-boundary.
 //
-//   {
-//     "schema": "garment/1",
-//     "name": "shirt",
-//     "units": "m",
-//     "mesh": { "file": "garment.ply", "sha256": "<digest of the mesh file>",
-//               "vertex_count": 4012, "face_count": 7826 },
-//     "body": { "source": "<poses.json or mesh path as given>", "source_sha256": "...",
-//               "design_pose": "tpose", "vertex_count": 27578, "face_count": 55152,
-//               "topology_sha256": "<gp::topology_checksum of the body triangles>",
-//               "design_pose_sha256": "<gp::vertex_checksum of the design pose>" },
-//     "spec": { "file": "<garment spec path as given>", "sha256": "..." },
-//     "target_edge_length": 0.02,         // metres, the garment's resolution
-//     "offset": 0.015,                    // comfort offset (T4), metres
-//     "loops": [                          // boundary loops (T1), in spec order
-//       { "name": "neck", "pinned": true, // T5: pinned loops follow the body
-//         "vertex_ids": [ ... ],          // garment vertex ids, in boundary order
-//         "binding": {                    // one entry per vertex id, or null when
-//           "face_ids": [ ... ],          //   the loop is not on the body (a hem
-//           "barycentric": [[a,b,c],...]  //   made by extend-boundary)
-//         },
-//         "curve": { "face_ids": [...], "barycentric": [...] }  // the smoothed body
-//       }, ...                            //   curve as a closed polyline, or null
-//     ],
-//     "paint": [ ... ],                   // T3: area factor per garment triangle
-//     "material": { "k_stretch": 800, "k_shear": 200, "k_bend": 1e-06,
-//                   "damping_stretch": 100, "damping_shear": 1, "damping_bend": 1e-05,
-//                   "density": 0.15, "compression_ratio": 0.1 },
-//     "extensions": [ { "loop": "waist", "distance": 0.5, "scale": 1.4,
-//                       "girth": 1.1 }, ... ]        // T2 history, may be empty
-//   }
+// Its fields, with an example: common/garment/README.md, "The garment file".
 //
 // Binding rule (how a later stage places a bound boundary vertex in pose p):
 //   x = sum_k b_k V_p[F[f][k]] + offset * n,  n = normalize(sum_k b_k N_p[F[f][k]])

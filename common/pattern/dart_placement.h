@@ -1,13 +1,10 @@
 #pragma once
 // Darts, else a panel seam, for a piece over the limit (make_pattern.h
-// phase 5). Dart tips at the modes (mean shift, 3D distances) of a kernel density of
-// positive curvature: the rest shape's angle defects, or the log conformal
-// factor u of the boundary-length-keeping flattening (L u = -K, u = 0 on the
-// boundary, as boundary-first flattening places cones, Sawhney and Crane
-// 2017). A dart runs straight in the conformal chart from the tip to the
-// nearest outline point; a panel seam runs along the grain through the
-// centroid of that flattening's one-sided energy. Curves are in piece-local
-// ids (surface_curve.h).
+// phase 5). Dart tips sit at the modes (mean shift) of a kernel density of
+// positive curvature: angle defects, or the log conformal factor u of the
+// boundary-length-keeping flattening (L u = -K, u = 0 on the boundary;
+// Sawhney and Crane 2017). Darts run straight in the conformal chart; panel
+// seams along the grain. Curves are in piece-local ids (surface_curve.h).
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,8 +25,7 @@ struct DartTip {
 // min_dart_angle around it, tip_margin inside, two kernel radii apart.
 std::vector<DartTip> dart_tips(const Pattern& pattern, size_t c, const PatternOptions& options, int count);
 
-// The piece's LSCM chart (#Vp by 2): unique up to a similarity, so straight
-// curves in it do not depend on the pinning.
+// The piece's LSCM chart (#Vp by 2), unique up to a similarity.
 Eigen::MatrixXd conformal_chart(const PatternPiece& piece);
 
 // A dart, mouth first, straight in `chart` from the nearest outline point at
@@ -41,10 +37,9 @@ std::optional<SurfaceCurve> dart_curve(const PatternPiece& piece, const Eigen::M
 // Whether two 2D polylines (#points by 2) cross or touch, shared ends aside.
 bool polylines_cross(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 
-// A tip in piece c at its point nearest to x (the mirror image of another
-// tip), with the curvature the kernel gathers around it; nullopt within
-// tip_margin of the outline or with less curvature than `min_curvature`
-// (radians): a dart where the cloth has nothing to take in would be a slit.
+// A tip in piece c at its point nearest to x (a mirrored tip); nullopt within
+// tip_margin of the outline or under `min_curvature` (radians), where a dart
+// would be a slit.
 std::optional<DartTip> dart_tip_near(const Pattern& pattern, size_t c, const Eigen::Vector3d& x,
                                      double min_curvature, const PatternOptions& options);
 
