@@ -8,6 +8,8 @@
 
 #include <Eigen/Core>
 
+#include "linalg/dense_blocking.h"
+
 namespace gp {
 
 void Logger::info(const std::string& msg) const {
@@ -43,6 +45,7 @@ void Logger::progress_done() const {
 
 Tool::Tool(std::string name, std::string description)
     : name_(std::move(name)), app_(std::move(description), name_), log_(name_) {
+  fix_dense_blocking();
   app_.option_defaults()->always_capture_default();
   app_.get_formatter()->column_width(38);
 }
