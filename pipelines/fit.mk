@@ -43,6 +43,15 @@ NO_SEW_CHECK   ?=
 # the adapted garment side by side. Off by default: it doubles the simulation.
 NO_ADAPT       ?=
 REPORT_FLAGS   ?=
+# OPEN_POSE=<pose> OPEN_TOWARD=<other pose> OPEN_STEPS=<n>: fit the garment
+# to the body one n-th of the way from <pose> to <other pose> (interp-poses)
+# in place of the captured <pose>, the other poses as captured. For a capture
+# in which two body parts nearly touch where the garment has to pass between
+# them (a hand resting on the thigh over a skirt): cloth the body holds
+# cannot be fitted.
+OPEN_POSE      ?=
+OPEN_TOWARD    ?=
+OPEN_STEPS     ?= 20
 -include $(C)/customer.mk
 
 # Stages print only errors, except simulate-adapt, which runs for minutes and
@@ -93,6 +102,29 @@ POSE_INPUT := $(OUT)/body
 else
 POSE_INPUT := $(C)/poses
 POSE_FILES := $(sort $(wildcard $(C)/poses/*.ply $(C)/poses/*.obj))
+endif
+
+ifneq ($(OPEN_POSE),)
+# The other poses are linked and the opened one written in its place, under
+# its own name, so that the motion and the garment spec name it as before.
+OPEN_STAMP := $(call flags_stamp,open-pose,$(OPEN_POSE) $(OPEN_TOWARD) $(OPEN_STEPS))
+CAPTURED_POSES := $(POSE_INPUT)
+$(OUT)/opened/report.json: $(POSE_FILES) $(OPEN_STAMP) $(BIN)/interp-poses
+	@echo "fit: interp-poses"
+	@rm -rf '$(OUT)/opened.tmp' && mkdir -p '$(OUT)/opened.tmp/poses'
+	@printf '{"schema": "motion/1", "steps": %s, "sequence": ["%s", "%s"]}\n' \
+	  '$(OPEN_STEPS)' '$(OPEN_POSE)' '$(OPEN_TOWARD)' > '$(OUT)/opened.tmp/motion.json'
+	@poses=$$(ls -d '$(abspath $(CAPTURED_POSES))'/*.ply '$(abspath $(CAPTURED_POSES))'/*.obj 2>/dev/null); \
+	$(BIN)/interp-poses $$poses --motion '$(OUT)/opened.tmp/motion.json' --frames 1 --no-compare \
+	  --threads $(THREADS) --out '$(OUT)/opened.tmp/frame' $(QUIET) || { rm -rf '$(OUT)/opened.tmp'; exit 4; }; \
+	for f in $$poses; do \
+	  case "$$(basename "$$f")" in $(OPEN_POSE).ply|$(OPEN_POSE).obj) ;; *) ln -s "$$f" '$(OUT)/opened.tmp/poses/' ;; esac; \
+	done
+	@mv '$(OUT)/opened.tmp/frame/frame_00001.ply' '$(OUT)/opened.tmp/poses/$(OPEN_POSE).ply'
+	@mv '$(OUT)/opened.tmp/frame/report.json' '$(OUT)/opened.tmp/report.json'
+	@rm -rf '$(OUT)/opened.tmp/frame' '$(OUT)/opened' && mv '$(OUT)/opened.tmp' '$(OUT)/opened'
+POSE_INPUT := $(OUT)/opened/poses
+POSE_FILES := $(OUT)/opened/report.json
 endif
 
 $(OUT)/poses/report.json: $(POSE_FILES) $(REGISTER_STAMP) $(BIN)/register-check

@@ -150,6 +150,58 @@ class PipelineTest(unittest.TestCase):
         _, stages = fit(self.customer, self.out)
         self.assertEqual(stages, ["export-rest", "fit-report"])
 
+    def test_8_an_opened_pose_replaces_the_captured_one(self):
+        out = os.path.join(self.dir, "opened-out")
+        target = os.path.join(out, "poses", "report.json")
+        opened = ["OPEN_POSE=apose", "OPEN_TOWARD=tpose", "OPEN_STEPS=10"]
+        r, stages = fit(self.customer, out, variables=opened + [target])
+        self.assertEqual(stages, ["make-avatar", "interp-poses", "register-check"])
+        manifest = json.loads(read(os.path.join(out, "poses", "poses.json")))
+        self.assertEqual([p["name"] for p in manifest["poses"]], ["apose", "tpose"])
+        a, t = read_ply_vertices(os.path.join(out, "body", "apose.ply")), read_ply_vertices(os.path.join(out, "body", "tpose.ply"))
+        o = read_ply_vertices(os.path.join(out, "opened", "poses", "apose.ply"))
+        # The arms, which move most from A to T, have gone about a tenth of the way.
+        a_to_t = [sum((p - q) ** 2 for p, q in zip(u, v)) ** 0.5 for u, v in zip(a, t)]
+        a_to_o = [sum((p - q) ** 2 for p, q in zip(u, v)) ** 0.5 for u, v in zip(a, o)]
+        far = max(range(len(a)), key=lambda i: a_to_t[i])
+        self.assertGreater(a_to_o[far], 0.05 * a_to_t[far])
+        self.assertLess(a_to_o[far], 0.2 * a_to_t[far])
+        self.assertTrue(filecmp.cmp(os.path.join(out, "opened", "poses", "tpose.ply"),
+                                    os.path.join(out, "body", "tpose.ply"), shallow=False))
+        _, stages = fit(self.customer, out, variables=opened + [target])
+        self.assertEqual(stages, [])
+        # A pose the customer does not have: interp-poses names it, and nothing is left half made.
+        bad = os.path.join(self.dir, "opened-bad")
+        r, _ = fit(self.customer, bad, expect_ok=False, variables=["OPEN_POSE=sitting", "OPEN_TOWARD=tpose",
+                                                                   os.path.join(bad, "poses", "report.json")])
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("unknown pose 'sitting'", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(bad, "opened")))
+        self.assertFalse(os.path.exists(os.path.join(bad, "opened.tmp")))
+
+
+def read_ply_vertices(path):
+    """Vertex positions of a binary little-endian PLY whose vertices start
+    with x, y, z as doubles or floats (what the stages write)."""
+    import struct
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode().split("\n")
+    count, props = 0, []
+    for line in header:
+        w = line.split()
+        if w[:2] == ["element", "vertex"]:
+            count, props = int(w[2]), []
+        elif w and w[0] == "element":
+            break
+        elif w and w[0] == "property" and count:
+            props.append(w[1])
+    size = {"double": 8, "float": 4}
+    fmt = "<" + "".join("d" if p == "double" else "f" for p in props)
+    stride = sum(size[p] for p in props)
+    return [struct.unpack_from(fmt, data, end + i * stride)[:3] for i in range(count)]
+
 
 if __name__ == "__main__":
     p = argparse.ArgumentParser()
