@@ -78,6 +78,27 @@ std::string sewn_fit_detail(const StageReport& pattern, const std::string& point
   return f && f->is_string() ? ": " + f->get<std::string>() : "";
 }
 
+// " at 3 places, near (0.207, 0.742, 0.129) m, ..." from the places where
+// make-garment or extend-boundary cleared the design of the body and found no
+// room for the offset; "" where there are none.
+std::string held_places(const FitRun& run) {
+  std::string near;
+  int count = 0;
+  for (const StageReport* stage : {&run.garment, run.extended ? &*run.extended : nullptr}) {
+    const Json* places = stage ? lookup(*stage, "/body_clearance/places") : nullptr;
+    if (!places || !places->is_array()) continue;
+    for (const Json& place : *places) {
+      if (!place.is_object() || place.value("room", true)) continue;
+      const Json& c = place["center"];
+      if (count++ < 3 && c.is_array() && c.size() == 3)
+        near += std::string(near.empty() ? ", near (" : ", (") + format_fixed(c[0].get<double>(), 3) + ", " +
+                format_fixed(c[1].get<double>(), 3) + ", " + format_fixed(c[2].get<double>(), 3) + ") m";
+    }
+  }
+  if (count == 0) return "";
+  return " at " + std::to_string(count) + (count == 1 ? " place" : " places") + near + (count > 3 ? ", ..." : "");
+}
+
 std::string verdict_of(const Json* object) {
   if (!object || !object->is_object()) return "";
   const auto v = object->find("verdict");
@@ -97,6 +118,11 @@ std::vector<Check> fit_checks(const FitRun& run, const FitThresholds& t) {
   const std::string body_verdict = lookup(run.poses, "/verdict")->get<std::string>();
   if (body_verdict != "pass")
     add(CheckLevel::fail, "body_check", "", "The body check (register-check) gave the verdict '" + body_verdict + "'.");
+  if (const std::string held = held_places(run); !held.empty())
+    add(CheckLevel::warning, "no_room", "",
+        "The design meets the body with no room for its comfort offset" + held +
+            ". Where two body parts nearly touch there (a hand on the thigh over a skirt), the body holds the cloth, "
+            "and no rest shape can relieve it: fit a pose opened a little (make fit's OPEN_POSE).");
 
   bool any_verification = false, any_crossings = false;
   for (size_t i = 0; i < run.keys.size(); ++i) {

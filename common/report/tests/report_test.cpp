@@ -124,6 +124,26 @@ TEST_CASE("verification, crossings and sewn fit are read where the stages write 
   CHECK(!mentions(checks, CheckLevel::not_checked, "Sewn fit"));
 }
 
+TEST_CASE("a design that passes between body parts with no room is named where", "[report]") {
+  FitRun run = small_run();
+  run.garment.file = "garment/report.json";
+  run.garment.json = Json::parse(R"({"body_clearance": {"places": [
+    {"body_vertex": 630, "center": [0.0076, 0.9774, 0.0326], "room": true}]}})");
+  CHECK(count(fit_checks(run), CheckLevel::warning) == 0);
+  StageReport extended;
+  extended.file = "extended/report.json";
+  extended.json = Json::parse(R"({"body_clearance": {"places": [
+    {"body_vertex": 630, "center": [0.0076, 0.9774, 0.0326], "room": true},
+    {"body_vertex": 2028, "center": [0.20734, 0.74242, 0.12912], "room": false},
+    {"body_vertex": 2115, "center": [0.19268, 0.80877, 0.11559], "room": false}]}})");
+  run.extended = extended;
+  const std::vector<Check> checks = fit_checks(run);
+  CHECK(count(checks, CheckLevel::warning) == 1);
+  CHECK(count(checks, CheckLevel::fail) == 0);
+  CHECK(mentions(checks, CheckLevel::warning, "at 2 places, near (0.207, 0.742, 0.129) m, (0.193, 0.809, 0.116) m"));
+  CHECK(mentions(checks, CheckLevel::warning, "OPEN_POSE"));
+}
+
 TEST_CASE("figures are printed in the formats the page documents", "[report]") {
   CHECK(format_figure(Json(1.09996), "fixed3") == "1.100");
   CHECK(format_figure(Json(0.01234), "percent2") == "1.23 %");
