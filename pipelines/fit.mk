@@ -105,6 +105,9 @@ POSE_FILES := $(sort $(wildcard $(C)/poses/*.ply $(C)/poses/*.obj))
 endif
 
 ifneq ($(OPEN_POSE),)
+ifeq ($(OPEN_TOWARD),)
+$(error OPEN_POSE=$(OPEN_POSE) needs OPEN_TOWARD, the pose to open it towards)
+endif
 # The other poses are linked and the opened one written in its place, under
 # its own name, so that the motion and the garment spec name it as before.
 OPEN_STAMP := $(call flags_stamp,open-pose,$(OPEN_POSE) $(OPEN_TOWARD) $(OPEN_STEPS))

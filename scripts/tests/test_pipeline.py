@@ -178,6 +178,10 @@ class PipelineTest(unittest.TestCase):
         self.assertIn("unknown pose 'sitting'", r.stderr)
         self.assertFalse(os.path.exists(os.path.join(bad, "opened")))
         self.assertFalse(os.path.exists(os.path.join(bad, "opened.tmp")))
+        r, _ = fit(self.customer, bad, expect_ok=False, variables=["OPEN_POSE=apose",
+                                                                   os.path.join(bad, "poses", "report.json")])
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("OPEN_POSE=apose needs OPEN_TOWARD", r.stderr)
 
 
 def read_ply_vertices(path):
