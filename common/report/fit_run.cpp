@@ -1,6 +1,7 @@
 #include "report/fit_run.h"
 
 #include "core/error.h"
+#include "core/sha256.h"
 #include "spec/spec_object.h"
 
 namespace fs = std::filesystem;
@@ -89,9 +90,22 @@ const Json& require(const StageReport& report, const std::string& pointer, const
   return *v;
 }
 
+std::optional<StageReport> read_opened_stage(const fs::path& dir, const fs::path& poses_manifest) {
+  std::optional<StageReport> opened = read_optional_stage(dir, "opened", "interp-poses-report");
+  if (!opened) return opened;
+  const std::string pose = require(*opened, "/motion/sequence/0/pose", "string").get<std::string>();
+  const fs::path file = dir / "opened" / "poses" / (pose + ".ply");
+  if (!fs::is_regular_file(file)) return std::nullopt;
+  const Json manifest = read_json_file(poses_manifest);
+  for (const Json& p : manifest.value("poses", Json::array()))
+    if (p.value("name", "") == pose) return p.value("sha256", "") == sha256_file_hex(file) ? opened : std::nullopt;
+  return std::nullopt;
+}
+
 std::vector<const StageReport*> FitRun::stages() const {
   std::vector<const StageReport*> out;
   if (body) out.push_back(&*body);
+  if (opened) out.push_back(&*opened);
   out.push_back(&poses);
   out.push_back(&garment);
   if (extended) out.push_back(&*extended);
@@ -115,6 +129,7 @@ FitRun read_fit_run(const fs::path& dir) {
 
   require(run.poses, "/verdict", "string");
   run.poses_manifest = require_file(dir / "poses" / "poses.json");
+  run.opened = read_opened_stage(dir, run.poses_manifest);
   const fs::path garment_dir = dir / (run.extended ? "extended" : "garment");
   run.garment_file = require_file(garment_dir / "garment.json");
   run.design_mesh = require_file(garment_dir / "garment.ply");

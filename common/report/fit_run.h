@@ -2,6 +2,7 @@
 // The stage folders of one fit, as pipelines/fit.mk lays them out under its
 // OUT folder, read for the fit report:
 //   body/      make-avatar        (optional: customers with measurements)
+//   opened/    interp-poses       (optional: make fit's OPEN_POSE) a pose opened towards another
 //   poses/     register-check     poses.json and the pose meshes
 //   garment/   make-garment       garment.json, garment.ply (the design)
 //   extended/  extend-boundary    (optional) the garment that was simulated
@@ -51,6 +52,9 @@ struct FitRun {
   std::filesystem::path dir;
   std::optional<StageReport> body, extended, fit_no_adapt;
   StageReport poses, garment, fit, pattern;
+  // opened/: read only while the pose it wrote is the one poses/ registered
+  // (same sha256), so that a folder left from an earlier run claims nothing.
+  std::optional<StageReport> opened;
   std::filesystem::path poses_manifest;  // poses/poses.json
   std::filesystem::path garment_file;    // extended/ or garment/ garment.json
   std::filesystem::path design_mesh;     // the garment as designed (the simulated one)
@@ -62,6 +66,13 @@ struct FitRun {
   // Stage folders in pipeline order, for the timings table.
   std::vector<const StageReport*> stages() const;
 };
+
+// dir/opened/ (make fit's OPEN_POSE) when the pose it opened, the first of
+// its motion, is the one `poses_manifest` registered (the same sha256 as
+// opened/poses/<pose>.ply); nullopt otherwise, as for a folder left from an
+// earlier run.
+std::optional<StageReport> read_opened_stage(const std::filesystem::path& dir,
+                                             const std::filesystem::path& poses_manifest);
 
 // Reads the fit folder `dir`. Throws InputError naming the first missing
 // file (report.json of poses/, garment/, fit/, pattern/, or a mesh they name),

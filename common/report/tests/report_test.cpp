@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "core/sha256.h"
 #include "render/text.h"
 #include "report/checks.h"
 #include "report/fit_report.h"
@@ -142,6 +143,33 @@ TEST_CASE("a design that passes between body parts with no room is named where",
   CHECK(count(checks, CheckLevel::fail) == 0);
   CHECK(mentions(checks, CheckLevel::warning, "at 2 places, near (0.207, 0.742, 0.129) m, (0.193, 0.809, 0.116) m"));
   CHECK(mentions(checks, CheckLevel::warning, "OPEN_POSE"));
+}
+
+TEST_CASE("an opened pose is reported only while it is the registered one", "[report]") {
+  const fs::path dir = gp::testing::fresh_temp_dir("report_opened");
+  fs::create_directories(dir / "opened" / "poses");
+  fs::create_directories(dir / "poses");
+  gp::testing::write_file(dir / "opened" / "report.json", R"({"schema": "interp-poses-report/1",
+    "motion": {"steps": 20, "sequence": [{"pose": "apose"}, {"pose": "tpose", "steps": 20}]}})");
+  gp::testing::write_file(dir / "opened" / "poses" / "apose.ply", "the opened body");
+  const fs::path manifest = dir / "poses" / "poses.json";
+  auto registered = [&](const std::string& sha) {
+    gp::testing::write_file(manifest, R"({"poses": [{"name": "tpose", "sha256": "x"}, {"name": "apose", "sha256": ")" +
+                                          sha + R"("}]})");
+  };
+  registered(gp::sha256_file_hex(dir / "opened" / "poses" / "apose.ply"));
+  const std::optional<StageReport> opened = read_opened_stage(dir, manifest);
+  REQUIRE(opened.has_value());
+  FitRun run = small_run();
+  run.opened = opened;
+  const std::vector<Check> checks = fit_checks(run);
+  CHECK(count(checks, CheckLevel::warning) == 1);
+  CHECK(mentions(checks, CheckLevel::warning, "The fit is for apose opened 1/20 of the way towards tpose"));
+  // Registered from another file (a folder left from an earlier run): not reported.
+  registered(gp::sha256_file_hex(manifest));
+  CHECK_FALSE(read_opened_stage(dir, manifest).has_value());
+  fs::remove_all(dir / "opened");
+  CHECK_FALSE(read_opened_stage(dir, manifest).has_value());
 }
 
 TEST_CASE("figures are printed in the formats the page documents", "[report]") {
