@@ -86,7 +86,9 @@ define flags_stamp
 $(shell mkdir -p '$(FLAGS_DIR)' && printf '%s\n' $(call quote,$(strip $(2))) | cmp -s - '$(FLAGS_DIR)/$(1)' || printf '%s\n' $(call quote,$(strip $(2))) > '$(FLAGS_DIR)/$(1)')$(FLAGS_DIR)/$(1)
 endef
 AVATAR_STAMP   := $(call flags_stamp,make-avatar,$(AVATAR_FLAGS))
-REGISTER_STAMP := $(call flags_stamp,register-check,$(REGISTER_FLAGS))
+# An opened pose is part of what register-check registers: setting or
+# dropping OPEN_POSE reruns it and everything after it.
+REGISTER_STAMP := $(call flags_stamp,register-check,$(REGISTER_FLAGS) $(if $(OPEN_POSE),open-pose $(OPEN_POSE) $(OPEN_TOWARD) $(OPEN_STEPS)))
 GARMENT_STAMP  := $(call flags_stamp,make-garment,$(GARMENT_FLAGS))
 SIMULATE_STAMP := $(call flags_stamp,simulate-adapt,$(SIMULATE_FLAGS))
 EXPORT_STAMP   := $(call flags_stamp,export-rest,$(EXPORT_FLAGS) $(if $(NO_SEW_CHECK),no-sew-check))

@@ -170,6 +170,11 @@ class PipelineTest(unittest.TestCase):
                                     os.path.join(out, "body", "tpose.ply"), shallow=False))
         _, stages = fit(self.customer, out, variables=opened + [target])
         self.assertEqual(stages, [])
+        # Dropping the opened pose registers the captured ones again.
+        _, stages = fit(self.customer, out, variables=[target])
+        self.assertEqual(stages, ["register-check"])
+        manifest = json.loads(read(os.path.join(out, "poses", "poses.json")))
+        self.assertTrue(all("/body/" in p["source"] for p in manifest["poses"]), manifest["poses"])
         # A pose the customer does not have: interp-poses names it, and nothing is left half made.
         bad = os.path.join(self.dir, "opened-bad")
         r, _ = fit(self.customer, bad, expect_ok=False, variables=["OPEN_POSE=sitting", "OPEN_TOWARD=tpose",
