@@ -118,16 +118,10 @@ std::vector<Check> fit_checks(const FitRun& run, const FitThresholds& t) {
   const std::string body_verdict = lookup(run.poses, "/verdict")->get<std::string>();
   if (body_verdict != "pass")
     add(CheckLevel::fail, "body_check", "", "The body check (register-check) gave the verdict '" + body_verdict + "'.");
-  if (run.opened) {
-    const Json* from = lookup(*run.opened, "/motion/sequence/0/pose");
-    const Json* to = lookup(*run.opened, "/motion/sequence/1/pose");
-    const Json* steps = lookup(*run.opened, "/motion/steps");
-    if (from && to && steps && from->is_string() && to->is_string() && steps->is_number_integer())
-      add(CheckLevel::warning, "opened_pose", from->get<std::string>(),
-          "The fit is for " + from->get<std::string>() + " opened 1/" + std::to_string(steps->get<long long>()) +
-              " of the way towards " + to->get<std::string>() +
-              " (make fit's OPEN_POSE), not for that pose as captured.");
-  }
+  if (const auto& o = run.opened)
+    add(CheckLevel::warning, "opened_pose", o->pose,
+        "The fit is for " + o->pose + " opened 1/" + std::to_string(o->steps) + " of the way towards " + o->toward +
+            " (make fit's OPEN_POSE), not for that pose as captured.");
   if (const std::string held = held_places(run); !held.empty())
     add(CheckLevel::warning, "no_room", "",
         "The design meets the body with no room for its comfort offset" + held +

@@ -90,22 +90,25 @@ const Json& require(const StageReport& report, const std::string& pointer, const
   return *v;
 }
 
-std::optional<StageReport> read_opened_stage(const fs::path& dir, const fs::path& poses_manifest) {
-  std::optional<StageReport> opened = read_optional_stage(dir, "opened", "interp-poses-report");
-  if (!opened) return opened;
-  const std::string pose = require(*opened, "/motion/sequence/0/pose", "string").get<std::string>();
-  const fs::path file = dir / "opened" / "poses" / (pose + ".ply");
+std::optional<OpenedPose> read_opened_stage(const fs::path& dir, const fs::path& poses_manifest) {
+  const std::optional<StageReport> stage = read_optional_stage(dir, "opened", "interp-poses-report");
+  if (!stage) return std::nullopt;
+  OpenedPose opened;
+  opened.pose = require(*stage, "/motion/sequence/0/pose", "string").get<std::string>();
+  opened.toward = require(*stage, "/motion/sequence/1/pose", "string").get<std::string>();
+  opened.steps = require(*stage, "/motion/steps", "integer").get<long long>();
+  const fs::path file = dir / "opened" / "poses" / (opened.pose + ".ply");
   if (!fs::is_regular_file(file)) return std::nullopt;
   const Json manifest = read_json_file(poses_manifest);
   for (const Json& p : manifest.value("poses", Json::array()))
-    if (p.value("name", "") == pose) return p.value("sha256", "") == sha256_file_hex(file) ? opened : std::nullopt;
+    if (p.value("name", "") == opened.pose)
+      return p.value("sha256", "") == sha256_file_hex(file) ? std::optional<OpenedPose>(opened) : std::nullopt;
   return std::nullopt;
 }
 
 std::vector<const StageReport*> FitRun::stages() const {
   std::vector<const StageReport*> out;
   if (body) out.push_back(&*body);
-  if (opened) out.push_back(&*opened);
   out.push_back(&poses);
   out.push_back(&garment);
   if (extended) out.push_back(&*extended);

@@ -48,13 +48,20 @@ struct KeyPoseRun {
   const std::string& shown_pointer() const { return verified_pointer.empty() ? pointer : verified_pointer; }
 };
 
+// make fit's OPEN_POSE: `pose` replaced by the body 1/steps of the way towards `toward`.
+struct OpenedPose {
+  std::string pose, toward;
+  long long steps = 0;
+};
+
 struct FitRun {
   std::filesystem::path dir;
   std::optional<StageReport> body, extended, fit_no_adapt;
   StageReport poses, garment, fit, pattern;
-  // opened/: read only while the pose it wrote is the one poses/ registered
-  // (same sha256), so that a folder left from an earlier run claims nothing.
-  std::optional<StageReport> opened;
+  // The key pose fitted opened (opened/), read only while the pose it wrote
+  // is the one poses/ registered (same sha256), so that a folder left from an
+  // earlier run claims nothing.
+  std::optional<OpenedPose> opened;
   std::filesystem::path poses_manifest;  // poses/poses.json
   std::filesystem::path garment_file;    // extended/ or garment/ garment.json
   std::filesystem::path design_mesh;     // the garment as designed (the simulated one)
@@ -67,12 +74,13 @@ struct FitRun {
   std::vector<const StageReport*> stages() const;
 };
 
-// dir/opened/ (make fit's OPEN_POSE) when the pose it opened, the first of
-// its motion, is the one `poses_manifest` registered (the same sha256 as
-// opened/poses/<pose>.ply); nullopt otherwise, as for a folder left from an
-// earlier run.
-std::optional<StageReport> read_opened_stage(const std::filesystem::path& dir,
-                                             const std::filesystem::path& poses_manifest);
+// What dir/opened/ (make fit's OPEN_POSE) opened, from interp-poses' report
+// (its motion: the pose, the pose towards which, the steps; SpecError where
+// they are missing), when that pose is the one `poses_manifest` registered
+// (the same sha256 as opened/poses/<pose>.ply); nullopt otherwise, as for a
+// folder left from an earlier run.
+std::optional<OpenedPose> read_opened_stage(const std::filesystem::path& dir,
+                                            const std::filesystem::path& poses_manifest);
 
 // Reads the fit folder `dir`. Throws InputError naming the first missing
 // file (report.json of poses/, garment/, fit/, pattern/, or a mesh they name),

@@ -158,7 +158,7 @@ TEST_CASE("an opened pose is reported only while it is the registered one", "[re
                                           sha + R"("}]})");
   };
   registered(gp::sha256_file_hex(dir / "opened" / "poses" / "apose.ply"));
-  const std::optional<StageReport> opened = read_opened_stage(dir, manifest);
+  const std::optional<OpenedPose> opened = read_opened_stage(dir, manifest);
   REQUIRE(opened.has_value());
   FitRun run = small_run();
   run.opened = opened;
