@@ -22,6 +22,7 @@
 #include "mesh/topology.h"
 #include "pattern/dart_placement.h"
 #include "pattern/piece_mirror.h"
+#include "pattern/piece_names.h"
 
 namespace gp {
 namespace {
@@ -1161,6 +1162,8 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   lap("merge");
   polish_pieces(pattern, options, cache);
   pattern.seams_within_tolerance = seam_sides_match(pattern, options, 1.0, nullptr);
+  // The final names: mirrored pieces named alike, from their average.
+  if (options.mirror) name_pieces(pattern, mirror_pieces(pattern, options.mirror_overlap).partner);
   lap("polish");
   pattern.seconds = seconds;
   return pattern;

@@ -15,12 +15,18 @@ namespace {
 struct PieceFrame {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // area-weighted, not normalized
+  double left_share = 0.0;                           // fraction of its area on the body's left
   int limb = -1;
 };
 
+// A piece with at least this share of its area on either side of the body's
+// axis lies across it (a whole front or back); otherwise it is on the side
+// where most of it lies.
+constexpr double kAcrossShare = 0.25;
+
 }  // namespace
 
-void name_pieces(Pattern& pattern) {
+void name_pieces(Pattern& pattern, const std::vector<int>& mirror_partner) {
   const PatternMesh& mesh = pattern.mesh;
   // The garment's area centroid: the body's vertical axis runs through it.
   const Eigen::Vector3d axis = area_centroid(mesh.rest_V, mesh.rest_F);
@@ -36,15 +42,41 @@ void name_pieces(Pattern& pattern) {
       const Eigen::Vector3d n = 0.5 * (b - a).cross(d - a);
       const double w = n.norm();
       fr.centroid += w * (a + b + d) / 3.0;
+      fr.left_share += (a.x() + b.x() + d.x()) / 3.0 > axis.x() ? w : 0.0;
       fr.normal += n;
       area += w;
       const int rest = mesh.rest_face[static_cast<size_t>(p.face_ids[i])];
       const int limb = pattern.limb_of_rest_face.empty() ? -1 : pattern.limb_of_rest_face[static_cast<size_t>(rest)];
       on_limb[limb] += w;
     }
-    if (area > 0.0) fr.centroid /= area;
+    if (area > 0.0) {
+      fr.centroid /= area;
+      fr.left_share /= area;
+    }
     for (const auto& [limb, w] : on_limb)
       if (limb >= 0 && w > 0.5 * area) fr.limb = limb;
+  }
+  // A mirrored pair is seen as the average of the two, each the other's
+  // mirror image across the axis (the plane piece_mirror.h pairs them by).
+  for (size_t c = 0; c < std::min(mirror_partner.size(), frames.size()); ++c) {
+    const int d = mirror_partner[c];
+    if (d <= static_cast<int>(c) || static_cast<size_t>(d) >= frames.size()) continue;
+    PieceFrame& a = frames[c];
+    PieceFrame& b = frames[static_cast<size_t>(d)];
+    auto reflect = [&](Eigen::Vector3d x) {
+      x.x() = 2.0 * axis.x() - x.x();
+      return x;
+    };
+    auto flip = [](Eigen::Vector3d n) {
+      n.x() = -n.x();
+      return n;
+    };
+    a.centroid = 0.5 * (a.centroid + reflect(b.centroid));
+    a.normal = 0.5 * (a.normal + flip(b.normal));
+    a.left_share = 0.5 * (a.left_share + 1.0 - b.left_share);
+    b.centroid = reflect(a.centroid);
+    b.normal = flip(a.normal);
+    b.left_share = 1.0 - a.left_share;
   }
   // Facing: front, back or side from the horizontal part of the normal.
   auto facing = [](const PieceFrame& fr) -> std::string {
@@ -85,6 +117,32 @@ void name_pieces(Pattern& pattern) {
                    (frames[c].centroid.z() >= frames[other].centroid.z() ? " front" : " back");
         continue;
       }
+      if (parts.size() == 3) {
+        // One part the length of the sleeve on one side, two along it on the
+        // other (a sleeve cut by one panel seam across half of it): the two
+        // are the pair lying farthest apart along the arm and least across.
+        auto along = [&](size_t o) { return (frames[o].centroid - axis).norm(); };
+        size_t lone = parts[0];
+        double best = -1e300;
+        for (size_t k = 0; k < 3; ++k) {
+          const size_t a = parts[(k + 1) % 3], b = parts[(k + 2) % 3];
+          const double score = std::abs(along(a) - along(b)) - std::abs(frames[a].centroid.z() - frames[b].centroid.z());
+          if (score > best) best = score, lone = parts[k];
+        }
+        std::vector<size_t> pair;
+        for (size_t o : parts)
+          if (o != lone) pair.push_back(o);
+        const bool lone_in_front =
+            frames[lone].centroid.z() >= 0.5 * (frames[pair[0]].centroid.z() + frames[pair[1]].centroid.z());
+        if (c == lone) {
+          names[c] = side + " sleeve" + (lone_in_front ? " front" : " back");
+        } else {
+          const size_t other = pair[0] == c ? pair[1] : pair[0];
+          names[c] = std::string(along(c) <= along(other) ? "upper " : "lower ") + side + " sleeve" +
+                     (lone_in_front ? " back" : " front");
+        }
+        continue;
+      }
       if (parts.size() > 2) part = " " + std::to_string(rank + 1);
       names[c] = side + " sleeve" + part;
       continue;
@@ -95,26 +153,27 @@ void name_pieces(Pattern& pattern) {
       names[c] = face;
       continue;
     }
-    const double dx = fr.centroid.x() - axis.x();
-    names[c] = (dx > 0.04 ? "left " : dx < -0.04 ? "right " : "centre ") + face;
+    const bool across = std::min(fr.left_share, 1.0 - fr.left_share) >= kAcrossShare;
+    names[c] = across ? face : (fr.left_share > 0.5 ? "left " : "right ") + face;
   }
   // Pieces that still share a name: two are told apart along the axis on
-  // which they lie farther apart, front / back or upper / lower; more by
+  // which they lie farther apart: centre / side across the body (panels, as
+  // a centre back and a side back), front / back or upper / lower; more by
   // numbers. The axis is chosen once for a name and its mirror image ("left
-  // side" and "right side" together), so that mirrored pieces get mirrored
+  // back" and "right back" together), so that mirrored pieces get mirrored
   // names and are laid out side by side.
-  auto mirror_free = [](const std::string& n) {
+  auto split_side = [](const std::string& n) -> std::pair<std::string, std::string> {
     for (const char* prefix : {"left ", "right "})
-      if (n.rfind(prefix, 0) == 0) return n.substr(std::string(prefix).size());
-    return n;
+      if (n.rfind(prefix, 0) == 0) return {prefix, n.substr(std::string(prefix).size())};
+    return {"", n};
   };
-  std::map<std::string, Eigen::Vector2d> spread;  // mirror-free name -> (|dy|, |dz|) summed over its pairs
+  std::map<std::string, Eigen::Vector3d> spread;  // mirror-free name -> (|dx|, |dy|, |dz|) summed over its pairs
   for (size_t c = 0; c < names.size(); ++c)
     for (size_t o = c + 1; o < names.size(); ++o)
       if (names[o] == names[c]) {
         const Eigen::Vector3d d = frames[o].centroid - frames[c].centroid;
-        auto it = spread.emplace(mirror_free(names[c]), Eigen::Vector2d::Zero()).first;
-        it->second += Eigen::Vector2d(std::abs(d.y()), std::abs(d.z()));
+        auto it = spread.emplace(split_side(names[c]).second, Eigen::Vector3d::Zero()).first;
+        it->second += d.cwiseAbs();
       }
   const std::vector<std::string> before = names;
   for (size_t c = 0; c < names.size(); ++c) {
@@ -123,19 +182,28 @@ void name_pieces(Pattern& pattern) {
       if (before[o] == before[c]) group.push_back(o);
     if (group.size() < 2 || group.front() != c) continue;
     const std::string base = before[c];
-    const Eigen::Vector2d s = spread.at(mirror_free(base));
-    const bool by_depth = group.size() == 2 && s.y() > s.x();
+    const auto [side, rest] = split_side(base);
+    const Eigen::Vector3d s = spread.at(rest);
+    Eigen::Index axis_of_split = 1;
+    if (group.size() == 2) s.maxCoeff(&axis_of_split);
     std::stable_sort(group.begin(), group.end(), [&](size_t a, size_t b) {
-      return by_depth ? frames[a].centroid.z() > frames[b].centroid.z() : frames[a].centroid.y() > frames[b].centroid.y();
+      switch (axis_of_split) {
+        case 0: return std::abs(frames[a].centroid.x() - axis.x()) < std::abs(frames[b].centroid.x() - axis.x());
+        case 2: return frames[a].centroid.z() > frames[b].centroid.z();
+        default: return frames[a].centroid.y() > frames[b].centroid.y();
+      }
     });
-    if (by_depth) {
+    if (group.size() > 2) {
+      for (size_t k = 0; k < group.size(); ++k) names[group[k]] = base + " " + std::to_string(k + 1);
+    } else if (axis_of_split == 0) {
+      names[group[0]] = side + "centre " + rest;
+      names[group[1]] = side + "side " + rest;
+    } else if (axis_of_split == 2) {
       names[group[0]] = base + " front";
       names[group[1]] = base + " back";
-    } else if (group.size() == 2) {
+    } else {
       names[group[0]] = "upper " + base;
       names[group[1]] = "lower " + base;
-    } else {
-      for (size_t k = 0; k < group.size(); ++k) names[group[k]] = base + " " + std::to_string(k + 1);
     }
   }
   for (size_t c = 0; c < names.size(); ++c) pattern.pieces[c].name = names[c];

@@ -191,22 +191,13 @@ TEST_CASE("of two darts whose piece overlaps, the one whose sides crossed goes",
   CHECK(pattern.pieces[0].stats.worst1_compression < 0.03);
 }
 
-TEST_CASE("a sleeve in four parts is named upper and lower, front and back", "[pattern][names]") {
-  // A torso triangle about the origin and a left sleeve (+x) of four small
-  // triangles: two near the body (x = 0.3) and two near the cuff (x = 0.6),
-  // in front (z > 0) and behind.
+namespace {
+
+// A pattern of single-triangle pieces (3D rest = piece, each its own face),
+// with a left limb "cuff_left": limb_of[i] is piece i's limb, -1 for none.
+Pattern pattern_of_triangles(const std::vector<Eigen::Matrix3d>& triangles, const std::vector<int>& limb_of) {
   Pattern pattern;
   pattern.limbs = {{"cuff_left", true}};
-  std::vector<Eigen::Matrix3d> triangles;
-  Eigen::Matrix3d torso;
-  torso << -0.2, 1.0, 0.1, 0.2, 1.0, 0.1, 0.0, 1.4, 0.1;
-  triangles.push_back(torso);
-  for (double x : {0.3, 0.6})
-    for (double z : {0.04, -0.04}) {
-      Eigen::Matrix3d t;
-      t << x, 1.3, z, x + 0.05, 1.3, z, x, 1.35, z;
-      triangles.push_back(t);
-    }
   pattern.mesh.rest_V.resize(3 * static_cast<Eigen::Index>(triangles.size()), 3);
   pattern.mesh.rest_F.resize(static_cast<Eigen::Index>(triangles.size()), 3);
   for (size_t i = 0; i < triangles.size(); ++i) {
@@ -218,12 +209,107 @@ TEST_CASE("a sleeve in four parts is named upper and lower, front and back", "[p
     pattern.mesh.rest_V.middleRows(3 * static_cast<Eigen::Index>(i), 3) = triangles[i];
     pattern.mesh.rest_F.row(static_cast<Eigen::Index>(i)) = Eigen::RowVector3i(0, 1, 2).array() + 3 * static_cast<int>(i);
     pattern.mesh.rest_face.push_back(static_cast<int>(i));
-    pattern.limb_of_rest_face.push_back(i == 0 ? -1 : 0);
+    pattern.limb_of_rest_face.push_back(limb_of[i]);
   }
+  return pattern;
+}
+
+// A small triangle facing +z (front) or -z (back) at (x, y, z).
+Eigen::Matrix3d facing_triangle(double x, double y, double z, bool front) {
+  Eigen::Matrix3d t;
+  const double w = front ? 0.05 : -0.05;
+  t << x, y, z, x + w, y, z, x, y + 0.05, z;
+  return t;
+}
+
+}  // namespace
+
+TEST_CASE("a sleeve in four parts is named upper and lower, front and back", "[pattern][names]") {
+  // A torso triangle about the origin and a left sleeve (+x) of four small
+  // triangles: two near the body (x = 0.3) and two near the cuff (x = 0.6),
+  // in front (z > 0) and behind.
+  std::vector<Eigen::Matrix3d> triangles;
+  Eigen::Matrix3d torso;
+  torso << -0.2, 1.0, 0.1, 0.2, 1.0, 0.1, 0.0, 1.4, 0.1;
+  triangles.push_back(torso);
+  for (double x : {0.3, 0.6})
+    for (double z : {0.04, -0.04}) {
+      Eigen::Matrix3d t;
+      t << x, 1.3, z, x + 0.05, 1.3, z, x, 1.35, z;
+      triangles.push_back(t);
+    }
+  Pattern pattern = pattern_of_triangles(triangles, {-1, 0, 0, 0, 0});
   name_pieces(pattern);
   CHECK(pattern.pieces[1].name == "upper left sleeve front");
   CHECK(pattern.pieces[2].name == "upper left sleeve back");
   CHECK(pattern.pieces[3].name == "lower left sleeve front");
   CHECK(pattern.pieces[4].name == "lower left sleeve back");
   CHECK(mirror_name(pattern.pieces[3].name) == "lower right sleeve front");
+}
+
+TEST_CASE("a back in four panels is named centre and side back, alike on both sides", "[pattern][names]") {
+  // A front across the axis (x = -0.2 .. 0.2) and a back cut by a centre
+  // seam and a panel seam on each side: panels at |x| = 0.03 beside the
+  // spine and |x| = 0.13 beyond. The centroids of the inner panels lie
+  // within 4 cm of the axis, and still they are a left and a right piece.
+  std::vector<Eigen::Matrix3d> triangles;
+  Eigen::Matrix3d front;
+  front << -0.2, 1.0, 0.1, 0.2, 1.0, 0.1, 0.0, 1.4, 0.1;
+  triangles.push_back(front);
+  for (double x : {-0.13, -0.045, 0.015, 0.1}) triangles.push_back(facing_triangle(x, 1.2, -0.1, false));
+  Pattern pattern = pattern_of_triangles(triangles, {-1, -1, -1, -1, -1});
+  name_pieces(pattern);
+  CHECK(pattern.pieces[0].name == "front");
+  CHECK(pattern.pieces[1].name == "right side back");
+  CHECK(pattern.pieces[2].name == "right centre back");
+  CHECK(pattern.pieces[3].name == "left centre back");
+  CHECK(pattern.pieces[4].name == "left side back");
+  CHECK(mirror_name(pattern.pieces[2].name) == pattern.pieces[3].name);
+}
+
+TEST_CASE("a sleeve in three parts is named by the part that runs its length", "[pattern][names]") {
+  // A left sleeve whose back runs its whole length (x = 0.45) and whose
+  // front is cut in two along the arm (x = 0.3 and 0.6).
+  std::vector<Eigen::Matrix3d> triangles;
+  Eigen::Matrix3d torso;
+  torso << -0.2, 1.0, 0.1, 0.2, 1.0, 0.1, 0.0, 1.4, 0.1;
+  triangles.push_back(torso);
+  triangles.push_back(facing_triangle(0.6, 1.3, 0.04, true));
+  triangles.push_back(facing_triangle(0.45, 1.3, -0.04, false));
+  triangles.push_back(facing_triangle(0.3, 1.3, 0.04, true));
+  Pattern pattern = pattern_of_triangles(triangles, {-1, 0, 0, 0});
+  name_pieces(pattern);
+  CHECK(pattern.pieces[1].name == "lower left sleeve front");
+  CHECK(pattern.pieces[2].name == "left sleeve back");
+  CHECK(pattern.pieces[3].name == "upper left sleeve front");
+}
+
+TEST_CASE("mirrored pieces are named from their average, as mirror images", "[pattern][names]") {
+  // Two back panels, mirror images but for the scan's asymmetry: the left one
+  // turns a little more sideways than it faces back, the right one not.
+  auto triangle_facing = [](const Eigen::Vector3d& at, const Eigen::Vector3d& normal) {
+    const Eigen::Vector3d n = normal.normalized();
+    const Eigen::Vector3d u = 0.05 * n.cross(Eigen::Vector3d::UnitY()).normalized();
+    const Eigen::Vector3d v = n.cross(u);  // u x v points along n
+    Eigen::Matrix3d t;
+    t.row(0) = at.transpose();
+    t.row(1) = (at + u).transpose();
+    t.row(2) = (at + v).transpose();
+    return t;
+  };
+  std::vector<Eigen::Matrix3d> triangles;
+  Eigen::Matrix3d front;
+  front << -0.2, 1.0, 0.1, 0.2, 1.0, 0.1, 0.0, 1.4, 0.1;
+  triangles.push_back(front);
+  triangles.push_back(triangle_facing({0.15, 1.2, -0.05}, {0.6, 0.0, -0.5}));
+  triangles.push_back(triangle_facing({-0.15, 1.2, -0.05}, {-0.4, 0.0, -0.6}));
+  Pattern alone = pattern_of_triangles(triangles, {-1, -1, -1});
+  name_pieces(alone);
+  CHECK(alone.pieces[1].name == "side");  // each the only one facing its way
+  CHECK(alone.pieces[2].name == "back");
+  Pattern paired = pattern_of_triangles(triangles, {-1, -1, -1});
+  name_pieces(paired, {-1, 2, 1});
+  CHECK(paired.pieces[0].name == "front");
+  CHECK(paired.pieces[1].name == "left back");
+  CHECK(paired.pieces[2].name == "right back");
 }
