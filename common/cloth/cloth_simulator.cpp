@@ -61,7 +61,6 @@ struct ClothSimulator::Impl {
   Eigen::MatrixXd V_prescribed;  // work buffer
   Eigen::VectorXd sol;           // the solved velocities of the free vertices (3 #free)
   std::string last_failure;      // the detail of the last rejection, for the error message
-  std::vector<char> in_contact;  // per vertex: the body's contact acted on it in this (sub)step
 
   // A new pin set: the system's pattern and the solver's.
   void build_pattern() {
@@ -119,11 +118,6 @@ struct ClothSimulator::Impl {
     for (size_t k = 0; k < pinned_ids.size(); ++k) X_new.row(pinned_ids[k]) = pin_end.row(k);
     times.checks += seconds_since(t0);
 
-    // The vertices the body's contact acts on in this step: constrained in
-    // the solve or moved by the handlers. A face of them that turns over is
-    // folded by the body, not by a too large step (validate_step).
-    in_contact.assign(static_cast<size_t>(X.rows()), 0);
-    for (size_t k = 0; k < contacts.size(); ++k) in_contact[static_cast<size_t>(contacts.constraint(k).vertex)] = 1;
     if (collision_handler || step_end_handler) {
       t0 = Clock::now();
       const Eigen::MatrixXd X_solved = X_new;
@@ -137,10 +131,7 @@ struct ClothSimulator::Impl {
       // projection another) with a velocity they never moved at, pushed back
       // every step (cloth/README.md, "Contacts").
       for (int v = 0; v < X.rows(); ++v) {
-        if (free_id(v) >= 0 && X_new.row(v) != X_solved.row(v)) {
-          V_new.row(v) = (X_new.row(v) - X.row(v)) / h;
-          in_contact[static_cast<size_t>(v)] = 1;
-        }
+        if (free_id(v) >= 0 && X_new.row(v) != X_solved.row(v)) V_new.row(v) = (X_new.row(v) - X.row(v)) / h;
       }
       for (size_t k = 0; k < pinned_ids.size(); ++k) {
         X_new.row(pinned_ids[k]) = pin_end.row(k);
@@ -150,7 +141,7 @@ struct ClothSimulator::Impl {
     }
 
     t0 = Clock::now();
-    StepOutcome outcome = validate_step(X, X_new, V_new, F, rest, params, options, energy_before, accept_flips, in_contact);
+    StepOutcome outcome = validate_step(X, X_new, V_new, F, rest, params, options, energy_before, accept_flips);
     counters.accepted_flips += outcome.accepted_folds;
     times.checks += seconds_since(t0);
     if (!outcome.accepted()) {

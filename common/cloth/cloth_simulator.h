@@ -24,10 +24,9 @@
 // and kinetic plus elastic energy may not grow by more than `energy_growth_limit` times (plus a
 // floor of 10 J/kg of cloth mass). A failed step is rejected (counters().rejections by reason,
 // counters().inverted_faces) and retried as two half steps, at most `max_step_halvings` deep; then
-// NumericalError is thrown and the state restored. A turned-over triangle is no reason to retry
-// when the body's contact acted on one of its vertices in the step, nor after `max_fold_halvings`
-// halvings: it is a fold, accepted and counted (counters().accepted_flips), since cloth may fold
-// (README.md, "Folds").
+// NumericalError is thrown and the state restored. Triangles that still turn over after
+// `max_fold_halvings` halvings are folds forced by contact: accepted and counted
+// (counters().accepted_flips), since cloth may fold.
 #include <functional>
 #include <memory>
 #include <string>
@@ -59,7 +58,7 @@ struct SimulatorOptions {
   double factorization_cost = 20.0;      // cost of one factorization in PCG iterations (refresh rule)
   bool warp_preconditioner = true;       // rotate the reused factor with the cloth's local frames
   int max_step_halvings = 4;             // retry depth on a rejected step
-  int max_fold_halvings = 1;             // retry depth when only triangles away from contact turned over
+  int max_fold_halvings = 1;             // retry depth when only triangles turned over (then accepted)
   double max_speed = 20.0;               // m/s; faster vertices reject the step
   double energy_growth_limit = 10.0;     // rejects a step whose energy grows more than this
   // A contact constraint is released when the body would have to pull the vertex with more than
@@ -109,7 +108,7 @@ struct SolverCounters {
   // Per face, how often a rejected (sub)step found it inverted (#F once a step was rejected for
   // that, empty before): recurring faces point at a cause.
   std::vector<long> inverted_faces;
-  long accepted_flips = 0;   // triangles accepted turned over: folded by contact or in the smallest substep
+  long accepted_flips = 0;   // triangles that turned over even in the smallest substep (folds)
   long factorizations = 0;
   long cg_iterations = 0;
   double last_residual = 0.0;  // relative residual of the last solve

@@ -1,7 +1,5 @@
 #include "cloth/step_validation.h"
 
-#include <algorithm>
-
 #include <Eigen/Dense>
 
 #include "cloth/system_assembly.h"
@@ -23,8 +21,7 @@ long& count_of(RejectionCounts& counts, Rejection r) {
 
 StepOutcome validate_step(const Eigen::MatrixXd& X, const Eigen::MatrixXd& X_new, const Eigen::MatrixXd& V_new,
                           const Eigen::MatrixXi& F, const ClothRestState& rest, const ClothParameters& params,
-                          const SimulatorOptions& options, double energy_before, bool accept_flips,
-                          const std::vector<char>& in_contact) {
+                          const SimulatorOptions& options, double energy_before, bool accept_flips) {
   StepOutcome outcome;
   if (!X_new.allFinite() || !V_new.allFinite()) {
     outcome.rejection = Rejection::non_finite;
@@ -44,20 +41,11 @@ StepOutcome validate_step(const Eigen::MatrixXd& X, const Eigen::MatrixXd& X_new
     if (n_old.dot(n_new) < 0.0) outcome.flipped_faces.push_back(f);
   }
   // A triangle turned over within one step is a symptom of a too large step
-  // and is retried, unless the body's contact acted on one of its vertices:
-  // then it is cloth folded by the body (squeezed between arm and torso),
-  // which halving does not undo (cloth/README.md, "Folds"). A fold that
-  // survives the smallest step is accepted too (accept_flips).
-  auto contact_fold = [&](int f) {
-    for (int k = 0; k < 3; ++k) {
-      const size_t v = static_cast<size_t>(F(f, k));
-      if (v < in_contact.size() && in_contact[v]) return true;
-    }
-    return false;
-  };
+  // and is retried; if it survives the smallest step, it is a fold forced by
+  // the body (cloth squeezed between two body parts), which cloth may do: it
+  // is accepted and counted rather than ending the run.
   const long flipped = static_cast<long>(outcome.flipped_faces.size());
-  if (flipped > 0 && !accept_flips &&
-      !std::all_of(outcome.flipped_faces.begin(), outcome.flipped_faces.end(), contact_fold)) {
+  if (flipped > 0 && !accept_flips) {
     outcome.rejection = Rejection::inverted;
     outcome.detail = std::to_string(flipped) + " triangle(s) inverted, first " +
                      std::to_string(outcome.flipped_faces.front());

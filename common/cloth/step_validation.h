@@ -21,8 +21,8 @@ struct StepOutcome {
   Rejection rejection = Rejection::none;
   std::string detail;              // what was wrong, for the error message when no halving helps
   std::vector<int> flipped_faces;  // the faces that turned over within the step (ascending)
-  // Turned-over faces accepted as folds (accept_flips, or in contact): counted even when the energy
-  // check then rejects the step.
+  // Turned-over faces accepted as folds (accept_flips): counted even when the energy check then
+  // rejects the step.
   long accepted_folds = 0;
   bool accepted() const { return rejection == Rejection::none; }
 };
@@ -31,12 +31,10 @@ struct StepOutcome {
 long& count_of(RejectionCounts& counts, Rejection r);
 
 // Checks the step from X to X_new with velocities V_new (#V by 3, faces F); energy_before [J] is the
-// kinetic plus elastic energy at the start. A turned-over face is a fold, which does not reject the
-// step, when accept_flips is set or when one of its vertices is marked in `in_contact` (#V, or
-// empty for none): a vertex the body's contact acted on in this step.
+// kinetic plus elastic energy at the start. With accept_flips, turned-over faces are folds and do
+// not reject the step.
 StepOutcome validate_step(const Eigen::MatrixXd& X, const Eigen::MatrixXd& X_new, const Eigen::MatrixXd& V_new,
                           const Eigen::MatrixXi& F, const ClothRestState& rest, const ClothParameters& params,
-                          const SimulatorOptions& options, double energy_before, bool accept_flips,
-                          const std::vector<char>& in_contact = {});
+                          const SimulatorOptions& options, double energy_before, bool accept_flips);
 
 }  // namespace gp::cloth
