@@ -1163,7 +1163,7 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   polish_pieces(pattern, options, cache);
   pattern.seams_within_tolerance = seam_sides_match(pattern, options, 1.0, nullptr);
   // The final names: mirrored pieces named alike, from their average.
-  if (options.mirror) name_pieces(pattern, mirror_pieces(pattern, options.mirror_overlap).partner);
+  if (options.mirror) name_pieces(pattern, mirror_pieces(pattern, options.mirror_overlap));
   lap("polish");
   pattern.seconds = seconds;
   return pattern;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <sstream>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -26,7 +27,7 @@ constexpr double kAcrossShare = 0.25;
 
 }  // namespace
 
-void name_pieces(Pattern& pattern, const std::vector<int>& mirror_partner) {
+void name_pieces(Pattern& pattern, const PieceMirror& mirror) {
   const PatternMesh& mesh = pattern.mesh;
   // The garment's area centroid: the body's vertical axis runs through it.
   const Eigen::Vector3d axis = area_centroid(mesh.rest_V, mesh.rest_F);
@@ -57,24 +58,20 @@ void name_pieces(Pattern& pattern, const std::vector<int>& mirror_partner) {
       if (limb >= 0 && w > 0.5 * area) fr.limb = limb;
   }
   // A mirrored pair is seen as the average of the two, each the other's
-  // mirror image across the axis (the plane piece_mirror.h pairs them by).
-  for (size_t c = 0; c < std::min(mirror_partner.size(), frames.size()); ++c) {
-    const int d = mirror_partner[c];
+  // mirror image across the mirror's plane.
+  auto flip = [](Eigen::Vector3d n) {
+    n.x() = -n.x();
+    return n;
+  };
+  for (size_t c = 0; c < std::min(mirror.partner.size(), frames.size()); ++c) {
+    const int d = mirror.partner[c];
     if (d <= static_cast<int>(c) || static_cast<size_t>(d) >= frames.size()) continue;
     PieceFrame& a = frames[c];
     PieceFrame& b = frames[static_cast<size_t>(d)];
-    auto reflect = [&](Eigen::Vector3d x) {
-      x.x() = 2.0 * axis.x() - x.x();
-      return x;
-    };
-    auto flip = [](Eigen::Vector3d n) {
-      n.x() = -n.x();
-      return n;
-    };
-    a.centroid = 0.5 * (a.centroid + reflect(b.centroid));
+    a.centroid = 0.5 * (a.centroid + mirror.reflect(b.centroid));
     a.normal = 0.5 * (a.normal + flip(b.normal));
     a.left_share = 0.5 * (a.left_share + 1.0 - b.left_share);
-    b.centroid = reflect(a.centroid);
+    b.centroid = mirror.reflect(a.centroid);
     b.normal = flip(a.normal);
     b.left_share = 1.0 - a.left_share;
   }

@@ -8,16 +8,16 @@
 // upper/lower (the axis on which they lie farther apart, alike for mirror
 // images), then a number.
 #include <string>
-#include <vector>
 
 #include "pattern/pattern.h"
+#include "pattern/piece_mirror.h"
 
 namespace gp {
 
-// mirror_partner (per piece, as PieceMirror::partner; empty: none known): a
-// mirrored pair is named from the average of the two, so that each name is
-// the other's mirror image.
-void name_pieces(Pattern& pattern, const std::vector<int>& mirror_partner = {});
+// With `mirror` (piece_mirror.h; by default no pairs), a mirrored pair is
+// named from the average of the two, so that each name is the other's mirror
+// image.
+void name_pieces(Pattern& pattern, const PieceMirror& mirror = {});
 
 // The name of a piece's mirror image: its words "left" and "right" swapped
 // (the name itself when it has neither).

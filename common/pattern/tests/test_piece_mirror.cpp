@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh/measures.h"
 #include "mesh/topology.h"
 #include "pattern/make_pattern.h"
 #include "pattern/piece_mirror.h"
@@ -308,7 +309,10 @@ TEST_CASE("mirrored pieces are named from their average, as mirror images", "[pa
   CHECK(alone.pieces[1].name == "side");  // each the only one facing its way
   CHECK(alone.pieces[2].name == "back");
   Pattern paired = pattern_of_triangles(triangles, {-1, -1, -1});
-  name_pieces(paired, {-1, 2, 1});
+  PieceMirror mirror;
+  mirror.plane_x = area_centroid(paired.mesh.rest_V, paired.mesh.rest_F).x();
+  mirror.partner = {-1, 2, 1};
+  name_pieces(paired, mirror);
   CHECK(paired.pieces[0].name == "front");
   CHECK(paired.pieces[1].name == "left back");
   CHECK(paired.pieces[2].name == "right back");
