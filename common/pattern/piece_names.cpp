@@ -25,6 +25,53 @@ struct PieceFrame {
 // where most of it lies.
 constexpr double kAcrossShare = 0.25;
 
+// The name of part c of a sleeve cut into `parts` (frames' indices, c among
+// them) on the `side` ("left" or "right") of the body, whose vertical axis
+// runs through `axis`. The parts are named after how they lie against each
+// other, not after where each faces on its own, which on an arm held out
+// sideways is "side" for both halves of one sleeve and front / back for the
+// other's. Along the arm is the distance from the axis (for an arm held out
+// or down); across it, front to back, is z.
+std::string sleeve_part_name(const std::vector<PieceFrame>& frames, std::vector<size_t> parts, size_t c,
+                             const Eigen::Vector3d& axis, const std::string& side) {
+  auto along = [&](size_t o) { return (frames[o].centroid - axis).norm(); };
+  auto z = [&](size_t o) { return frames[o].centroid.z(); };
+  const std::string sleeve = side + " sleeve";
+  if (parts.size() == 4) {
+    // Two across the arm, twice along it: the two nearer the body are the
+    // upper sleeve, each pair front and back.
+    std::stable_sort(parts.begin(), parts.end(), [&](size_t a, size_t b) { return along(a) < along(b); });
+    const bool upper = std::find(parts.begin(), parts.begin() + 2, c) != parts.begin() + 2;
+    const size_t other = upper ? (parts[0] == c ? parts[1] : parts[0]) : (parts[2] == c ? parts[3] : parts[2]);
+    return std::string(upper ? "upper " : "lower ") + sleeve + (z(c) >= z(other) ? " front" : " back");
+  }
+  if (parts.size() == 3) {
+    // One part the length of the sleeve on one side, two along it on the
+    // other (a sleeve cut by one panel seam across half of it): the two are
+    // the pair lying farthest apart along the arm and least across.
+    size_t lone = parts[0];
+    double best = -1e300;
+    for (size_t k = 0; k < 3; ++k) {
+      const size_t a = parts[(k + 1) % 3], b = parts[(k + 2) % 3];
+      const double score = std::abs(along(a) - along(b)) - std::abs(z(a) - z(b));
+      if (score > best) best = score, lone = parts[k];
+    }
+    std::vector<size_t> pair;
+    for (size_t o : parts)
+      if (o != lone) pair.push_back(o);
+    const bool lone_in_front = z(lone) >= 0.5 * (z(pair[0]) + z(pair[1]));
+    if (c == lone) return sleeve + (lone_in_front ? " front" : " back");
+    const size_t other = pair[0] == c ? pair[1] : pair[0];
+    return std::string(along(c) <= along(other) ? "upper " : "lower ") + sleeve + (lone_in_front ? " back" : " front");
+  }
+  // Otherwise front to back: two are front and back, more are numbered.
+  std::stable_sort(parts.begin(), parts.end(), [&](size_t a, size_t b) { return z(a) > z(b); });
+  const size_t rank = static_cast<size_t>(std::find(parts.begin(), parts.end(), c) - parts.begin());
+  if (parts.size() == 2) return sleeve + (rank == 0 ? " front" : " back");
+  if (parts.size() > 2) return sleeve + " " + std::to_string(rank + 1);
+  return sleeve;
+}
+
 }  // namespace
 
 void name_pieces(Pattern& pattern, const PieceMirror& mirror) {
@@ -88,60 +135,10 @@ void name_pieces(Pattern& pattern, const PieceMirror& mirror) {
     const std::string face = facing(fr);
     if (fr.limb >= 0) {
       const std::string side = pattern.limbs[static_cast<size_t>(fr.limb)].left ? "left" : "right";
-      // A sleeve cut into parts: named after how they lie against each other
-      // (front to back by centroid), not after where each faces on its own,
-      // which on an arm held out sideways is "side" for both halves of one
-      // sleeve and front / back for the other's.
       std::vector<size_t> parts;
       for (size_t o = 0; o < frames.size(); ++o)
         if (frames[o].limb == fr.limb) parts.push_back(o);
-      std::stable_sort(parts.begin(), parts.end(),
-                       [&](size_t a, size_t b) { return frames[a].centroid.z() > frames[b].centroid.z(); });
-      const size_t rank = static_cast<size_t>(std::find(parts.begin(), parts.end(), c) - parts.begin());
-      std::string part;
-      if (parts.size() == 2) part = rank == 0 ? " front" : " back";
-      if (parts.size() == 4) {
-        // Two across the arm, twice along it: the two nearer the body (by
-        // distance from the garment's centroid, for an arm held out or
-        // down) are the upper sleeve, each pair front and back.
-        std::vector<size_t> along = parts;
-        std::stable_sort(along.begin(), along.end(), [&](size_t a, size_t b) {
-          return (frames[a].centroid - axis).norm() < (frames[b].centroid - axis).norm();
-        });
-        const bool upper = std::find(along.begin(), along.begin() + 2, c) != along.begin() + 2;
-        const size_t other = upper ? (along[0] == c ? along[1] : along[0]) : (along[2] == c ? along[3] : along[2]);
-        names[c] = std::string(upper ? "upper " : "lower ") + side + " sleeve" +
-                   (frames[c].centroid.z() >= frames[other].centroid.z() ? " front" : " back");
-        continue;
-      }
-      if (parts.size() == 3) {
-        // One part the length of the sleeve on one side, two along it on the
-        // other (a sleeve cut by one panel seam across half of it): the two
-        // are the pair lying farthest apart along the arm and least across.
-        auto along = [&](size_t o) { return (frames[o].centroid - axis).norm(); };
-        size_t lone = parts[0];
-        double best = -1e300;
-        for (size_t k = 0; k < 3; ++k) {
-          const size_t a = parts[(k + 1) % 3], b = parts[(k + 2) % 3];
-          const double score = std::abs(along(a) - along(b)) - std::abs(frames[a].centroid.z() - frames[b].centroid.z());
-          if (score > best) best = score, lone = parts[k];
-        }
-        std::vector<size_t> pair;
-        for (size_t o : parts)
-          if (o != lone) pair.push_back(o);
-        const bool lone_in_front =
-            frames[lone].centroid.z() >= 0.5 * (frames[pair[0]].centroid.z() + frames[pair[1]].centroid.z());
-        if (c == lone) {
-          names[c] = side + " sleeve" + (lone_in_front ? " front" : " back");
-        } else {
-          const size_t other = pair[0] == c ? pair[1] : pair[0];
-          names[c] = std::string(along(c) <= along(other) ? "upper " : "lower ") + side + " sleeve" +
-                     (lone_in_front ? " back" : " front");
-        }
-        continue;
-      }
-      if (parts.size() > 2) part = " " + std::to_string(rank + 1);
-      names[c] = side + " sleeve" + part;
+      names[c] = sleeve_part_name(frames, parts, c, axis, side);
       continue;
     }
     int same = 0;
