@@ -61,6 +61,7 @@ struct ClothSimulator::Impl {
   Eigen::MatrixXd V_prescribed;  // work buffer
   Eigen::VectorXd sol;           // the solved velocities of the free vertices (3 #free)
   std::string last_failure;      // the detail of the last rejection, for the error message
+  bool in_fold_streak = false;   // the last step accepted folds (SimulatorOptions::fold_streaks)
 
   // A new pin set: the system's pattern and the solver's.
   void build_pattern() {
@@ -175,6 +176,17 @@ struct ClothSimulator::Impl {
     return advance(0.5 * h, pin_start, pin_mid, depth + 1, s_start, s_mid) &&
            advance(0.5 * h, pin_mid, pin_end, depth + 1, s_mid, s_end);
   }
+
+  // advance() from `start_depth`: the step split into 2^start_depth parts up front, each
+  // attempted (and retried) as advance() would at that depth.
+  bool advance_from(double h, const Eigen::MatrixXd& pin_start, const Eigen::MatrixXd& pin_end, int depth,
+                    int start_depth, double s_start, double s_end) {
+    if (depth >= start_depth) return advance(h, pin_start, pin_end, depth, s_start, s_end);
+    const Eigen::MatrixXd pin_mid = 0.5 * (pin_start + pin_end);
+    const double s_mid = 0.5 * (s_start + s_end);
+    return advance_from(0.5 * h, pin_start, pin_mid, depth + 1, start_depth, s_start, s_mid) &&
+           advance_from(0.5 * h, pin_mid, pin_end, depth + 1, start_depth, s_mid, s_end);
+  }
 };
 
 ClothSimulator::ClothSimulator(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
@@ -240,6 +252,7 @@ void ClothSimulator::set_positions(const Eigen::MatrixXd& X) {
   if (X.rows() != impl_->X.rows() || X.cols() != 3) throw UsageError("positions must be #V by 3");
   impl_->X = X;
   for (size_t k = 0; k < impl_->pinned_ids.size(); ++k) impl_->pin_targets.row(k) = X.row(impl_->pinned_ids[k]);
+  impl_->in_fold_streak = false;  // another state: its folds are not the last step's
 }
 
 void ClothSimulator::set_velocities(const Eigen::MatrixXd& Vel) {
@@ -272,13 +285,21 @@ void ClothSimulator::step() {
   const Eigen::MatrixXd X0 = s.X, V0 = s.Vel;
   Eigen::MatrixXd pin_start(s.pinned_ids.size(), 3);
   for (size_t k = 0; k < s.pinned_ids.size(); ++k) pin_start.row(k) = s.X.row(s.pinned_ids[k]);
-  if (!s.advance(s.options.dt, pin_start, s.pin_targets, 0, 0.0, 1.0)) {
+  // A fold streak: the step before accepted folds, which the halves of a full step tried first
+  // would have done again (cloth/README.md, "Folds").
+  const int fold_depth = std::min(s.options.max_step_halvings, s.options.max_fold_halvings);
+  const int start_depth = s.options.fold_streaks && s.in_fold_streak ? fold_depth : 0;
+  if (start_depth > 0) ++s.counters.fold_streak_steps;
+  const long folds_before = s.counters.accepted_flips;
+  if (!s.advance_from(s.options.dt, pin_start, s.pin_targets, 0, start_depth, 0.0, 1.0)) {
     s.X = X0;
     s.Vel = V0;
+    s.in_fold_streak = false;
     throw NumericalError("cloth step failed after " + std::to_string(s.options.max_step_halvings) +
                              " halvings of the time step: " + s.last_failure,
                          "step " + std::to_string(s.counters.steps));
   }
+  s.in_fold_streak = fold_depth > 0 && s.counters.accepted_flips > folds_before;
   ++s.counters.steps;
 }
 

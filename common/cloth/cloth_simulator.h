@@ -26,7 +26,8 @@
 // counters().inverted_faces) and retried as two half steps, at most `max_step_halvings` deep; then
 // NumericalError is thrown and the state restored. Triangles that still turn over after
 // `max_fold_halvings` halvings are folds forced by contact: accepted and counted
-// (counters().accepted_flips), since cloth may fold.
+// (counters().accepted_flips), since cloth may fold. With `fold_streaks`, the steps after one that
+// accepted folds start at that depth until a step accepts none.
 #include <functional>
 #include <memory>
 #include <string>
@@ -59,6 +60,11 @@ struct SimulatorOptions {
   bool warp_preconditioner = true;       // rotate the reused factor with the cloth's local frames
   int max_step_halvings = 4;             // retry depth on a rejected step
   int max_fold_halvings = 1;             // retry depth when only triangles turned over (then accepted)
+  // After a step that accepted folds, start the next ones at that depth (two half steps for one
+  // halving) until a step accepts none: a fold the body's contact forces lasts for many steps (an
+  // arm closing on the torso), and each full step tried before its halves was thrown away
+  // (cloth/README.md, "Folds").
+  bool fold_streaks = true;
   double max_speed = 20.0;               // m/s; faster vertices reject the step
   double energy_growth_limit = 10.0;     // rejects a step whose energy grows more than this
   // A contact constraint is released when the body would have to pull the vertex with more than
@@ -109,6 +115,7 @@ struct SolverCounters {
   // that, empty before): recurring faces point at a cause.
   std::vector<long> inverted_faces;
   long accepted_flips = 0;   // triangles that turned over even in the smallest substep (folds)
+  long fold_streak_steps = 0;  // steps started halved because the one before accepted folds
   long factorizations = 0;
   long cg_iterations = 0;
   double last_residual = 0.0;  // relative residual of the last solve

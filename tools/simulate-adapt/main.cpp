@@ -385,6 +385,7 @@ int main(int argc, char** argv) {
     report["run"] = {{"steps", result.steps},
                      {"rejected_steps", result.solver.rejected},
                      {"accepted_folds", result.solver.accepted_flips},
+                     {"fold_streak_steps", result.solver.fold_streak_steps},
                      {"contact_constraints", result.solver.constraints},
                      {"contact_releases", result.solver.released},
                      {"pinched_contacts", result.collisions.pinched},

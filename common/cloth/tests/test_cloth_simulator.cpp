@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include <Eigen/Geometry>
 
@@ -325,6 +326,66 @@ TEST_CASE("a fold that persists in the smallest substep is accepted and counted"
   CHECK(most[1].second == 1);
   CHECK(most_inverted_faces(sim.counters(), 1).size() == 1);
   CHECK(sim.positions().allFinite());
+}
+
+TEST_CASE("a fold that lasts is met with half steps from its second step on", "[simulator]") {
+  // The handler of the test above turns triangle 0 over in every (sub)step for
+  // four steps, then stops. Without fold streaks every step tries the full
+  // step, throws it away and takes the two halves; with them only the first
+  // step does, the next three start as the halves, and so compute the same
+  // positions bit for bit. The first step without a fold is still taken in
+  // halves (it ends the streak), the one after it whole.
+  const gp::Mesh m = gp::testing::make_grid(4, 4, 0.01, 0.01);
+  ClothParameters params;
+  params.gravity.setZero();
+  params.density = 100.0;
+  const Eigen::Vector3i tri = m.F.row(0).transpose();
+  auto folding = std::make_shared<bool>(true);
+  auto make = [&](bool streaks) {
+    SimulatorOptions options = paper_step();
+    options.fold_streaks = streaks;
+    ClothSimulator sim(m.V, m.F, params, options);
+    sim.set_collision_handler([tri, folding](Eigen::MatrixXd& X, Eigen::MatrixXd&) {
+      if (!*folding) return;
+      const Eigen::Vector3d a = X.row(tri(0)), b = X.row(tri(1)), c = X.row(tri(2));
+      const Eigen::Vector3d e = (b - a).normalized();
+      const Eigen::Vector3d d = c - a;
+      X.row(tri(2)) = (a + 2.0 * d.dot(e) * e - d).transpose();
+    });
+    return sim;
+  };
+  ClothSimulator with = make(true), without = make(false);
+  for (int s = 0; s < 4; ++s) {
+    with.step();
+    without.step();
+    INFO("step " << s);
+    CHECK(with.positions() == without.positions());
+    CHECK(with.velocities() == without.velocities());
+  }
+  CHECK(without.counters().rejected == 4);
+  CHECK(with.counters().rejected == 1);
+  CHECK(with.counters().fold_streak_steps == 3);
+  CHECK(without.counters().fold_streak_steps == 0);
+  CHECK(with.counters().substeps == 8);
+  CHECK(with.counters().accepted_flips == without.counters().accepted_flips);
+
+  *folding = false;
+  with.step();  // in the streak: two halves, no fold, the streak ends
+  CHECK(with.counters().fold_streak_steps == 4);
+  CHECK(with.counters().substeps == 10);
+  with.step();  // a whole step again
+  CHECK(with.counters().fold_streak_steps == 4);
+  CHECK(with.counters().substeps == 11);
+  CHECK(with.counters().rejected == 1);
+
+  // A state set from outside starts without a streak.
+  *folding = true;
+  with.step();
+  CHECK(with.counters().rejected == 2);
+  with.set_positions(m.V);
+  *folding = false;
+  with.step();
+  CHECK(with.counters().substeps == 14);  // 11 + the halves of the folding step + one whole step
 }
 
 TEST_CASE("a triangle the solve turns over in free cloth is retried, then accepted as a fold", "[simulator]") {
