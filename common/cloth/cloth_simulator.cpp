@@ -171,14 +171,11 @@ struct ClothSimulator::Impl {
     Vel = V_saved;
     last_failure = outcome.detail;
     if (depth >= options.max_step_halvings) return false;
-    const Eigen::MatrixXd pin_mid = 0.5 * (pin_start + pin_end);
-    const double s_mid = 0.5 * (s_start + s_end);
-    return advance(0.5 * h, pin_start, pin_mid, depth + 1, s_start, s_mid) &&
-           advance(0.5 * h, pin_mid, pin_end, depth + 1, s_mid, s_end);
+    return advance_from(h, pin_start, pin_end, depth, depth + 1, s_start, s_end);  // its two halves
   }
 
-  // advance() from `start_depth`: the step split into 2^start_depth parts up front, each
-  // attempted (and retried) as advance() would at that depth.
+  // The step at `depth` split into halves down to `start_depth` up front, each part attempted
+  // (and retried) by advance() at that depth.
   bool advance_from(double h, const Eigen::MatrixXd& pin_start, const Eigen::MatrixXd& pin_end, int depth,
                     int start_depth, double s_start, double s_end) {
     if (depth >= start_depth) return advance(h, pin_start, pin_end, depth, s_start, s_end);
