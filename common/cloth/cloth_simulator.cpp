@@ -283,7 +283,7 @@ void ClothSimulator::step() {
   Eigen::MatrixXd pin_start(s.pinned_ids.size(), 3);
   for (size_t k = 0; k < s.pinned_ids.size(); ++k) pin_start.row(k) = s.X.row(s.pinned_ids[k]);
   // A fold streak: the step before accepted folds, which the halves of a full step tried first
-  // would have done again (cloth/README.md, "Folds").
+  // would have done again (cloth/README.md, "Fold streaks").
   const int fold_depth = std::min(s.options.max_step_halvings, s.options.max_fold_halvings);
   const int start_depth = s.options.fold_streaks && s.in_fold_streak ? fold_depth : 0;
   if (start_depth > 0) ++s.counters.fold_streak_steps;
@@ -296,7 +296,7 @@ void ClothSimulator::step() {
                              " halvings of the time step: " + s.last_failure,
                          "step " + std::to_string(s.counters.steps));
   }
-  s.in_fold_streak = fold_depth > 0 && s.counters.accepted_flips > folds_before;
+  s.in_fold_streak = s.counters.accepted_flips > folds_before;
   ++s.counters.steps;
 }
 

@@ -63,7 +63,7 @@ struct SimulatorOptions {
   // After a step that accepted folds, start the next ones at that depth (two half steps for one
   // halving) until a step accepts none: a fold the body's contact forces lasts for many steps (an
   // arm closing on the torso), and each full step tried before its halves was thrown away
-  // (cloth/README.md, "Folds").
+  // (cloth/README.md, "Fold streaks").
   bool fold_streaks = true;
   double max_speed = 20.0;               // m/s; faster vertices reject the step
   double energy_growth_limit = 10.0;     // rejects a step whose energy grows more than this
