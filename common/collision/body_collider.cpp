@@ -207,6 +207,8 @@ struct BodyCollider::Impl {
   mutable std::vector<std::unique_ptr<TriangleBvh>> spare;
   bool built = false;
   long version = 0;     // body frames set so far
+  double min_pinch_offset = 0.0;  // m, set_min_pinch_offset
+  bool facing_gaps = false;       // set_facing_gaps
   double travel = 0.0;  // accumulated largest body vertex motion between frames
   bool still = false;   // the current body frame has the previous frame's positions
 
@@ -319,6 +321,18 @@ struct BodyCollider::Impl {
     return kGapRayLift + ray_triangle_distance(origin, q.outward, corner(f, 0), corner(f, 1), corner(f, 2));
   }
 
+  double facing_distance_of(const Eigen::Vector3d& p, const Eigen::Vector3d& n, double radius) const {
+    double best = std::numeric_limits<double>::infinity();
+    for (int f : faces_within(p, radius)) {
+      const Eigen::Vector3d a = corner(f, 0), b = corner(f, 1), c = corner(f, 2);
+      if (!((b - a).cross(c - a).dot(n) < 0.0)) continue;
+      const Eigen::Vector3d y = closest_point_on_triangle(p, a, b, c).point;
+      if (!((y - p).dot(n) > 0.0)) continue;
+      best = std::min(best, (y - p).norm());
+    }
+    return best <= radius ? best : std::numeric_limits<double>::infinity();
+  }
+
   // The offset vertex i may use at its closest point q: `offset`, at most half
   // the gap in front of q. Rays are cast for vertices within the offset only,
   // and reused while the body, the face and (within kGapReuseDistance) the
@@ -328,6 +342,7 @@ struct BodyCollider::Impl {
     VertexCache& c = cache[i];
     if (!(c.gap_version == version && c.gap_face == q.face && (c.gap_point - q.closest).norm() < kGapReuseDistance)) {
       c.gap = gap(q);
+      if (facing_gaps) c.gap = std::min(c.gap, facing_distance_of(q.closest, q.outward, 2.0 * offset));
       c.gap_version = version;
       c.gap_face = q.face;
       c.gap_point = q.closest;
@@ -335,7 +350,7 @@ struct BodyCollider::Impl {
     }
     if (0.5 * c.gap < offset) {
       ++st.pinched;
-      return 0.5 * c.gap;
+      return std::max(0.5 * c.gap, std::min(min_pinch_offset, offset));
     }
     return offset;
   }
@@ -736,6 +751,14 @@ Proximity BodyCollider::query(const Eigen::Vector3d& p, int hint_face) const {
 
 double BodyCollider::gap(const Proximity& q) const { return impl_->gap(q); }
 
+double BodyCollider::facing_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& n, double radius) const {
+  if (!impl_->built) throw UsageError("BodyCollider::facing_distance before set_body");
+  if (!p.allFinite() || !n.allFinite()) throw NumericalError("facing_distance of a non-finite point or normal");
+  return impl_->facing_distance_of(p, n, radius);
+}
+
+void BodyCollider::set_facing_gaps(bool on) { impl_->facing_gaps = on; }
+
 void BodyCollider::resolve(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel, double offset) {
   if (!(offset >= 0.0)) throw UsageError("comfort offset must be non-negative");
   impl_->resolve(X, Vel, nullptr, offset);
@@ -756,6 +779,11 @@ std::vector<Contact> BodyCollider::contacts(const Eigen::MatrixXd& X, const Eige
   if (offsets.size() != X.rows()) throw UsageError("one offset per cloth vertex is needed");
   if (!offsets.allFinite() || !(band >= 0.0)) throw UsageError("offsets must be finite and the band non-negative");
   return impl_->contacts(X, offsets.data(), 0.0, band);
+}
+
+void BodyCollider::set_min_pinch_offset(double thickness) {
+  if (!(thickness >= 0.0) || !std::isfinite(thickness)) throw UsageError("pinch offset must be finite and non-negative");
+  impl_->min_pinch_offset = thickness;
 }
 
 void BodyCollider::set_threads(int threads) {

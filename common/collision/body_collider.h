@@ -103,6 +103,13 @@ class BodyCollider {
   // when the ray leaves the culled body).
   double gap(const Proximity& q) const;
 
+  // The room in front of a body point p with outward normal n (unit): the distance [m] to the
+  // nearest point within `radius` of a culled face that faces it (its normal against n by more
+  // than 90 degrees, the point on n's side of p): the other side of a gap whatever its direction,
+  // where gap() looks along n only (a hand beside the thigh rather than in front of it). Infinity
+  // when no such face is within the radius.
+  double facing_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& n, double radius) const;
+
   // Collision response for cloth positions X and velocities Vel (#V by 3; row i is cloth vertex i
   // across calls, for warm starts). offset [m] >= 0; in a pinch at most half the gap (see above).
   // Vertices at non-finite positions (a diverged solve, rejected by the step's own checks) are left
@@ -122,6 +129,14 @@ class BodyCollider {
   std::vector<Contact> contacts(const Eigen::MatrixXd& X, double offset, double band);
   // Same with a per-vertex offset (#V) [m], which may be negative as in resolve().
   std::vector<Contact> contacts(const Eigen::MatrixXd& X, const Eigen::VectorXd& offsets, double band);
+
+  // The least offset a pinch leaves [m] (default 0): where half the gap is less, the vertex keeps
+  // this much (at most its own offset) from the closer part, as cloth of that thickness would.
+  void set_min_pinch_offset(double thickness);
+  // The gap of a pinch also counts the nearest surface facing the closest point within twice the
+  // offset in any direction (facing_distance), not only the one along its normal (default off): the
+  // offset then shrinks smoothly towards a gap's rim instead of jumping where the ray leaves it.
+  void set_facing_gaps(bool on);
 
   // Threads for contacts() and resolve(): 2 or more query the second half of the cloth vertices on
   // another thread, and prepare() then computes every vertex pseudo-normal up front (one thread: as
