@@ -53,6 +53,21 @@ OPEN_POSE      ?=
 OPEN_TOWARD    ?=
 OPEN_STEPS     ?= 20
 -include $(C)/customer.mk
+# AUTO_OPEN=1 (the default): when simulate-adapt stops at a key pose that the
+# body holds (report.json's "held", exit 8) and proposes the least opening of
+# it that frees the cloth, the fit is made again with that pose opened, as
+# OPEN_POSE would (an explicit OPEN_POSE always wins). The held run's report
+# is kept in $(OUT)/fit-held/, the choice in $(OUT)/auto-open.mk, which the
+# next make fit starts from (delete it to decide again). AUTO_OPEN=0: the
+# captured poses only.
+AUTO_OPEN ?= 1
+PYTHON ?= /usr/bin/python3
+ifeq ($(OPEN_POSE),)
+ifneq ($(AUTO_OPEN),0)
+AUTO_OPENING := 1
+-include $(OUT)/auto-open.mk
+endif
+endif
 
 # Stages print only errors, except simulate-adapt, which runs for minutes and
 # prints its progress (a live line on a terminal, a line every 10 s in a log)
@@ -158,6 +173,17 @@ VERDICT_OK = || test $$? -eq 8
 $(OUT)/fit/report.json: $(GARMENT_REPORT) $(C)/motion.json $(OUT)/poses/report.json $(SIMULATE_STAMP) $(BIN)/simulate-adapt
 	$(RUN_SIMULATE) --poses $(OUT)/poses/poses.json --motion $(C)/motion.json \
 	  --garment $(GARMENT) $(SIMULATE_FLAGS) --out $(@D) --force $(SIMULATE_QUIET) $(VERDICT_OK)
+ifeq ($(AUTO_OPENING)$(OPEN_POSE),1)
+	@open=$$($(PYTHON) -c 'import json, sys; h = json.load(open(sys.argv[1])).get("held"); o = h and h.get("open_suggestion"); \
+	  print("%s %s %d %.0f %.0f" % (o["pose"], o["toward"], o["steps"], o["largest_body_displacement_mm"], o["smallest_gap_mm"] or 0) if o else "")' $@) || exit 1; \
+	if [ -n "$$open" ]; then \
+	  set -- $$open; \
+	  echo "fit: the body holds the cloth at $$1: fitting it opened 1/$$3 towards $$2 (the body moves $$4 mm at most; at least $$5 mm of room where it held; AUTO_OPEN=0 turns this off)"; \
+	  rm -rf '$(OUT)/fit-held' && cp -r '$(@D)' '$(OUT)/fit-held'; \
+	  printf 'OPEN_POSE := %s\nOPEN_TOWARD := %s\nOPEN_STEPS := %s\n' "$$1" "$$2" "$$3" > '$(OUT)/auto-open.mk'; \
+	  $(MAKE) --no-print-directory -f $(firstword $(MAKEFILE_LIST)) '$@'; \
+	fi
+endif
 
 ifneq ($(NO_ADAPT),)
 NO_ADAPT_REPORT := $(OUT)/fit-noadapt/report.json

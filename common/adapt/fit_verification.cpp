@@ -16,6 +16,8 @@ bool FitVerification::passed() const {
 
 OrderedJson to_json(const PoseCheck& check, const std::string& mesh) {
   const KeyPoseResult& k = check.figures;
+  OrderedJson held_cloth = OrderedJson::array();
+  for (const HeldCloth& h : k.held_cloth) held_cloth.push_back(to_json(h));
   return {{"key", k.key},
           {"pose", k.pose},
           {"mesh", mesh},
@@ -30,7 +32,9 @@ OrderedJson to_json(const PoseCheck& check, const std::string& mesh) {
           {"crossings", collision::to_json(k.crossings)},
           {"steps", k.steps},
           {"settle_steps", k.settle_steps},
-          {"settled", k.settled}};
+          {"settled", k.settled},
+          {"held_by_body", k.held},
+          {"held_cloth", held_cloth}};
 }
 
 std::vector<cloth::TriangleRest> rest_triangles_of(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F) {

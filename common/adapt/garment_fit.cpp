@@ -15,6 +15,17 @@ FitResult fit_garment(PoseInterpolator& interpolator, const MotionSpec& motion, 
     std::optional<FitVerification> verification;
     try {
       run = run_garment_motion(interpolator, motion, V_garment, F, garment, run_options, progress);
+      // A pose the body holds ends the fit at once: no rest shape relieves
+      // it, so neither a verification nor a further cycle would pass.
+      if (run.held_key >= 0) {
+        FitCycle summary;
+        summary.steps = run.steps;
+        summary.adaptations = run.adaptations;
+        summary.rest_area_growth = run.keys.empty() ? 1.0 : run.keys.back().rest_area_growth;
+        fit.run = std::move(run);
+        fit.cycles.push_back(summary);
+        return fit;
+      }
       if (options.verify) {
         // A run that did not adapt is its own fresh simulation.
         verification = run_options.adapt ? verify_fit(interpolator, motion, V_garment, F, garment,

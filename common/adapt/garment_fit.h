@@ -67,11 +67,15 @@ struct FitOptionFields {
     f.number("settle_stretch_change", m.settle_stretch_change, Range::non_negative());
     f.integer("settle_max_steps", m.settle_max_steps, Range::between(0, 1e7));
     f.number("settle_damping", m.settle_damping, Range::between(0.0, 1.0));
+    f.integer("held_steps", m.held_steps, Range::between(0, 1e7));
+    f.number("held_stretch", m.held_stretch, Range::between(1.0, 100.0));
+    f.number("held_improvement", m.held_improvement, Range::between(0.0, 1.0));
     f.integer("fixed_point_steps", m.fixed_point_steps, Range::between(1, 1e9));
     f.number("fixed_point_area_change", m.fixed_point_area_change, Range::non_negative());
     f.number("reach_m", m.reach, Range::non_negative());
     f.names("contact", m.velocity_contacts, "velocity", "projection");
     f.number("contact_band_m", m.contact_band, Range::non_negative());
+    f.names("pinch_gaps", m.facing_gaps, "facing", "ray");
     f.names("continuous_contact", m.continuous_contact, "on", "off");
     f.number("contact_thickness_m", m.contact.thickness, Range::positive());
     f.number("pin_clearance", m.pin_clearance, Range::between(0.0, 1.0));

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <future>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <set>
@@ -13,6 +14,7 @@
 #include "core/error.h"
 #include "core/stopwatch.h"
 #include "mesh/measures.h"
+#include "mesh/point_triangle.h"
 
 namespace gp::adapt {
 namespace {
@@ -24,6 +26,8 @@ constexpr double kTouchTolerance = 1e-6;
 // Largest speed [m/s] at which a contact constraint pushes a vertex back out to
 // the offset.
 constexpr double kMaxCorrectionSpeed = 0.5;
+// The room reported in front of cloth the body holds is sought this far [m].
+constexpr double kHeldGapRadius = 0.05;
 
 cloth::ClothParameters parameters_from(const Material& m) {
   cloth::ClothParameters p;
@@ -190,6 +194,9 @@ struct GarmentMotion::Impl {
     collider.emplace(surface.F, collision::reachable_body_faces(V_surface, surface.F, V_garment, options.reach));
     result.culled_body_faces = collider->face_ids().size();
     collider->set_threads(options.threads);
+    // In a pinch the cloth keeps its own thickness from the nearer part.
+    collider->set_min_pinch_offset(options.contact.thickness);
+    collider->set_facing_gaps(options.facing_gaps);
     collider->set_body(V_surface);
     contact.emplace(F, surface.F, collider->face_ids(), options.contact);
     contact->set_pinned(pin_ids);
@@ -444,6 +451,10 @@ struct GarmentMotion::Impl {
     settling = true;
     cloth_slow = false;
     int slow_since = 0;  // settle steps when the cloth slowed below adapt_speed
+    // Held cloth (MotionRunOptions::held_steps): the lowest largest stretch
+    // so far and the settle step it was reached at.
+    double best_stretch = previous_stretch;
+    int best_since = 0;
     while (key.settle_steps < options.settle_max_steps) {
       const Eigen::MatrixXd X_check = sim->positions();
       int window = 0;
@@ -479,12 +490,102 @@ struct GarmentMotion::Impl {
         key.settled = true;
         break;
       }
+      if (stretch < (1.0 - options.held_improvement) * best_stretch) {
+        best_stretch = stretch;
+        best_since = key.settle_steps;
+      }
+      if (options.held_steps > 0 && ramp_done && stretch > options.held_stretch &&
+          key.settle_steps - best_since >= options.held_steps) {
+        key.held = true;
+        break;
+      }
     }
     sim->set_damping_scale(1.0);
     settling = false;
     cloth_slow = false;
     if (options.settle_max_steps == 0) key.settled = sim->max_speed() < options.settle_speed;
     key.max_speed = sim->max_speed();
+  }
+
+  // Where the body holds the cloth: the patches of faces (joined by shared
+  // vertices) stretched beyond held_stretch, most stretched first, each with
+  // the body point nearest to its most stretched face and the room in front
+  // of it (BodyCollider::gap).
+  std::vector<HeldCloth> held_patches(const Eigen::VectorXd& stretch) const {
+    std::vector<int> over;
+    for (int f = 0; f < F.rows(); ++f) {
+      if (stretch(f) > options.held_stretch) over.push_back(f);
+    }
+    if (over.empty()) return {};
+    std::vector<int> parent(over.size());
+    for (size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int>(i);
+    const auto find = [&parent](int i) {
+      while (parent[i] != i) i = parent[i] = parent[parent[i]];
+      return i;
+    };
+    std::vector<int> owner(static_cast<size_t>(sim->positions().rows()), -1);
+    for (size_t i = 0; i < over.size(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        int& o = owner[static_cast<size_t>(F(over[i], k))];
+        if (o < 0) {
+          o = static_cast<int>(i);
+        } else {
+          parent[find(o)] = find(static_cast<int>(i));
+        }
+      }
+    }
+    std::vector<std::vector<int>> groups(over.size());
+    for (size_t i = 0; i < over.size(); ++i) groups[static_cast<size_t>(find(static_cast<int>(i)))].push_back(over[i]);
+    std::vector<HeldCloth> patches;
+    for (const std::vector<int>& g : groups) {
+      if (g.empty()) continue;
+      HeldCloth h;
+      h.faces = g;  // ascending, as `over`
+      int worst = g.front();
+      for (int f : g) {
+        if (stretch(f) > stretch(worst)) worst = f;
+      }
+      h.max_stretch = stretch(worst);
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 3; ++k) c += sim->positions().row(F(worst, k)).transpose() / 3.0;
+      const collision::Proximity q = collider->query(c);
+      h.position = q.closest;
+      h.surface_face = q.face;
+      const Eigen::MatrixXd V_surface = surface.positions(V_body);
+      h.barycentric = closest_point_on_triangle(q.closest, V_surface.row(surface.F(q.face, 0)).transpose(),
+                                                V_surface.row(surface.F(q.face, 1)).transpose(),
+                                                V_surface.row(surface.F(q.face, 2)).transpose())
+                          .bary;
+      h.gap = collider->facing_distance(q.closest, q.outward, kHeldGapRadius);
+      h.region = region_of(q.face, q.closest, h.body_vertex);
+      patches.push_back(std::move(h));
+    }
+    std::stable_sort(patches.begin(), patches.end(),
+                     [](const HeldCloth& a, const HeldCloth& b) { return a.max_stretch > b.max_stretch; });
+    if (patches.size() > 5) patches.resize(5);
+    return patches;
+  }
+
+  // A name for the contact surface's face f near point p: the hull it belongs
+  // to ("left hand": the body faces +z, so its left is +x; feet are the hulls
+  // in the lowest fifth of the body), else the nearest body vertex. Sets the
+  // nearest body vertex.
+  std::string region_of(int f, const Eigen::Vector3d& p, int& body_vertex) const {
+    const Eigen::MatrixXd V_surface = surface.positions(V_body);
+    double best = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+      const int v = surface.F(f, k);
+      const double d = (V_surface.row(v).transpose() - p).norm();
+      if (d < best) {
+        best = d;
+        body_vertex = v < surface.body_vertex_count ? v : surface.sources[static_cast<size_t>(v - surface.body_vertex_count)];
+      }
+    }
+    if (!surface.is_hull_face(f)) return "body vertex " + std::to_string(body_vertex);
+    const double low = V_body.col(1).minCoeff(), high = V_body.col(1).maxCoeff();
+    const double mid_x = 0.5 * (V_body.col(0).minCoeff() + V_body.col(0).maxCoeff());
+    const std::string side = p.x() > mid_x ? "left" : "right";
+    return side + (p.y() < low + 0.2 * (high - low) ? " foot" : " hand");
   }
 
   // The key pose's drape and its stretch and penetration figures.
@@ -501,6 +602,7 @@ struct GarmentMotion::Impl {
       key.deepest_penetration = std::max(key.deepest_penetration, -q.signed_distance);
     }
     key.crossings = collision::find_crossings(V_body, interpolator.faces(), key.V_draped, F);
+    key.held_cloth = held_patches(key.face_max_stretch);
     // Given rest triangles (a verification, a sewn pattern) are the rest shape.
     key.rest_area_growth = (options.rest_triangles.empty() ? mesh_area(V_rest, F) : rest_areas.sum()) / design_area;
     key.steps = result.steps;
@@ -532,7 +634,9 @@ struct GarmentMotion::Impl {
       key.key = frame.key;
       key.pose = motion.keys[static_cast<size_t>(frame.key)].pose;
       settle(key, i, progress);
-      if (options.adapt) adapt_now();  // and at the end of each pose
+      // And at the end of each pose, unless the body holds the cloth: its
+      // figures are then those it was found held with.
+      if (options.adapt && !key.held) adapt_now();
       result.all_settled = result.all_settled && key.settled;
       record(key);
       if (progress) {
@@ -548,7 +652,15 @@ struct GarmentMotion::Impl {
                       100.0 * key.rest_area_change, std::min(key.settle_steps, options.fixed_point_steps));
         report(progress, line, frame.key, i, key.settle_steps, true, key.max_stretch);
       }
+      const bool held = key.held;
       result.keys.push_back(std::move(key));
+      if (held) {
+        // A held pose fails fast: the poses after it would start from cloth
+        // the body holds.
+        result.held_key = static_cast<int>(result.keys.size()) - 1;
+        result.all_settled = false;
+        break;
+      }
     }
 
     result.V_rest = V_rest;

@@ -58,6 +58,14 @@ struct MotionRunOptions {
   double settle_speed = 0.05;         // m/s: largest net vertex speed over a settle check (adapt_every steps) of a settled cloth
   double settle_stretch_change = 1e-3;  // largest change of the largest stretch between settle checks
   int settle_max_steps = 1000;        // cap on the settling steps at each key pose
+  // A key pose the body holds fails fast: once some cloth is stretched beyond
+  // held_stretch and the largest stretch has not fallen by held_improvement
+  // (relative) for held_steps settling steps, the settling stops and the pose
+  // is reported held, with the patches and the body's room there
+  // (KeyPoseResult::held_cloth); the run stops after it. 0: settle to the cap.
+  int held_steps = 160;
+  double held_stretch = 1.5;          // beyond this cloth tears (as FitCriteria::tear_stretch)
+  double held_improvement = 0.01;
   // Damping while settling, as a fraction of the material's: the static
   // equilibrium does not depend on it, the way there does (a hugging garment
   // gets there sooner with less, a loose skirt swings).
@@ -70,6 +78,11 @@ struct MotionRunOptions {
   // the position projection after each step.
   bool velocity_contacts = true;
   double contact_band = 5e-4;
+  // In a pinch the gap also counts the nearest body surface facing the
+  // closest point in any direction (BodyCollider::set_facing_gaps), so the
+  // offset shrinks smoothly towards a gap's rim instead of jumping where the
+  // ray along the normal leaves it; false: along the normal only.
+  bool facing_gaps = true;
   // Intersection-free contact in both directions (collision/continuous_contact.h):
   // body vertices and edges push the cloth out of their way, no body feature
   // or cloth vertex passes through the other surface within a step. Active
@@ -135,7 +148,8 @@ struct ArapTotals {                   // the stitchings of a run
 
 struct MotionRunResult {
   Eigen::MatrixXd V_rest;             // final rest shape (same connectivity as the garment)
-  std::vector<KeyPoseResult> keys;
+  std::vector<KeyPoseResult> keys;    // up to the first held one (KeyPoseResult::held), where the run stops
+  int held_key = -1;                  // index into keys of the pose the body holds, -1: none
   long steps = 0;
   int adaptations = 0;                // adaptations that changed the rest shape
   ArapTotals arap;

@@ -1,5 +1,6 @@
 #include "adapt/key_pose.h"
 
+#include <cmath>
 #include <cstdio>
 
 #include "mesh/measures.h"
@@ -46,7 +47,7 @@ std::vector<std::string> stretch_failures(const KeyPoseResult& k, double delta, 
 
 std::vector<std::string> check_pose(const KeyPoseResult& k, double delta, const FitCriteria& criteria) {
   std::vector<std::string> failures = stretch_failures(k, delta, criteria);
-  char line[200];
+  char line[400];
   const double torn = area_fraction_above(k, criteria.tear_stretch);
   if (torn > criteria.max_torn_area) {
     std::snprintf(line, sizeof(line), "%.2f %% of the area stretched beyond %.2f, where cloth tears (at most %.2f %%)",
@@ -63,6 +64,17 @@ std::vector<std::string> check_pose(const KeyPoseResult& k, double delta, const 
                   k.crossings.crossings(), criteria.max_crossings);
     failures.push_back(line);
   }
+  if (k.held && !k.held_cloth.empty()) {
+    const HeldCloth& h = k.held_cloth.front();
+    char gap[64] = "no other body part in front of it";
+    if (std::isfinite(h.gap)) std::snprintf(gap, sizeof(gap), "a gap of %.1f mm", 1e3 * h.gap);
+    std::snprintf(line, sizeof(line),
+                  "the body holds the cloth at %s (%.3f, %.3f, %.3f) m, %s: %zu faces stretched up to %.2f, no "
+                  "better after %d settling steps",
+                  h.region.c_str(), h.position.x(), h.position.y(), h.position.z(), gap, h.faces.size(),
+                  h.max_stretch, k.settle_steps);
+    failures.push_back(line);
+  }
   if (criteria.require_settled && !k.settled) {
     std::snprintf(line, sizeof(line),
                   "the cloth did not settle within %d steps (largest net vertex speed %.3f m/s over the last check)",
@@ -70,6 +82,16 @@ std::vector<std::string> check_pose(const KeyPoseResult& k, double delta, const 
     failures.push_back(line);
   }
   return failures;
+}
+
+OrderedJson to_json(const HeldCloth& h) {
+  return {{"region", h.region},
+          {"body_vertex", h.body_vertex},
+          {"position_m", {h.position.x(), h.position.y(), h.position.z()}},
+          {"gap_mm", std::isfinite(h.gap) ? OrderedJson(1e3 * h.gap) : OrderedJson(nullptr)},
+          {"max_stretch", h.max_stretch},
+          {"face_count", h.faces.size()},
+          {"faces", h.faces}};
 }
 
 }  // namespace gp::adapt

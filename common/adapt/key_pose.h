@@ -11,6 +11,23 @@
 
 namespace gp::adapt {
 
+// Cloth the body holds at a key pose: a patch of faces stretched beyond what
+// cloth survives (MotionRunOptions::held_stretch), where it is and how much
+// room the body leaves there.
+struct HeldCloth {
+  std::string region;                 // "left hand", "right foot" (a hull) or "body vertex <id>"
+  int body_vertex = -1;               // body vertex nearest to the patch
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // the body point closest to the patch's most stretched face [m]
+  double gap = 0.0;                   // m to the nearest body surface facing that point (BodyCollider::facing_distance; infinity: none within 5 cm)
+  // The contact surface's face (collision/contact_surface.h) holding that
+  // point and the point's barycentric coordinates in it, so that it can be
+  // found in another frame of the body.
+  int surface_face = -1;
+  Eigen::Vector3d barycentric = Eigen::Vector3d::Zero();
+  double max_stretch = 0.0;
+  std::vector<int> faces;             // the patch's cloth faces, ascending
+};
+
 struct KeyPoseResult {
   std::string pose;
   int key = 0;                        // index in the motion's key sequence
@@ -30,6 +47,10 @@ struct KeyPoseResult {
   double max_speed = 0.0;             // largest instantaneous vertex speed at the end [m/s]
   double max_net_speed = 0.0;         // largest net vertex speed over the last settle check [m/s]
   collision::CrossingReport crossings;  // the drape against the body at this pose
+  // The settling stopped early: cloth stretched beyond held_stretch stopped
+  // improving (MotionRunOptions::held_steps), the body holds it.
+  bool held = false;
+  std::vector<HeldCloth> held_cloth;  // patches beyond held_stretch, most stretched first (at most 5)
 };
 
 // The bounds of a fitted key pose; it fails when any is exceeded.
@@ -76,6 +97,9 @@ std::vector<std::string> stretch_failures(const KeyPoseResult& k, double delta, 
 
 // The rest-area fraction of k's faces whose largest stretch exceeds `stretch`.
 double area_fraction_above(const KeyPoseResult& k, double stretch);
+
+// The patch as a report records it (positions and gap in metres).
+OrderedJson to_json(const HeldCloth& h);
 
 // All bounds a key pose's figures exceed (stretch, torn cloth, penetration,
 // crossings, settling); empty when it passes.

@@ -121,7 +121,11 @@ std::vector<Check> fit_checks(const FitRun& run, const FitThresholds& t) {
   if (const auto& o = run.opened)
     add(CheckLevel::warning, "opened_pose", o->pose,
         "The fit is for " + o->pose + " opened 1/" + std::to_string(o->steps) + " of the way towards " + o->toward +
-            " (make fit's OPEN_POSE), not for that pose as captured.");
+            (o->automatic ? " (opened automatically: as captured, the body held the cloth at " + o->held_at +
+                                "; the body moves " + format_fixed(o->largest_displacement_mm, 0) +
+                                " mm at most; fit-held/ has that run's report; AUTO_OPEN=0 turns this off)"
+                          : std::string(" (make fit's OPEN_POSE)")) +
+            ", not for that pose as captured.");
   if (const std::string held = held_places(run); !held.empty())
     add(CheckLevel::warning, "no_room", "",
         "The design meets the body with no room for its comfort offset" + held +

@@ -90,6 +90,21 @@ const Json& require(const StageReport& report, const std::string& pointer, const
   return *v;
 }
 
+// The opening was make fit's fallback when fit-held/ (the held run's
+// simulate-adapt report) proposed exactly it.
+void mark_automatic(const fs::path& dir, OpenedPose& opened) {
+  const std::optional<StageReport> held = read_optional_stage(dir, "fit-held", "simulate-adapt-report");
+  if (!held) return;
+  const Json* o = lookup(*held, "/held/open_suggestion");
+  if (!o || !o->is_object() || o->value("pose", "") != opened.pose || o->value("toward", "") != opened.toward ||
+      o->value("steps", 0LL) != opened.steps)
+    return;
+  opened.automatic = true;
+  opened.largest_displacement_mm = o->value("largest_body_displacement_mm", 0.0);
+  const Json* where = lookup(*held, "/held/held_cloth/0/region");
+  if (where && where->is_string()) opened.held_at = where->get<std::string>();
+}
+
 std::optional<OpenedPose> read_opened_stage(const fs::path& dir, const fs::path& poses_manifest) {
   const std::optional<StageReport> stage = read_optional_stage(dir, "opened", "interp-poses-report");
   if (!stage) return std::nullopt;
@@ -101,8 +116,11 @@ std::optional<OpenedPose> read_opened_stage(const fs::path& dir, const fs::path&
   if (!fs::is_regular_file(file)) return std::nullopt;
   const Json manifest = read_json_file(poses_manifest);
   for (const Json& p : manifest.value("poses", Json::array()))
-    if (p.value("name", "") == opened.pose)
-      return p.value("sha256", "") == sha256_file_hex(file) ? std::optional<OpenedPose>(opened) : std::nullopt;
+    if (p.value("name", "") == opened.pose) {
+      if (p.value("sha256", "") != sha256_file_hex(file)) return std::nullopt;
+      mark_automatic(dir, opened);
+      return opened;
+    }
   return std::nullopt;
 }
 

@@ -52,6 +52,11 @@ struct KeyPoseRun {
 struct OpenedPose {
   std::string pose, toward;
   long long steps = 0;
+  // Opened by make fit's fallback (AUTO_OPEN): the held run's report in
+  // fit-held/ proposed it, and says where the captured pose held the cloth.
+  bool automatic = false;
+  std::string held_at;                 // the region of the most stretched patch
+  double largest_displacement_mm = 0.0;
 };
 
 struct FitRun {

@@ -11,6 +11,7 @@
 
 #include "adapt/fit_verification.h"
 #include "adapt/garment_fit.h"
+#include "adapt/open_pose.h"
 #include "adapt/garment_motion.h"
 #include "adapt/motion_progress.h"
 #include "cli/tool.h"
@@ -135,6 +136,19 @@ int main(int argc, char** argv) {
   app.add_option("--settle-damping", options.settle_damping,
                  "Damping while settling at a key pose, as a fraction of the material's [1]")
       ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  app.add_option("--held-steps", options.held_steps,
+                 "A key pose whose cloth is stretched beyond --held-stretch and has not improved by 1 % for this "
+                 "many settling steps is held by the body: the fit stops there, names the places and proposes "
+                 "an opening of the pose (0: settle to the cap) [count]")
+      ->capture_default_str()->check(CLI::Range(0, 10000000));
+  app.add_option("--held-stretch", options.held_stretch,
+                 "Stretch beyond which cloth the body holds counts as torn [1]")
+      ->capture_default_str()->check(CLI::Range(1.0, 100.0));
+  gp::adapt::OpeningOptions opening_options;
+  app.add_option("--open-clearance", opening_options.clearance,
+                 "A proposed opening of a held pose leaves at least this many comfort offsets of room where the "
+                 "cloth was held [1]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--reach", options.reach, "Body faces farther than this from the garment are culled [m]")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_option("--solver", solver,
@@ -149,6 +163,12 @@ int main(int argc, char** argv) {
                  "Body contact: velocity (constraints inside the implicit solve, then projection) or "
                  "projection (position projection after the step only)")
       ->capture_default_str()->check(CLI::IsMember({"velocity", "projection"}));
+  std::string pinch_gaps = "facing";
+  app.add_option("--pinch-gaps", pinch_gaps,
+                 "Where two body parts are closer than twice the offset, the cloth keeps half the gap from each: "
+                 "the gap to the nearest body surface facing the contact in any direction (facing) or along its "
+                 "normal only (ray)")
+      ->capture_default_str()->check(CLI::IsMember({"facing", "ray"}));
   std::string continuous = "on";
   app.add_option("--continuous-contact", continuous,
                  "Intersection-free contact in both directions: body vertices and edges push the cloth out of "
@@ -194,6 +214,7 @@ int main(int argc, char** argv) {
     criteria.require_settled = !allow_unsettled;
     options.velocity_contacts = contact == "velocity";
     options.continuous_contact = continuous == "on";
+    options.facing_gaps = pinch_gaps == "facing";
     options.contact_surface.hulls = hand_hulls == "on";
     options.solver.strategy = solver == "pcg" ? gp::cloth::SolverStrategy::pcg_reused_factor
                                               : gp::cloth::SolverStrategy::refactor_every_step;
@@ -298,6 +319,33 @@ int main(int argc, char** argv) {
       draped.face_fields.push_back({"max_stretch", k.face_max_stretch});
       gp::write_mesh(out.file(name), draped);
     };
+    const auto held_json = [](const gp::adapt::KeyPoseResult& k) {
+      gp::OrderedJson list = gp::OrderedJson::array();
+      for (const gp::adapt::HeldCloth& h : k.held_cloth) list.push_back(gp::adapt::to_json(h));
+      return list;
+    };
+    // A pose the body holds: where, and the least opening of it that frees
+    // the cloth (adapt/open_pose.h), for make fit's fallback.
+    gp::OrderedJson held = nullptr;
+    if (result.held_key >= 0) {
+      const gp::adapt::KeyPoseResult& k = result.keys[static_cast<size_t>(result.held_key)];
+      const int pose = motion.keys[static_cast<size_t>(k.key)].pose_index;
+      opening_options.contact_surface = options.contact_surface;
+      const gp::adapt::Opening o =
+          k.held_cloth.empty() ? gp::adapt::Opening{}
+                               : gp::adapt::choose_opening(interpolator, pose, k.held_cloth, garment.offset, opening_options);
+      held = {{"key", k.key}, {"pose", k.pose}, {"settle_steps", k.settle_steps}, {"held_cloth", held_json(k)}};
+      if (o.found) {
+        held["open_suggestion"] = {{"pose", k.pose},
+                                   {"toward", interpolator.pose_names()[static_cast<size_t>(o.toward)]},
+                                   {"steps", o.steps},
+                                   {"fraction", 1.0 / o.steps},
+                                   {"smallest_gap_mm", 1e3 * o.smallest_gap},
+                                   {"largest_body_displacement_mm", 1e3 * o.largest_displacement}};
+      } else {
+        held["open_suggestion"] = nullptr;
+      }
+    }
     gp::OrderedJson keys = gp::OrderedJson::array();
     for (const auto& k : result.keys) {
       char name[256];
@@ -318,7 +366,9 @@ int main(int argc, char** argv) {
                       {"settled", k.settled},
                       {"max_speed_m_per_s", k.max_speed},
                       {"max_net_speed_m_per_s", k.max_net_speed},
-                      {"crossings", gp::collision::to_json(k.crossings)}});
+                      {"crossings", gp::collision::to_json(k.crossings)},
+                      {"held_by_body", k.held},
+                      {"held_cloth", held_json(k)}});
     }
     gp::OrderedJson verified = nullptr;
     if (verification) {
@@ -380,6 +430,7 @@ int main(int argc, char** argv) {
                         {"verified", c.verified}});
     }
     report["cycles"] = cycles;
+    report["held"] = held;
     report["cycle_error"] = fit.cycle_error.empty() ? gp::OrderedJson(nullptr) : gp::OrderedJson(fit.cycle_error);
     report["verification"] = verified;
     report["run"] = {{"steps", result.steps},
@@ -464,6 +515,20 @@ int main(int argc, char** argv) {
     out.commit();
     tool.log().info("wrote " + tool.common().out_dir + " (" + std::to_string(result.keys.size()) + " key poses, " +
                     std::to_string(result.steps) + " steps)");
+    if (!held.is_null()) {
+      const gp::adapt::KeyPoseResult& k = result.keys[static_cast<size_t>(result.held_key)];
+      std::string what = gp::adapt::check_pose(k, options.adaptation.delta, criteria).front();
+      if (!held["open_suggestion"].is_null()) {
+        const auto& o = held["open_suggestion"];
+        char line[256];
+        std::snprintf(line, sizeof(line), "; opening it 1/%d towards %s frees it (%.0f mm of room, the body moves "
+                      "%.0f mm at most)", o["steps"].get<int>(), o["toward"].get<std::string>().c_str(),
+                      o["smallest_gap_mm"].get<double>(), o["largest_body_displacement_mm"].get<double>());
+        what += line;
+      }
+      tool.log().error(gp::ExitCode::check_failed, "key pose " + std::to_string(k.key) + " (" + k.pose + "): " + what);
+      return static_cast<int>(gp::ExitCode::check_failed);
+    }
     if (verification && !verification->passed()) {
       for (const auto& check : verification->poses) {
         if (check.passed()) continue;
