@@ -26,6 +26,12 @@ struct SeamToleranceFields {
   }
 };
 
+// Sewn edges that match: a seam's two flat sides sewn together should agree
+// within 1 mm (a sewer eases in less without a mark); the cutter adds no
+// deliberate ease (the flattening keeps both sides at the seam's 3D length),
+// so the report names every seam beyond it as a mismatch, not as ease.
+constexpr double kSeamMatch = 0.001;  // metres
+
 struct SeamMeasure {
   double length_3d = 0.0;                   // metres, cut edges of the seam
   double left_2d = 0.0, right_2d = 0.0;     // flat lengths of its two sides, metres
