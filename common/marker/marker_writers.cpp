@@ -30,7 +30,7 @@ cairo_status_t write_to_stream(void* closure, const unsigned char* data, unsigne
 
 }  // namespace
 
-double marker_mm_per_unit(const MarkerPieces& pieces) { return pieces.units == "m" ? 1000.0 : 1.0; }
+double marker_mm_per_unit(const MarkerPieces& pieces) { return pieces.units == "m" ? 1000.0 : 10.0; }
 
 void write_marker_svg(std::ostream& out, const MarkerPieces& pieces, const MarkerResult& m, const std::string& title) {
   const double k = marker_mm_per_unit(pieces);

@@ -1,6 +1,6 @@
 #pragma once
 // The marker as a drawing and a report: SVG and PDF (cairo) at true scale
-// for pieces in metres (1 unit = 1 mm drawn for unitless benchmark pieces),
+// for pieces in metres (1 unit = 10 mm drawn for unitless benchmark pieces),
 // the fabric's width across the page and its length along it; and the
 // report's placements ("make-marker-report/1").
 #include <ostream>
@@ -12,7 +12,7 @@
 
 namespace gp {
 
-// Millimetres drawn per unit of the pieces: 1000 for metres, else 1.
+// Millimetres drawn per unit of the pieces: 1000 for metres, else 10.
 double marker_mm_per_unit(const MarkerPieces& pieces);
 
 void write_marker_svg(std::ostream& out, const MarkerPieces& pieces, const MarkerResult& marker, const std::string& title);

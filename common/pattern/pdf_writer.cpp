@@ -253,7 +253,11 @@ PdfSummary write_pdf(std::ostream& out, const Pattern& pattern, const Layout& la
     return std::pair{w, h};
   };
   // The cover is as large as the first page's paper, at least A4 for the map.
-  const double cover_w = std::max(t.page_w, 0.210), cover_h = std::max(std::min(t.page_h, 1.189), 0.297);
+  double cover_w = std::max(t.page_w, 0.210), cover_h = std::max(std::min(t.page_h, 1.189), 0.297);
+  // Both test squares side by side need 23 cm across: a portrait Letter
+  // cover is turned to landscape for them.
+  const double squares_w = 2.0 * std::max(o.margin, 0.01) + o.test_square + (o.paper.inches ? 0.01 + 4.0 * 0.0254 : 0.0);
+  if (squares_w > cover_w && cover_h > cover_w) std::swap(cover_w, cover_h);
   std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface(
       cairo_pdf_surface_create_for_stream(write_to_stream, &out, kPointsPerMetre * cover_w, kPointsPerMetre * cover_h),
       cairo_surface_destroy);

@@ -90,6 +90,11 @@ int main(int argc, char** argv) {
   app.add_option("--min-edge-fraction", po.smoothing.trace.min_edge_fraction,
                  "Cut curves cross an edge at least this fraction of its length from its ends [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.5));
+  app.add_option("--seam-tolerance", po.seam_tolerance, "A seam's two flat sides may differ by this much [m]")
+      ->capture_default_str()->check(CLI::Range(0.0, 0.1));
+  app.add_option("--seam-tolerance-relative", po.seam_tolerance_relative,
+                 "... or by this fraction of its 3D length, where that is more [fraction]")
+      ->capture_default_str()->check(CLI::Range(0.0, 0.1));
   app.add_option("--match-margin", po.match_margin,
                  "Pieces on a seam whose sides differ by more than this times the seam tolerance are flattened again [fraction]")
       ->capture_default_str()->check(CLI::Range(0.1, 100.0));
