@@ -12,10 +12,11 @@
 namespace gp {
 
 // Seam mismatch tolerance: the two sides' flat lengths may differ by at most
-// max(2 mm, 0.5 % of the seam's length).
+// max(absolute, relative * the seam's length); export-rest sets it from
+// PatternOptions (1 mm, 0).
 struct SeamTolerance {
-  double absolute = 0.002;   // metres
-  double relative = 0.005;   // fraction of the 3D length
+  double absolute = 0.001;   // metres
+  double relative = 0.0;     // fraction of the 3D length
 };
 
 struct SeamToleranceFields {
