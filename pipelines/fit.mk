@@ -45,7 +45,8 @@ NO_ADAPT       ?=
 REPORT_FLAGS   ?=
 # FABRIC_WIDTH=<metres>: make-marker nests the pattern's pieces on a roll of
 # that width (marker/: marker.svg, marker.pdf, its length and utilisation),
-# and the report shows it. Off when unset (set it in customer.mk).
+# and the report shows it. Set in customer.mk, or by the garment spec's
+# "fabric_width" (metres); off when neither names one.
 FABRIC_WIDTH   ?=
 MARKER_FLAGS   ?=
 # OPEN_POSE=<pose> OPEN_TOWARD=<other pose> OPEN_STEPS=<n>: fit the garment
@@ -58,6 +59,9 @@ OPEN_POSE      ?=
 OPEN_TOWARD    ?=
 OPEN_STEPS     ?= 20
 -include $(C)/customer.mk
+ifeq ($(FABRIC_WIDTH),)
+FABRIC_WIDTH := $(shell sed -n 's/.*"fabric_width" *: *\([0-9.eE+-]*\).*/\1/p' '$(C)/garment-spec.json' 2>/dev/null | head -n 1)
+endif
 
 # Stages print only errors, except simulate-adapt, which runs for minutes and
 # prints its progress (a live line on a terminal, a line every 10 s in a log)
