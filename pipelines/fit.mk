@@ -43,6 +43,12 @@ NO_SEW_CHECK   ?=
 # the adapted garment side by side. Off by default: it doubles the simulation.
 NO_ADAPT       ?=
 REPORT_FLAGS   ?=
+# FABRIC_WIDTH=<metres>: make-marker nests the pattern's pieces on a roll of
+# that width (marker/: marker.svg, marker.pdf, its length and utilisation),
+# and the report shows it. Set in customer.mk, or by the garment spec's
+# "fabric_width" (metres); off when neither names one.
+FABRIC_WIDTH   ?=
+MARKER_FLAGS   ?=
 # OPEN_POSE=<pose> OPEN_TOWARD=<other pose> OPEN_STEPS=<n>: fit the garment
 # to the body one n-th of the way from <pose> to <other pose> (interp-poses)
 # in place of the captured <pose>, the other poses as captured. For a capture
@@ -67,6 +73,9 @@ ifneq ($(AUTO_OPEN),0)
 AUTO_OPENING := 1
 -include $(OUT)/auto-open.mk
 endif
+endif
+ifeq ($(FABRIC_WIDTH),)
+FABRIC_WIDTH := $(shell sed -n 's/.*"fabric_width" *: *\([0-9.eE+-]*\).*/\1/p' '$(C)/garment-spec.json' 2>/dev/null | head -n 1)
 endif
 
 # Stages print only errors, except simulate-adapt, which runs for minutes and
@@ -107,7 +116,8 @@ REGISTER_STAMP := $(call flags_stamp,register-check,$(REGISTER_FLAGS) $(if $(OPE
 GARMENT_STAMP  := $(call flags_stamp,make-garment,$(GARMENT_FLAGS))
 SIMULATE_STAMP := $(call flags_stamp,simulate-adapt,$(SIMULATE_FLAGS))
 EXPORT_STAMP   := $(call flags_stamp,export-rest,$(EXPORT_FLAGS) $(if $(NO_SEW_CHECK),no-sew-check))
-REPORT_STAMP   := $(call flags_stamp,fit-report,$(REPORT_FLAGS) $(if $(NO_ADAPT),no-adapt))
+REPORT_STAMP   := $(call flags_stamp,fit-report,$(REPORT_FLAGS) $(if $(NO_ADAPT),no-adapt) $(if $(FABRIC_WIDTH),marker))
+MARKER_STAMP   := $(call flags_stamp,make-marker,$(FABRIC_WIDTH) $(MARKER_FLAGS))
 
 # --- body -------------------------------------------------------------------
 ifneq ($(wildcard $(C)/avatar.json),)
@@ -203,9 +213,17 @@ $(OUT)/pattern/report.json: $(OUT)/fit/report.json $(SEAMS) $(EXPORT_STAMP) $(BI
 	$(call RUN,export-rest) $(OUT)/fit/rest.ply --garment $(GARMENT) $(if $(SEAMS),--seams $(SEAMS) --body $(OUT)/poses/poses.json) \
 	  $(if $(NO_SEW_CHECK),,--fit $(OUT)/fit/report.json) $(EXPORT_FLAGS) --out $(@D) --force $(SIMULATE_QUIET) $(VERDICT_OK)
 
+# --- marker --------------------------------------------------------------------
+# The pieces nested on the customer's fabric width: how much fabric to buy.
+ifneq ($(FABRIC_WIDTH),)
+MARKER_REPORT := $(OUT)/marker/report.json
+$(MARKER_REPORT): $(OUT)/pattern/report.json $(MARKER_STAMP) $(BIN)/make-marker
+	$(call RUN,make-marker) $(OUT)/pattern --width $(FABRIC_WIDTH) --title $(notdir $(C)) $(MARKER_FLAGS) --out $(@D) --force $(QUIET)
+endif
+
 # --- report --------------------------------------------------------------------
 # Pictures, 3D views and every stage's figures in one folder that opens from disk.
-$(OUT)/report/report.json: $(OUT)/pattern/report.json $(OUT)/fit/report.json $(NO_ADAPT_REPORT) $(REPORT_STAMP) $(BIN)/fit-report
+$(OUT)/report/report.json: $(OUT)/pattern/report.json $(OUT)/fit/report.json $(NO_ADAPT_REPORT) $(MARKER_REPORT) $(REPORT_STAMP) $(BIN)/fit-report
 	$(call RUN,fit-report) $(OUT) $(REPORT_FLAGS) --workers $(THREADS) --out $(@D) --force $(QUIET)
 
 .PHONY: fit

@@ -81,7 +81,11 @@ KERNELS = {
 def run_case(name, case, bin_dir, out, threads, env=None):
     r = subprocess.run(["make", "--no-print-directory", "-f", os.path.join(ROOT, "pipelines", "fit.mk"),
                         f"CUSTOMER={case['customer']}", f"OUT={out}", f"BIN={bin_dir}", f"THREADS={threads}"],
-                       cwd=ROOT, capture_output=True, text=True, env={**os.environ, **(env or {})})
+                       # The DXF's Creation Date comes from SOURCE_DATE_EPOCH where set, else
+                       # from the rest shape's file date: fixed here, so that runs either side
+                       # of midnight still write identical files.
+                       cwd=ROOT, capture_output=True, text=True,
+                       env={**os.environ, "SOURCE_DATE_EPOCH": "1764547200", **(env or {})})
     if r.returncode != 0:
         raise SystemExit(f"golden: {name}: the pipeline failed:\n{r.stdout}{r.stderr}")
 

@@ -21,6 +21,8 @@ packages=(
   python3-matplotlib       # benchmark plots
   libpng-dev libfreetype-dev fonts-dejavu-core  # fit-report: PNG renders and their labels
   librsvg2-bin             # fit-report: the pattern as a picture (rsvg-convert)
+  libcairo2-dev            # export-rest: the tiled PDF patterns (A4, Letter, A0, roll)
+  poppler-utils            # tests: the PDF pages rasterised (pdftoppm) and read (pdftotext, pdfinfo)
   chromium                 # the fit report's browser test (headless)
   slurm-wlm munge          # the Slurm batch's test runs its own single-node cluster (scripts/tests/local_slurm.py)
 )

@@ -59,6 +59,7 @@ GarmentSpec parse_garment_spec(const Json& j, const std::string& file) {
 
   s.offset = root.number("offset", 0.0, Range::between(0.0, 0.5));
   s.offset_fillet = root.number("offset_fillet", s.offset_fillet, Range::between(0.0, 0.5));
+  s.fabric_width = root.number("fabric_width", 0.0, Range::between(0.0, 10.0));
   if (const auto paint = root.optional_array("paint")) {
     for (size_t i = 0; i < paint->size(); ++i) {
       const SpecObject p = paint->object(i);
@@ -131,6 +132,7 @@ OrderedJson to_json(const GarmentSpec& s) {
   else j["resolution"] = {{"vertex_count", s.vertex_count}};
   j["offset"] = s.offset;
   j["offset_fillet"] = s.offset_fillet;
+  if (s.fabric_width > 0.0) j["fabric_width"] = s.fabric_width;
   OrderedJson paint = OrderedJson::array();
   for (const auto& r : s.paint) {
     OrderedJson p;

@@ -76,6 +76,10 @@ struct GarmentSpec {
   RegionCutOptions smoothing;
   RemeshOptions remesh;  // target_edge_length is filled in by make_garment
   double snap_tolerance = 0.05;
+  // Width (metres) of the fabric the garment is cut from; 0: not given.
+  // make-garment only records it; make fit nests the pattern on it
+  // (make-marker) where customer.mk sets no FABRIC_WIDTH of its own.
+  double fabric_width = 0.0;
 };
 
 // Strict reader; SpecError naming the file and JSON pointer of any wrong,

@@ -1,8 +1,11 @@
 #include "pattern/export_report.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
+#include <numeric>
 #include <set>
 #include <string>
 #include <vector>
@@ -180,6 +183,10 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
                   {"flipped_triangles", flipped},
                   {"overlapping_pieces", overlapping},
                   {"seams_within_tolerance", seams_ok == static_cast<int>(seams.size())},
+                  {"seams_matched_1mm", std::count_if(seams.begin(), seams.end(),
+                                                      [](const SeamMeasure& m) { return m.mismatch <= kSeamMatch; })},
+                  {"worst_seam_mismatch", std::accumulate(seams.begin(), seams.end(), 0.0,
+                                                          [](double w, const SeamMeasure& m) { return std::max(w, m.mismatch); })},
                   {"merged_cuts", pattern.merged_cuts.size()},
                   {"flatten_rounds", pattern.rounds},
                   {"flattenings", pattern.flattenings},
@@ -253,6 +260,28 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
     for (int k = 0; k < 3; ++k) xyz.push_back(pattern.mesh.V(v, k));
     return xyz;
   };
+  // Each notch pair: its label, the 3D arc length, the flat arc on each side
+  // and their difference (what a sewer matching the notches eases in).
+  auto notch_pairs = [&](size_t seam) {
+    OrderedJson pairs = OrderedJson::array();
+    std::map<std::string, std::pair<const Notch*, const Notch*>> by_label;
+    std::vector<std::string> order;
+    for (const Notch& n : layout.notches) {
+      if (n.seam != static_cast<int>(seam)) continue;
+      auto& pr = by_label[n.label];
+      if (!pr.first && !pr.second) order.push_back(n.label);
+      (n.side == 0 ? pr.first : pr.second) = &n;
+    }
+    for (const std::string& label : order) {
+      const auto& [l, r] = by_label[label];
+      OrderedJson p = {{"label", label}, {"arc_3d", (l ? l : r)->arc}};
+      p["left_flat_arc"] = l ? OrderedJson(l->flat_arc) : OrderedJson();
+      p["right_flat_arc"] = r ? OrderedJson(r->flat_arc) : OrderedJson();
+      p["difference"] = l && r ? OrderedJson(std::abs(l->flat_arc - r->flat_arc)) : OrderedJson();
+      pairs.push_back(p);
+    }
+    return pairs;
+  };
   OrderedJson seam_list = OrderedJson::array();
   for (size_t i = 0; i < seams.size(); ++i) {
     const SeamMeasure& m = seams[i];
@@ -268,7 +297,10 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
                          {"mismatch", m.mismatch},
                          {"mismatch_relative", m.length_3d > 0.0 ? m.mismatch / m.length_3d : 0.0},
                          {"within_tolerance", m.ok},
+                         {"matched_1mm", m.mismatch <= kSeamMatch},
+                         {"intended_ease", 0.0},
                          {"notches", notches},
+                         {"notch_pairs", notch_pairs(i)},
                          {"smoothed", s.smoothed},
                          {"from", point(s.vertex_ids.front())},
                          {"to", point(s.closed ? s.vertex_ids.front() : s.vertex_ids.back())}});

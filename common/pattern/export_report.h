@@ -12,10 +12,11 @@
 namespace gp {
 
 // Seam mismatch tolerance: the two sides' flat lengths may differ by at most
-// max(2 mm, 0.5 % of the seam's length).
+// max(absolute, relative * the seam's length); export-rest sets it from
+// PatternOptions (1 mm, 0).
 struct SeamTolerance {
-  double absolute = 0.002;   // metres
-  double relative = 0.005;   // fraction of the 3D length
+  double absolute = 0.001;   // metres
+  double relative = 0.0;     // fraction of the 3D length
 };
 
 struct SeamToleranceFields {
@@ -25,6 +26,12 @@ struct SeamToleranceFields {
     f.number("relative", t.relative, Range::non_negative());
   }
 };
+
+// Sewn edges that match: a seam's two flat sides sewn together should agree
+// within 1 mm (a sewer eases in less without a mark); the cutter adds no
+// deliberate ease (the flattening keeps both sides at the seam's 3D length),
+// so the report names every seam beyond it as a mismatch, not as ease.
+constexpr double kSeamMatch = 0.001;  // metres
 
 struct SeamMeasure {
   double length_3d = 0.0;                   // metres, cut edges of the seam

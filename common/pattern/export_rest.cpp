@@ -11,6 +11,8 @@
 #include "interp/pose_interpolator.h"
 #include "io/mesh_io.h"
 #include "pattern/dxf_writer.h"
+#include "marker/marker_pieces.h"
+#include "pattern/pdf_writer.h"
 #include "pattern/rest_diagnostics.h"
 #include "pattern/svg_writer.h"
 #include "pose/pose_set.h"
@@ -245,10 +247,33 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
   report["options"] = {{"pattern", write_options(used, PatternOptionFields{})},
                        {"layout", write_options(options.layout, LayoutOptionFields{})},
                        {"seam_mismatch_tolerance", write_options(options.tolerance, SeamToleranceFields{})},
+                       {"dxf", {{"profile", dxf_profile_name(options.dxf.profile)},
+                                {"size", options.dxf.size},
+                                {"author", options.dxf.author},
+                                {"creation_date", options.dxf.date}}},
                        {"threads", options.threads},
                        {"seam_spec", options.seams.empty() ? OrderedJson() : to_json(result.spec)}};
   report["sewn_fit"] = sewn_fit_report(result, options);
   report["rest_shape"] = result.rest_shape;
+  OrderedJson sheets = OrderedJson::array();
+  for (const PaperSize& paper : pdf_papers()) {
+    PdfOptions pdf;
+    pdf.paper = paper;
+    const PdfSummary s = tile_pages(result.layout, pdf);
+    OrderedJson blank = OrderedJson::array();
+    for (const PdfPage& t : s.tiles)
+      if (!t.printed) blank.push_back(t.label);
+    sheets.push_back({{"file", "pattern-" + paper.name + ".pdf"},
+                      {"paper", paper.name},
+                      {"paper_mm", {1000.0 * paper.width, 1000.0 * paper.height}},
+                      {"rows", s.rows},
+                      {"columns", s.columns},
+                      {"pages", s.pages},
+                      {"blank_left_out", blank},
+                      {"overlap_m", pdf.overlap},
+                      {"test_square_m", pdf.test_square}});
+  }
+  report["sheets"] = sheets;
   const OrderedJson body = pattern_report(result.pattern, result.layout, po, options.tolerance);
   for (auto it = body.begin(); it != body.end(); ++it) report[it.key()] = it.value();
   return report;
@@ -265,7 +290,18 @@ void write_export_rest(const ExportRestResult& result, const ExportRestOptions& 
   const Pattern& pattern = result.pattern;
   const Layout& layout = result.layout;
   write_file_atomic(dir / "pattern.svg", [&](std::ostream& s) { write_svg(s, pattern, layout, {result.name}); }, false);
-  write_file_atomic(dir / "pattern.dxf", [&](std::ostream& s) { write_dxf(s, pattern, layout, result.name); }, false);
+  DxfOptions dxf = options.dxf;
+  if (dxf.style.empty() || dxf.style == DxfOptions{}.style) dxf.style = result.name;
+  const std::vector<CutInstruction> cut = cut_instructions(pattern);
+  write_file_atomic(dir / "pattern.dxf", [&](std::ostream& s) { write_dxf(s, pattern, layout, dxf, cut); }, false);
+  for (const PaperSize& paper : pdf_papers()) {
+    PdfOptions po;
+    po.paper = paper;
+    po.title = result.name;
+    write_file_atomic(dir / ("pattern-" + paper.name + ".pdf"),
+                      [&](std::ostream& s) { write_pdf(s, pattern, layout, cut, po, options.dxf.date); });
+  }
+  write_json_file(dir / "marker_pieces.json", marker_pieces_json(marker_pieces(pattern, layout, cut)));
   write_file_atomic(dir / "pieces.obj", [&](std::ostream& s) { write_pieces_obj(s, pattern, layout); }, false);
   write_file_atomic(dir / "seams.obj", [&](std::ostream& s) { write_seams_obj(s, pattern); }, false);
   write_mesh(dir / "pieces_flat.ply", flat_pieces_mesh(pattern, layout));

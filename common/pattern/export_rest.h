@@ -11,6 +11,7 @@
 
 #include "garment/garment_file.h"
 #include "io/mesh.h"
+#include "pattern/dxf_writer.h"
 #include "pattern/export_report.h"
 #include "pattern/layout.h"
 #include "pattern/make_pattern.h"
@@ -31,6 +32,8 @@ struct ExportRestOptions {
   std::string fit;
   PatternOptions pattern;
   LayoutOptions layout;
+  // pattern.dxf's profile and style text; style defaults to the garment's name.
+  DxfOptions dxf;
   SeamTolerance tolerance;
   int threads = 1;
   adapt::ProgressCallback progress;  // the sewn-fit simulation's progress (lines prefixed "verification: ")

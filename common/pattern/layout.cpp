@@ -96,10 +96,11 @@ bool overlaps(const Box2& a, const Box2& b) {
 
 }  // namespace
 
-PieceLabel piece_label(const LaidOutPiece& piece, const std::string& title, const std::string& name) {
+PieceLabel piece_label(const LaidOutPiece& piece, const std::string& title, const std::string& name,
+                       const CutInstruction& cut) {
   PieceLabel l;
   l.line1 = title + " " + name;
-  l.line2 = std::string("cut 1, right side up, grain ") + (piece.grain_from_body_vertical ? "vertical" : "along the piece");
+  l.line2 = cut.text() + ", grain " + (piece.grain_from_body_vertical ? "vertical" : "along the piece");
   const double room = 2.0 * 0.8 * piece.label_room;  // usable width across the disc
   const double w1 = 0.6 * static_cast<double>(l.line1.size()), w2 = 0.6 * static_cast<double>(l.line2.size());
   l.size1 = std::max(0.001, std::min({0.01, piece.label_room / 4.0, room / w1}));
@@ -236,7 +237,9 @@ Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options) {
   // two thirds of it, wherever their text box overlaps no other label
   // (nor the piece's own label); a seam whose label fits nowhere has none.
   std::vector<Box2> taken;
-  for (size_t i = 0; i < count; ++i) taken.push_back(piece_label(layout.pieces[i], options.title, pattern.pieces[i].name).box);
+  const std::vector<CutInstruction> cut = cut_instructions(pattern);
+  for (size_t i = 0; i < count; ++i)
+    taken.push_back(piece_label(layout.pieces[i], options.title, pattern.pieces[i].name, cut[i]).box);
   for (size_t s = 0; s < pattern.seams.size(); ++s) {
     const double start = seam_start[s], end = seam_length[s];
     if (!(end > start)) continue;
@@ -271,7 +274,7 @@ Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options) {
           if (!inside) continue;
           const double t = e.length > 0.0 ? (s_at - e0) / e.length : 0.0;
           const Eigen::Vector2d q = pa + t * (pb - pa);
-          layout.notches.push_back({static_cast<int>(s), piece, q, outward, q + options.notch_length * outward, s_at, side});
+          layout.notches.push_back({static_cast<int>(s), piece, q, outward, q + options.notch_length * outward, s_at, side, "", 0.0});
         }
         for (int c = 0; c < 3; ++c) {
           const double m = start + label_at[c] * (end - start);
@@ -287,6 +290,26 @@ Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options) {
           if (e1 >= end) mark.tip = pb;
         }
       }
+    }
+    // Labels and flat arc lengths of this seam's notches: the k-th notch
+    // point along the seam on both sides; the flat arc summed over the
+    // side's flat edges up to it.
+    for (Notch& n : layout.notches) {
+      if (n.seam != static_cast<int>(s)) continue;
+      const size_t k = static_cast<size_t>(std::lower_bound(at.begin(), at.end(), n.arc) - at.begin());
+      n.label = pattern.seams[s].name + " " + std::to_string(k + 1);
+      double flat = 0.0;
+      for (const CutEdge& e : pattern.cut.edges) {
+        if (e.seam != static_cast<int>(s) || e.arc_start >= n.arc) continue;
+        const int face = n.side == 0 ? e.left_face : e.right_face;
+        const LaidOutPiece& lp = layout.pieces[static_cast<size_t>(pattern.piece_of_face[static_cast<size_t>(face)])];
+        const int a = pattern.local_vertex[static_cast<size_t>(n.side == 0 ? e.left_a : e.right_a)];
+        const int b = pattern.local_vertex[static_cast<size_t>(n.side == 0 ? e.left_b : e.right_b)];
+        const double len = (lp.UV.row(a) - lp.UV.row(b)).norm();
+        const double t = e.length > 0.0 ? std::min(1.0, (n.arc - e.arc_start) / e.length) : 1.0;
+        flat += t * len;
+      }
+      n.flat_arc = flat;
     }
     if (dart && mark.piece >= 0) {
       // The drill hole: a centimetre short of the tip, on the fold line.

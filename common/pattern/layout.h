@@ -13,6 +13,7 @@
 #include <vector>
 #include <Eigen/Core>
 
+#include "pattern/cut_instructions.h"
 #include "pattern/pattern.h"
 #include "pattern/seam_allowance.h"
 #include "spec/option_fields.h"
@@ -52,6 +53,11 @@ struct Notch {
   Eigen::Vector2d tip = Eigen::Vector2d::Zero();      // at + notch_length * outward
   double arc = 0.0;  // 3D arc length along the seam, metres
   int side = 0;      // 0: left of the seam's direction, 1: right
+  // Both notches of a pair (the same material point on the two sides of a
+  // seam) carry the same label: the seam's name and the notch's number along
+  // it from 1 ("side_left 3").
+  std::string label;
+  double flat_arc = 0.0;  // arc length along this side's sewing line on the flat piece, metres
 };
 
 struct SeamLabel {
@@ -100,7 +106,8 @@ struct Box2 {
   Eigen::Vector2d lo = Eigen::Vector2d::Zero(), hi = Eigen::Vector2d::Zero();
 };
 // A piece's label as the writers set it: two lines centred on label_at
-// (line 1 "<title> <piece name>", line 2 how to cut it), their font sizes
+// (line 1 "<title> <piece name>", line 2 what to cut (cut_instructions.h)
+// and the grain: "cut 1 self, face up, pair of right sleeve, grain vertical"), their font sizes
 // (metres) as large as 10 mm but small enough for both lines to fit the
 // disc of radius label_room; `box` bounds both (widths estimated at 0.6 of
 // the font size per character).
@@ -110,7 +117,8 @@ struct PieceLabel {
   double size1 = 0.0, size2 = 0.0;
   Box2 box;
 };
-PieceLabel piece_label(const LaidOutPiece& piece, const std::string& title, const std::string& name);
+PieceLabel piece_label(const LaidOutPiece& piece, const std::string& title, const std::string& name,
+                       const CutInstruction& cut);
 // The box a seam's name (`characters` long, 3 mm text centred on `at`) takes.
 Box2 seam_label_box(const Eigen::Vector2d& at, size_t characters);
 

@@ -90,9 +90,12 @@ struct PatternOptions {
   // A seam's flat sides may differ by max(seam_tolerance,
   // seam_tolerance_relative * 3D length); pieces beyond match_margin times
   // that are flattened again with 4 times the boundary weight, up to
-  // max_boundary_weight.
-  double seam_tolerance = 0.002;           // metres
-  double seam_tolerance_relative = 0.005;  // fraction
+  // max_boundary_weight. 1 mm whatever the length: the two edges sewn
+  // together must match within 1 mm (kSeamMatch, export_report.h); it was
+  // max(2 mm, 0.5 %), which let the slim-shirt's 0.86 m side seam differ
+  // by 3.6 mm.
+  double seam_tolerance = 0.001;         // metres
+  double seam_tolerance_relative = 0.0;  // fraction
   double match_margin = 1.0;
   double max_boundary_weight = 640.0;
   FlattenOptions flatten = default_flatten();

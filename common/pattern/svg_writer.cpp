@@ -32,6 +32,7 @@ void write_svg(std::ostream& out, const Pattern& pattern, const Layout& layout, 
          ".drill{fill:none;stroke:#000;stroke-width:0.4}\n"
          "text{font-family:sans-serif;fill:#000}\n"
          "</style>\n";
+  const std::vector<CutInstruction> cut = cut_instructions(pattern);
   for (size_t i = 0; i < pattern.pieces.size(); ++i) {
     const PatternPiece& p = pattern.pieces[i];
     const LaidOutPiece& lp = layout.pieces[i];
@@ -41,11 +42,14 @@ void write_svg(std::ostream& out, const Pattern& pattern, const Layout& layout, 
     for (const auto& poly : lp.allowance) out << "<path class=\"cut\" d=\"" << path(poly) << "\"/>\n";
     out << "<path class=\"sew\" d=\"" << path(lp.outline) << "\"/>\n";
     for (const Notch& n : layout.notches)
-      if (n.piece == static_cast<int>(i))
-        out << line(n.at, n.tip, "notch") << "\n";
+      if (n.piece == static_cast<int>(i)) {
+        // The pair's label (the same on both pieces of the seam) as a tooltip.
+        const std::string l = line(n.at, n.tip, "notch");
+        out << l.substr(0, l.size() - 2) << "><title>" << escape_xml(n.label) << "</title></line>\n";
+      }
     // The label, centred in the piece, and the grain line through it with an
     // arrow head at both ends, interrupted where the label is.
-    const PieceLabel label = piece_label(lp, options.title, p.name);
+    const PieceLabel label = piece_label(lp, options.title, p.name, cut[i]);
     const Eigen::Vector2d a = lp.grain_from, b = lp.grain_to;
     const double head = std::min(0.01, 0.25 * (b - a).norm());
     if (a.y() < label.box.lo.y()) out << line(a, Eigen::Vector2d(a.x(), label.box.lo.y() - 0.002), "grain") << "\n";

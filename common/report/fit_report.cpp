@@ -284,6 +284,24 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
   files.pattern_png = "pattern.png";
   copy_into(run.pattern_svg, folder / files.pattern_svg);
   svg_to_png(run.pattern_svg, folder / files.pattern_png, options.pattern_width);
+  // The shop floor's files, where export-rest and make-marker wrote them.
+  const std::pair<const char*, const char*> shop_files[] = {
+      {"pattern/pattern.dxf", "pattern CAD (Gerber AccuMark, Lectra, Optitex, CLO): DXF, ASTM D6673 or as export-rest's --dxf-profile chose"},
+      {"pattern/pattern-a4.pdf", "home printer, A4: tiled pages, cover with test square and page map"},
+      {"pattern/pattern-letter.pdf", "home printer, Letter: tiled pages, 10 cm and 4 in test squares"},
+      {"pattern/pattern-a0.pdf", "copy shop, A0 plotter"},
+      {"pattern/pattern-roll914.pdf", "roll plotter, 914 mm"},
+      {"marker/marker.pdf", "cutting table: the marker, the pieces nested on the fabric width"},
+      {"marker/marker.svg", "the marker as SVG"}};
+  for (const auto& [from, what] : shop_files) {
+    const fs::path source = run.dir / from;
+    if (!fs::is_regular_file(source)) continue;
+    fs::create_directories(folder / "files");
+    const std::string to = "files/" + fs::path(from).filename().string();
+    copy_into(source, folder / to);
+    files.downloads.push_back({to, what});
+    if (fs::path(from).filename() == "marker.svg") files.marker_svg = to;
+  }
   result.pattern_seconds = seconds_since(t);
 
   for (const auto& [from, to] : kThreeFiles) copy_into(three / from, folder / "three" / to);

@@ -133,6 +133,7 @@ std::vector<const StageReport*> FitRun::stages() const {
   out.push_back(&fit);
   if (fit_no_adapt) out.push_back(&*fit_no_adapt);
   out.push_back(&pattern);
+  if (marker) out.push_back(&*marker);
   return out;
 }
 
@@ -147,6 +148,12 @@ FitRun read_fit_run(const fs::path& dir) {
   run.fit = read_stage(dir, "fit", "simulate-adapt-report");
   run.fit_no_adapt = read_optional_stage(dir, "fit-noadapt", "simulate-adapt-report");
   run.pattern = read_stage(dir, "pattern", "export-rest-report");
+  run.marker = read_optional_stage(dir, "marker", "make-marker-report");
+  if (run.marker) {
+    for (const char* p : {"/length", "/utilisation", "/fabric_width"}) require(*run.marker, p, "number");
+    require(*run.marker, "/pieces", "integer");
+    require_file(dir / "marker" / "marker.svg");
+  }
 
   require(run.poses, "/verdict", "string");
   run.poses_manifest = require_file(dir / "poses" / "poses.json");

@@ -8,7 +8,8 @@
 //   extended/  extend-boundary    (optional) the garment that was simulated
 //   fit/       simulate-adapt     rest.ply, draped_<kk>_<pose>.ply
 //   fit-noadapt/ simulate-adapt --no-adapt (optional) the design through the same motion
-//   pattern/   export-rest        pattern.svg
+//   pattern/   export-rest        pattern.svg (and pattern.dxf, pattern-<paper>.pdf)
+//   marker/    make-marker        (optional: make fit's FABRIC_WIDTH) marker.svg, marker.pdf
 // Every folder's report.json is checked for its schema, and the fields the
 // report needs are checked strictly (a missing or mistyped one is a SpecError
 // naming the file and JSON pointer). Fields that other stages may or may not
@@ -61,7 +62,7 @@ struct OpenedPose {
 
 struct FitRun {
   std::filesystem::path dir;
-  std::optional<StageReport> body, extended, fit_no_adapt;
+  std::optional<StageReport> body, extended, fit_no_adapt, marker;
   StageReport poses, garment, fit, pattern;
   // The key pose fitted opened (opened/), read only while the pose it wrote
   // is the one poses/ registered (same sha256), so that a folder left from an

@@ -40,17 +40,31 @@ std::string verdict_cell(const StageReport& report, const std::string& pointer) 
   return "(no verdict given)";
 }
 
-// A crossing count: a number, or an object of counts listed by name.
+// A crossing count as a fitter reads it: "none", or how many and where (the
+// first example of each kind), never the report's field names.
 std::string crossings_cell(const StageReport& fit, const std::string& pointer) {
   if (pointer.empty()) return figure(fit, "", "integer");
   const Json* j = lookup(fit, pointer);
-  if (j->is_number()) return figure(fit, pointer, "integer");
+  if (j->is_number()) return j->get<long long>() == 0 ? "none" : figure(fit, pointer, "integer");
+  if (!j->is_object()) return "(no counts)";
+  auto count = [&](const char* key) -> long long {
+    return j->contains(key) && (*j)[key].is_number_integer() ? (*j)[key].get<long long>() : 0;
+  };
+  const long long body = count("body_edge_crossings"), cloth = count("cloth_edge_crossings");
+  if (body == 0 && cloth == 0) return "none";
   std::string out;
-  if (j->is_object())
-    for (const auto& kv : j->items())
-      if (kv.value().is_number())
-        out += (out.empty() ? "" : "<br>") + escape_xml(kv.key()) + ": " + figure(fit, pointer + "/" + kv.key(), "integer");
-  return out.empty() ? "(no counts)" : out;
+  auto where = [&](const char* examples) -> std::string {
+    if (!j->contains(examples) || !(*j)[examples].is_array() || (*j)[examples].empty()) return "";
+    const Json& e = (*j)[examples][0];
+    if (!e.contains("edge") || !e.contains("face")) return "";
+    return " (first: edge " + e["edge"][0].dump() + "&ndash;" + e["edge"][1].dump() + " through triangle " + e["face"].dump() + ")";
+  };
+  if (body > 0)
+    out += figure(fit, pointer + "/body_edge_crossings", "integer") + " body edges through the cloth" + where("body_edge_examples");
+  if (cloth > 0)
+    out += std::string(out.empty() ? "" : "; ") + figure(fit, pointer + "/cloth_edge_crossings", "integer") +
+           " cloth edges through the body" + where("cloth_edge_examples");
+  return out;
 }
 
 void section(std::string& h, const std::string& id, const std::string& heading) {
@@ -111,45 +125,6 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
   }
   h += "</section>\n";
 
-  // Key poses table.
-  section(h, "key-poses", "Key poses");
-  h += "<p>Figures at the end of each key pose of the adaptation (largest principal stretch of each triangle "
-       "against the rest shape). The verification simulates the final rest shape afresh, without adaptation.</p>\n";
-  h += "<table class=\"figures\" id=\"key-pose-table\">\n<tr><th>#</th><th>pose</th><th>max stretch</th><th>p99</th>"
-       "<th>area above " + limit + "</th><th>deepest penetration</th><th>crossings</th><th>verification</th>"
-       "<th>steps</th><th>settle steps</th><th>settled</th><th>rest area growth</th></tr>\n";
-  for (size_t i = 0; i < run.keys.size(); ++i) {
-    const std::string p = run.keys[i].pointer;
-    h += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + figure(fit, p + "/pose", "text") + "</td><td>" +
-         figure(fit, p + "/max_stretch", "fixed3") + "</td><td>" + figure(fit, p + "/p99_stretch", "fixed3") +
-         "</td><td>" + figure(fit, p + "/area_fraction_above_limit", "percent2") + "</td><td>" +
-         figure(fit, p + "/deepest_penetration_m", "mm2") + "</td><td>" +
-         crossings_cell(fit, crossings_pointer(fit, i)) + "</td><td>" +
-         verdict_cell(fit, verification_pointer(fit, i)) + "</td><td>" + figure(fit, p + "/steps", "integer") +
-         "</td><td>" + figure(fit, p + "/settle_steps", "integer") + "</td><td>" + figure(fit, p + "/settled", "yesno") +
-         "</td><td>" + figure(fit, p + "/rest_area_growth", "times3") + "</td></tr>\n";
-  }
-  h += "</table>\n";
-  bool any_verification = false;
-  for (size_t i = 0; i < run.keys.size(); ++i) any_verification |= !verification_pointer(fit, i).empty();
-  if (any_verification) {
-    h += "<h3>Verification: the final rest shape through the motion, no adaptation</h3>\n"
-         "<table class=\"figures\" id=\"verification-table\">\n<tr><th>#</th><th>pose</th><th>verdict</th>"
-         "<th>max stretch</th><th>p99</th><th>mean</th><th>area above " + limit + "</th><th>deepest penetration</th></tr>\n";
-    for (size_t i = 0; i < run.keys.size(); ++i) {
-      const std::string v = verification_pointer(fit, i);
-      const std::string p = v.empty() ? "" : v + "/";
-      h += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + escape_xml(run.keys[i].pose) + "</td><td>" +
-           verdict_cell(fit, v) + "</td><td>" + figure(fit, v.empty() ? "" : p + "max_stretch", "fixed3") + "</td><td>" +
-           figure(fit, v.empty() ? "" : p + "p99_stretch", "fixed3") + "</td><td>" +
-           figure(fit, v.empty() ? "" : p + "mean_stretch", "fixed3") + "</td><td>" +
-           figure(fit, v.empty() ? "" : p + "area_fraction_above_limit", "percent2") + "</td><td>" +
-           figure(fit, v.empty() ? "" : p + "deepest_penetration_m", "mm2") + "</td></tr>\n";
-    }
-    h += "</table>\n";
-  }
-  h += "</section>\n";
-
   // Pictures and 3D views per pose.
   section(h, "renders", "The garment on the body");
   const render::ColourScale stretch = render::stretch_scale(run.delta);
@@ -173,87 +148,155 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
   }
   h += "</section>\n";
 
+  // The pattern and what the shop floor takes of it.
+  section(h, "pattern", "The sewing pattern");
+  h += "<p>The pattern at 1:1 in millimetres (" + escape_xml(files.pattern_svg) + "; as a picture: <a href=\"" +
+       escape_xml(files.pattern_png) + "\">" + escape_xml(files.pattern_png) + "</a>).</p>\n";
+  h += "<img class=\"pattern\" src=\"" + escape_xml(files.pattern_svg) + "\" alt=\"sewing pattern\">\n";
+  h += "<img class=\"pattern-png\" src=\"" + escape_xml(files.pattern_png) + "\" alt=\"sewing pattern as a picture\">\n";
+
+  if (!files.downloads.empty()) {
+    h += "<p>For the shop floor:</p>\n<ul class=\"downloads\">\n";
+    for (const ReportFiles::Download& d : files.downloads)
+      h += "<li><a href=\"" + escape_xml(d.path) + "\" download>" + escape_xml(d.path) + "</a>: " + escape_xml(d.what) + "</li>\n";
+    h += "</ul>\n";
+  }
+  h += "</section>\n";
+  if (run.marker) {
+    const StageReport& m = *run.marker;
+    section(h, "marker", "The marker: how much fabric to buy");
+    h += "<p>The pieces nested on a fabric " + figure(m, "/fabric_width", "metres2") + " wide: " +
+         figure(m, "/length", "metres2") + " of fabric, utilisation " + figure(m, "/utilisation", "percent2") + ", " +
+         figure(m, "/pieces", "integer") + " pieces, grain along the length.</p>\n";
+    if (!files.marker_svg.empty())
+      h += "<img class=\"marker\" src=\"" + escape_xml(files.marker_svg) + "\" alt=\"the marker\">\n";
+    h += "</section>\n";
+  }
+
+  // The tables, after the pictures, with plain cells.
+  std::string tables;
+  // Key poses table.
+  section(tables, "key-poses", "Key poses");
+  tables += "<p>Figures at the end of each key pose of the adaptation (largest principal stretch of each triangle "
+       "against the rest shape). The verification simulates the final rest shape afresh, without adaptation.</p>\n";
+  tables += "<table class=\"figures\" id=\"key-pose-table\">\n<tr><th>#</th><th>pose</th><th>max stretch</th><th>p99</th>"
+       "<th>area above " + limit + "</th><th>deepest penetration</th><th>crossings</th><th>verification</th>"
+       "<th>steps</th><th>settle steps</th><th>settled</th><th>rest area growth</th></tr>\n";
+  for (size_t i = 0; i < run.keys.size(); ++i) {
+    const std::string p = run.keys[i].pointer;
+    tables += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + figure(fit, p + "/pose", "text") + "</td><td>" +
+         figure(fit, p + "/max_stretch", "fixed3") + "</td><td>" + figure(fit, p + "/p99_stretch", "fixed3") +
+         "</td><td>" + figure(fit, p + "/area_fraction_above_limit", "percent2") + "</td><td>" +
+         figure(fit, p + "/deepest_penetration_m", "mm2") + "</td><td>" +
+         crossings_cell(fit, crossings_pointer(fit, i)) + "</td><td>" +
+         verdict_cell(fit, verification_pointer(fit, i)) + "</td><td>" + figure(fit, p + "/steps", "integer") +
+         "</td><td>" + figure(fit, p + "/settle_steps", "integer") + "</td><td>" + figure(fit, p + "/settled", "yesno") +
+         "</td><td>" + figure(fit, p + "/rest_area_growth", "times3") + "</td></tr>\n";
+  }
+  tables += "</table>\n";
+  bool any_verification = false;
+  for (size_t i = 0; i < run.keys.size(); ++i) any_verification |= !verification_pointer(fit, i).empty();
+  if (any_verification) {
+    tables += "<h3>Verification: the final rest shape through the motion, no adaptation</h3>\n"
+         "<table class=\"figures\" id=\"verification-table\">\n<tr><th>#</th><th>pose</th><th>verdict</th>"
+         "<th>max stretch</th><th>p99</th><th>mean</th><th>area above " + limit + "</th><th>deepest penetration</th></tr>\n";
+    for (size_t i = 0; i < run.keys.size(); ++i) {
+      const std::string v = verification_pointer(fit, i);
+      const std::string p = v.empty() ? "" : v + "/";
+      tables += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + escape_xml(run.keys[i].pose) + "</td><td>" +
+           verdict_cell(fit, v) + "</td><td>" + figure(fit, v.empty() ? "" : p + "max_stretch", "fixed3") + "</td><td>" +
+           figure(fit, v.empty() ? "" : p + "p99_stretch", "fixed3") + "</td><td>" +
+           figure(fit, v.empty() ? "" : p + "mean_stretch", "fixed3") + "</td><td>" +
+           figure(fit, v.empty() ? "" : p + "area_fraction_above_limit", "percent2") + "</td><td>" +
+           figure(fit, v.empty() ? "" : p + "deepest_penetration_m", "mm2") + "</td></tr>\n";
+    }
+    tables += "</table>\n";
+  }
+  tables += "</section>\n";
+
   if (run.fit_no_adapt) {
-    section(h, "before-after", "What the adaptation does: the design against the adapted garment");
-    h += "<p>Top row: the garment as designed, simulated through the same motion without adaptation "
+    section(tables, "before-after", "What the adaptation does: the design against the adapted garment");
+    tables += "<p>Top row: the garment as designed, simulated through the same motion without adaptation "
          "(fit-noadapt/). Bottom row: the adapted garment. Same colour scale.</p>\n";
-    h += "<table class=\"figures\" id=\"before-after-table\">\n<tr><th>#</th><th>pose</th><th>max stretch as designed</th>"
+    tables += "<table class=\"figures\" id=\"before-after-table\">\n<tr><th>#</th><th>pose</th><th>max stretch as designed</th>"
          "<th>adapted</th><th>area above " + limit + " as designed</th><th>adapted</th></tr>\n";
     for (size_t i = 0; i < run.keys.size(); ++i) {
       const std::string p = run.keys[i].pointer, q = run.keys_no_adapt[i].pointer;
-      h += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + escape_xml(run.keys[i].pose) + "</td><td>" +
+      tables += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + escape_xml(run.keys[i].pose) + "</td><td>" +
            figure(*run.fit_no_adapt, q + "/max_stretch", "fixed3") + "</td><td>" + figure(fit, p + "/max_stretch", "fixed3") +
            "</td><td>" + figure(*run.fit_no_adapt, q + "/area_fraction_above_limit", "percent2") + "</td><td>" +
            figure(fit, p + "/area_fraction_above_limit", "percent2") + "</td></tr>\n";
     }
-    h += "</table>\n";
+    tables += "</table>\n";
     for (size_t i = 0; i < run.keys.size(); ++i)
-      h += "<h3>Key pose " + std::to_string(i + 1) + ": " + escape_xml(run.keys[i].pose) + "</h3>\n<img class=\"sheet\" src=\"" +
+      tables += "<h3>Key pose " + std::to_string(i + 1) + ": " + escape_xml(run.keys[i].pose) + "</h3>\n<img class=\"sheet\" src=\"" +
            escape_xml(files.poses[i].before_after) + "\" alt=\"" + escape_xml(run.keys[i].pose) + ": as designed and adapted\">\n";
-    h += "</section>\n";
+    tables += "</section>\n";
   }
 
   // Rest shape.
-  section(h, "rest-shape", "The rest shape against the design");
+  section(tables, "rest-shape", "The rest shape against the design");
   const std::string last = run.keys.back().pointer;
-  h += "<p>Top row: the garment as designed. Bottom row: the adapted rest shape (the garment's unstretched "
+  tables += "<p>Top row: the garment as designed. Bottom row: the adapted rest shape (the garment's unstretched "
        "shape, off the body), each triangle coloured by its area over the design's.</p>\n";
-  h += "<table class=\"figures\" id=\"rest-table\">\n";
-  h += "<tr><th>rest area growth</th><td>" + figure(fit, last + "/rest_area_growth", "times3") + "</td></tr>\n";
-  h += "<tr><th>face area growth, 95th percentile</th><td>" + optional_figure(pattern, "/rest_shape/face_growth_p95", "times3") + "</td></tr>\n";
-  h += "<tr><th>face area growth, largest</th><td>" + optional_figure(pattern, "/rest_shape/face_growth_max", "times3") + "</td></tr>\n";
-  h += "<tr><th>faces turned over (tucks)</th><td>" + optional_figure(pattern, "/rest_shape/turned_faces", "integer") + "</td></tr>\n";
-  h += "<tr><th>cone points (design)</th><td>" + optional_figure(pattern, "/rest_shape/cone_points", "integer") + " (" +
+  tables += "<table class=\"figures\" id=\"rest-table\">\n";
+  tables += "<tr><th>rest area growth</th><td>" + figure(fit, last + "/rest_area_growth", "times3") + "</td></tr>\n";
+  tables += "<tr><th>face area growth, 95th percentile</th><td>" + optional_figure(pattern, "/rest_shape/face_growth_p95", "times3") + "</td></tr>\n";
+  tables += "<tr><th>face area growth, largest</th><td>" + optional_figure(pattern, "/rest_shape/face_growth_max", "times3") + "</td></tr>\n";
+  tables += "<tr><th>faces turned over (tucks)</th><td>" + optional_figure(pattern, "/rest_shape/turned_faces", "integer") + "</td></tr>\n";
+  tables += "<tr><th>cone points (design)</th><td>" + optional_figure(pattern, "/rest_shape/cone_points", "integer") + " (" +
        optional_figure(pattern, "/rest_shape/cone_points_design", "integer") + ")</td></tr>\n";
-  h += "<tr><th>sum of |angle defect| [rad] (design)</th><td>" +
+  tables += "<tr><th>sum of |angle defect| [rad] (design)</th><td>" +
        optional_figure(pattern, "/rest_shape/abs_angle_defect_sum_rad", "fixed2") + " (" +
        optional_figure(pattern, "/rest_shape/abs_angle_defect_sum_design_rad", "fixed2") + ")</td></tr>\n";
-  h += "</table>\n<img class=\"sheet\" src=\"" + escape_xml(files.rest_sheet) + "\" alt=\"the design and the adapted rest shape\">\n";
-  h += "<p>3D: <a href=\"" + escape_xml(files.rest_glb) + "\" download>" + escape_xml(files.rest_glb) + "</a>, <a href=\"" +
+  tables += "</table>\n<img class=\"sheet\" src=\"" + escape_xml(files.rest_sheet) + "\" alt=\"the design and the adapted rest shape\">\n";
+  tables += "<p>3D: <a href=\"" + escape_xml(files.rest_glb) + "\" download>" + escape_xml(files.rest_glb) + "</a>, <a href=\"" +
        escape_xml(files.design_glb) + "\" download>" + escape_xml(files.design_glb) + "</a></p>\n</section>\n";
 
   // Pattern.
-  section(h, "pattern", "The sewing pattern");
-  h += "<table class=\"figures\" id=\"pattern-table\">\n";
-  h += "<tr><th>pieces</th><td>" + figure(pattern, "/summary/pieces", "integer") + "</td></tr>\n";
-  h += "<tr><th>seams</th><td>" + figure(pattern, "/summary/seams", "integer") + "</td></tr>\n";
-  h += "<tr><th>cuts added for distortion</th><td>" + optional_figure(pattern, "/summary/added_cuts", "integer") + "</td></tr>\n";
-  h += "<tr><th>seam length</th><td>" + figure(pattern, "/summary/total_seam_length", "metres2") + "</td></tr>\n";
+  section(tables, "pattern-figures", "The sewing pattern: figures");
+  tables += "<table class=\"figures\" id=\"pattern-table\">\n";
+  tables += "<tr><th>pieces</th><td>" + figure(pattern, "/summary/pieces", "integer") + "</td></tr>\n";
+  tables += "<tr><th>seams</th><td>" + figure(pattern, "/summary/seams", "integer") + "</td></tr>\n";
+  tables += "<tr><th>cuts added for distortion</th><td>" + optional_figure(pattern, "/summary/added_cuts", "integer") + "</td></tr>\n";
+  tables += "<tr><th>seam length</th><td>" + figure(pattern, "/summary/total_seam_length", "metres2") + "</td></tr>\n";
   const Json* limit_kind = lookup(pattern, "/summary/limit/kind");
   if (limit_kind && limit_kind->is_string() && limit_kind->get<std::string>() == "one-sided") {
-    h += "<tr><th>darts</th><td>" + optional_figure(pattern, "/summary/darts", "integer") + "</td></tr>\n";
-    h += "<tr><th>worst compression over a piece's worst 1 % (limit)</th><td>" +
+    tables += "<tr><th>darts</th><td>" + optional_figure(pattern, "/summary/darts", "integer") + "</td></tr>\n";
+    tables += "<tr><th>worst compression over a piece's worst 1 % (limit)</th><td>" +
          figure(pattern, "/summary/worst_compression", "percent2") + " (" +
          figure(pattern, "/summary/limit/compression_worst1", "percent2") + ")</td></tr>\n";
-    h += "<tr><th>worst ease over a piece's worst 5 % (limit)</th><td>" + figure(pattern, "/summary/worst_ease", "percent2") +
+    tables += "<tr><th>worst ease over a piece's worst 5 % (limit)</th><td>" + figure(pattern, "/summary/worst_ease", "percent2") +
          " (" + figure(pattern, "/summary/limit/ease_worst5", "percent2") + ")</td></tr>\n";
   } else {
-    h += "<tr><th>worst p95 distortion (limit)</th><td>" + figure(pattern, "/summary/worst_p95_error", "percent2") + " (" +
+    tables += "<tr><th>worst p95 distortion (limit)</th><td>" + figure(pattern, "/summary/worst_p95_error", "percent2") + " (" +
          figure(pattern, "/summary/limit/p95_error", "percent2") + ")</td></tr>\n";
-    h += "<tr><th>worst distortion (limit)</th><td>" + figure(pattern, "/summary/worst_max_error", "percent2") + " (" +
+    tables += "<tr><th>worst distortion (limit)</th><td>" + figure(pattern, "/summary/worst_max_error", "percent2") + " (" +
          figure(pattern, "/summary/limit/max_error", "percent2") + ")</td></tr>\n";
   }
-  h += "<tr><th>within the limit</th><td>" + figure(pattern, "/summary/meets_distortion_limit", "yesno") + "</td></tr>\n";
-  h += "<tr><th>sheet</th><td>" + optional_figure(pattern, "/summary/sheet_width", "metres2") + " &times; " +
+  tables += "<tr><th>seams whose two sewn edges match within 1 mm (worst difference)</th><td>" +
+            optional_figure(pattern, "/summary/seams_matched_1mm", "integer") + " of " +
+            figure(pattern, "/summary/seams", "integer") + " (" + optional_figure(pattern, "/summary/worst_seam_mismatch", "mm2") +
+            ")</td></tr>\n";
+  tables += "<tr><th>within the limit</th><td>" + figure(pattern, "/summary/meets_distortion_limit", "yesno") + "</td></tr>\n";
+  tables += "<tr><th>sheet</th><td>" + optional_figure(pattern, "/summary/sheet_width", "metres2") + " &times; " +
        optional_figure(pattern, "/summary/sheet_height", "metres2") + "</td></tr>\n";
   const std::string sewn = sewn_fit_pointer(pattern);
-  h += "<tr><th>sewn fit in every key pose</th><td>" + verdict_cell(pattern, sewn) + "</td></tr>\n";
+  tables += "<tr><th>sewn fit in every key pose</th><td>" + verdict_cell(pattern, sewn) + "</td></tr>\n";
   // The sewn garment's figures per key pose, where export-rest checked them.
   if (const Json* poses = sewn.empty() ? nullptr : lookup(pattern, sewn + "/key_poses"); poses && poses->is_array()) {
     for (size_t i = 0; i < poses->size(); ++i) {
       const std::string p = sewn + "/key_poses/" + std::to_string(i);
-      h += "<tr><th>sewn fit at " + figure(pattern, p + "/pose", "text") + ": verdict, p99 stretch, area above the limit, deepest penetration</th><td>" +
+      tables += "<tr><th>sewn fit at " + figure(pattern, p + "/pose", "text") + ": verdict, p99 stretch, area above the limit, deepest penetration</th><td>" +
            figure(pattern, p + "/verdict", "text") + ", " + figure(pattern, p + "/p99_stretch", "fixed3") + ", " +
            figure(pattern, p + "/area_fraction_above_limit", "percent2") + ", " +
            figure(pattern, p + "/deepest_penetration_m", "mm2") + "</td></tr>\n";
     }
   }
-  h += "</table>\n";
-  h += "<p>The pattern at 1:1 in millimetres (" + escape_xml(files.pattern_svg) + "; as a picture: <a href=\"" +
-       escape_xml(files.pattern_png) + "\">" + escape_xml(files.pattern_png) + "</a>).</p>\n";
-  h += "<img class=\"pattern\" src=\"" + escape_xml(files.pattern_svg) + "\" alt=\"sewing pattern\">\n";
-  h += "<img class=\"pattern-png\" src=\"" + escape_xml(files.pattern_png) + "\" alt=\"sewing pattern as a picture\">\n";
-  h += "</section>\n";
+  tables += "</table>\n";
+  tables += "</section>\n";
+
+  h += tables;
 
   section(h, "timings", "Timings");
   h += "<p>Wall-clock seconds of each stage, from its timing.json (they differ from run to run).</p>\n"

@@ -30,6 +30,13 @@ struct ReportFiles {
   std::string rest_sheet;       // renders/rest_vs_design.png
   std::string rest_glb, design_glb;
   std::string pattern_svg, pattern_png;
+  // Files for the shop floor copied beside the page (files/...), with what
+  // each is for: the DXF, the PDFs, the marker's PDF.
+  struct Download {
+    std::string path, what;
+  };
+  std::vector<Download> downloads;
+  std::string marker_svg;       // files/marker.svg, empty without a marker
   std::vector<std::string> scripts;  // in load order
   std::string front = "0,0,1";       // the body's front direction, where the 3D views start
 };

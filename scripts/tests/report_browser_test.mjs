@@ -147,6 +147,23 @@ try {
   const before = await page.locator('#before-after img').count();
   check(before === keyPoses, `expected ${keyPoses} before/after pictures (NO_ADAPT=1), found ${before}`);
 
+  // No cell shows a raw field dump (a report's field names and values, as the
+  // crossings cell once did: "deepest_body_vertex_id: -1"), only plain words and figures.
+  const cells = await page.$$eval('td', (all) => all.map((e) => e.textContent));
+  check(cells.length > 20, `expected the tables' cells, found ${cells.length}`);
+  for (const c of cells)
+    check(!/[a-z]+(_[a-z0-9]+)+\s*:/.test(c) && !/[{}\[\]"]/.test(c), `a cell shows a raw field dump: "${c}"`);
+  // The page opens with the verdict, then the pictures of the poses and the
+  // pattern; the tables come after.
+  const order = await page.$$eval('section', (all) => all.map((e) => e.id));
+  const at = (id) => order.indexOf(id);
+  check(at('checks') === 0 && at('renders') === 1 && at('pattern') === 2 && at('key-poses') > at('pattern'),
+        `sections in the order verdict, poses, pattern, tables; found ${order.join(', ')}`);
+  const downloads = await page.$$eval('ul.downloads a', (all) => all.map((a) => a.getAttribute('href')));
+  for (const f of ['files/pattern.dxf', 'files/pattern-a4.pdf', 'files/pattern-letter.pdf'])
+    check(downloads.includes(f), `the page links ${f}`);
+  for (const f of downloads) check(fs.existsSync(path.join(fitDir, 'report', f)), `linked file exists: ${f}`);
+
   // Timings (filled in from timing.js).
   const timings = await page.$$eval('.timing', (all) => all.map((e) => ({src: e.dataset.src, ptr: e.dataset.ptr, text: e.textContent})));
   check(timings.length >= 5, `expected the stages' timings, found ${timings.length}`);

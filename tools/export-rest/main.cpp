@@ -90,6 +90,11 @@ int main(int argc, char** argv) {
   app.add_option("--min-edge-fraction", po.smoothing.trace.min_edge_fraction,
                  "Cut curves cross an edge at least this fraction of its length from its ends [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.5));
+  app.add_option("--seam-tolerance", po.seam_tolerance, "A seam's two flat sides may differ by this much [m]")
+      ->capture_default_str()->check(CLI::Range(0.0, 0.1));
+  app.add_option("--seam-tolerance-relative", po.seam_tolerance_relative,
+                 "... or by this fraction of its 3D length, where that is more [fraction]")
+      ->capture_default_str()->check(CLI::Range(0.0, 0.1));
   app.add_option("--match-margin", po.match_margin,
                  "Pieces on a seam whose sides differ by more than this times the seam tolerance are flattened again [fraction]")
       ->capture_default_str()->check(CLI::Range(0.1, 100.0));
@@ -113,6 +118,14 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(0.01, 10.0));
   app.add_option("--sheet-width", o.layout.sheet_width, "Width of the sheet the pieces are laid out on [m]")
       ->capture_default_str()->check(CLI::Range(0.1, 100.0));
+  std::string dxf_profile = "astm";
+  app.add_option("--dxf-profile", dxf_profile,
+                 "pattern.dxf for pattern CAD (astm: ASTM D6673; aama: AAMA-DXF, slit notches) or general CAD (plain)")
+      ->capture_default_str()->check(CLI::IsMember({"astm", "aama", "plain"}));
+  app.add_option("--size", o.dxf.size, "The DXF's Size and Sample Size: the customer [default: the garment's name]");
+  app.add_option("--author", o.dxf.author, "The DXF's Author")->capture_default_str();
+  app.add_option("--creation-date", o.dxf.date,
+                 "The DXF's Creation Date, YYYY-MM-DD [default: SOURCE_DATE_EPOCH's, else the rest mesh's modification date, UTC]");
   tool.add_common_options();
 
   return tool.run(argc, argv, [&] {
@@ -125,6 +138,8 @@ int main(int argc, char** argv) {
     po.smooth = !edge_cuts;
     po.armholes = !no_armholes;
     po.mirror = !no_mirror;
+    o.dxf.profile = gp::dxf_profile_from_name(dxf_profile);
+    if (o.dxf.date.empty()) o.dxf.date = gp::default_creation_date(o.rest);
     if (po.p95_limit > po.max_limit) throw gp::UsageError("--p95-limit must not exceed --max-limit", "--p95-limit");
     o.tolerance.absolute = po.seam_tolerance;
     o.tolerance.relative = po.seam_tolerance_relative;

@@ -7,6 +7,7 @@
 #include "garment/garment_file.h"
 #include "io/mesh_io.h"
 #include "pattern/make_pattern.h"
+#include "pattern/pdf_writer.h"
 #include "spec/json_file.h"
 #include "testing/command.h"
 #include "testing/files.h"
@@ -168,9 +169,10 @@ TEST_CASE("export-rest writes a 1:1 pattern of a sleeve", "[cli]") {
     CHECK(std::stod(w) > 1000.0 * (std::min(width, c.height)));
   }
 
-  SECTION("the DXF reads back with the same outline lengths") {
-    const auto sew = read_dxf_polylines(c.dir / "out" / "pattern.dxf", "SEW");
-    const auto cut = read_dxf_polylines(c.dir / "out" / "pattern.dxf", "CUT");
+  SECTION("the plain DXF reads back with the same outline lengths") {
+    REQUIRE(c.run("plain", "seams.json", "--dxf-profile plain").exit_code == 0);
+    const auto sew = read_dxf_polylines(c.dir / "plain" / "pattern.dxf", "SEW");
+    const auto cut = read_dxf_polylines(c.dir / "plain" / "pattern.dxf", "CUT");
     REQUIRE(sew.size() == 1);
     REQUIRE(cut.size() == 1);
     CHECK(closed_length(sew[0]) == Approx(1000.0 * outline).margin(0.01));
@@ -186,7 +188,7 @@ TEST_CASE("export-rest writes a 1:1 pattern of a sleeve", "[cli]") {
       WARN("skipped the ezdxf check: python3-ezdxf is not installed");
     } else {
       const auto py = testing::run_command("/usr/bin/python3 " + (c.dir / "check_dxf.py").string() + " " +
-                                           (c.dir / "out" / "pattern.dxf").string());
+                                           (c.dir / "plain" / "pattern.dxf").string());
       INFO(py.err);
       REQUIRE(py.exit_code == 0);
       CHECK(std::stod(py.out) == Approx(1000.0 * outline).margin(0.01));
@@ -205,6 +207,99 @@ TEST_CASE("export-rest writes a 1:1 pattern of a sleeve", "[cli]") {
     CHECK(r2.exit_code == 2);
     CHECK(c.run("out", "seams.json", "--force").exit_code == 0);
   }
+}
+
+TEST_CASE("export-rest writes the industry DXF (ASTM D6673, AAMA) that ezdxf reads back as the SVG", "[cli][dxf]") {
+  const CylinderCase c;
+  // Two seams: two pieces, so that "one block per piece" is a real check.
+  c.write_spec("two.json", R"({"schema": "seam-spec/1", "seams": [{"name": "underarm", "points": [0, 240]},
+                                                                  {"name": "top", "points": [12, 252]}]})");
+  if (testing::run_command("/usr/bin/python3 -c 'import ezdxf'").exit_code != 0) {
+    WARN("skipped: python3-ezdxf is not installed (scripts/install-deps.sh installs it)");
+    return;
+  }
+  const std::string script = (testing::source_dir() / "common/pattern/tests/check_industry_dxf.py").string();
+  for (const std::string profile : {"astm", "aama"}) {
+    INFO(profile);
+    const auto r = c.run(profile, "two.json", "--dxf-profile " + profile + " --size 'Ann O\xc3\xa9' --creation-date 2026-12-01");
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const Json report = read_json_file(c.dir / profile / "report.json");
+    CHECK(report["options"]["dxf"]["profile"] == profile);
+    const auto py = testing::run_command("/usr/bin/python3 " + script + " " + (c.dir / profile / "pattern.dxf").string() +
+                                         " " + (c.dir / profile / "pattern.svg").string() + " " + profile);
+    INFO(py.out << py.err);
+    REQUIRE(py.exit_code == 0);
+    const Json figures = Json::parse(py.out);
+    CHECK(figures["blocks"] == report["summary"]["pieces"]);
+    CHECK(figures["blocks"].get<int>() == 2);
+    CHECK(figures["worst_mm"].get<double>() < 0.1);
+    int notches = 0;
+    for (const auto& s : report["seams"]) notches += s["notches"].get<int>();
+    CHECK(figures["notches"] == notches);
+    CHECK(figures["style"][1] == "Creation Date: 2026-12-01");
+    CHECK(figures["style"][3] == "Sample Size: Ann O?");  // UTF-8 "e acute" as one '?' 
+  }
+}
+
+TEST_CASE("export-rest writes tiled PDFs whose test square prints true to size", "[cli][pdf]") {
+  const CylinderCase c;
+  if (testing::run_command("command -v pdftoppm pdftotext pdfinfo >/dev/null").exit_code != 0) {
+    WARN("skipped: poppler-utils is not installed (scripts/install-deps.sh installs it)");
+    return;
+  }
+  const auto r = c.run("out");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const Json report = read_json_file(c.dir / "out" / "report.json");
+  REQUIRE(report["sheets"].size() == 4);
+  const std::string script = (testing::source_dir() / "common/pattern/tests/check_pdf.py").string();
+  auto check = [&](const std::string& file, const std::string& squares) {
+    const auto py = testing::run_command("/usr/bin/python3 " + script + " " + (c.dir / "out" / file).string() + " " +
+                                         (c.dir / "out" / "report.json").string() + " " + squares);
+    INFO(file << ": " << py.out << py.err);
+    REQUIRE(py.exit_code == 0);
+    return Json::parse(py.out);
+  };
+  // The sleeve's piece (about 0.75 x 0.5 m with allowance) needs several A4 pages.
+  const Json a4 = check("pattern-a4.pdf", "100");
+  CHECK(a4["rows"].get<int>() * a4["columns"].get<int>() >= 4);
+  const Json letter = check("pattern-letter.pdf", "100 101.6");
+  CHECK(letter["pages"].get<int>() >= 5);
+  const Json a0 = check("pattern-a0.pdf", "100");
+  CHECK(a0["pages"] == 2);  // the cover and one A0 page
+  check("pattern-roll914.pdf", "100");
+  // The same inputs give the same PDF.
+  REQUIRE(c.run("again").exit_code == 0);
+  CHECK(testing::read_file(c.dir / "out" / "pattern-a4.pdf") == testing::read_file(c.dir / "again" / "pattern-a4.pdf"));
+}
+
+TEST_CASE("tile_pages leaves out the pages no piece reaches", "[pdf]") {
+  // Two small squares at opposite corners of a 60 x 60 cm sheet: on A4 (19 x
+  // 27.7 cm printable, 1 cm overlap) 4 columns and 3 rows, of which only the
+  // two corner tiles are printed.
+  Layout layout;
+  layout.width = 0.6;
+  layout.height = 0.6;
+  auto square = [](double x, double y, double a) {
+    LaidOutPiece p;
+    p.outline = {{x, y}, {x + a, y}, {x + a, y + a}, {x, y + a}};
+    return p;
+  };
+  // Columns start at 0, 0.18, 0.36, 0.54 m (the third ends at 0.55), rows
+  // end downwards at 0.323, 0.056 and below.
+  layout.pieces = {square(0.01, 0.54, 0.05), square(0.56, 0.01, 0.03)};
+  PdfOptions o;
+  o.paper = paper_a4();
+  const PdfSummary s = tile_pages(layout, o);
+  CHECK(s.columns * s.rows == 12);
+  int printed = 0;
+  for (const PdfPage& t : s.tiles) printed += t.printed ? 1 : 0;
+  CHECK(printed == 2);
+  CHECK(s.pages == 3);
+  CHECK(s.tiles.front().printed);
+  CHECK(s.tiles.back().printed);
+  CHECK(s.tiles.front().label == "A1");
 }
 
 TEST_CASE("export-rest: bad seam specs exit with their category and name the seam", "[cli][errors]") {

@@ -5,3 +5,5 @@ REGISTER_FLAGS := --reference slim_tpose
 # against 984 and 39 s, rest growth x1.394 against x1.402, the same stretch
 # figures; see settle_damping in common/adapt/garment_motion.h).
 SIMULATE_FLAGS := --settle-damping 0.01
+# The fabric the customer buys: 1.50 m wide (make-marker nests the pattern on it).
+FABRIC_WIDTH := 1.50
