@@ -32,6 +32,7 @@ struct ExportRestOptions {
   PatternOptions pattern;
   LayoutOptions layout;
   SeamTolerance tolerance;
+  DrapeCriteria drape;     // the sewn drape against the fit's verified drape (sewn_fit.h)
   int threads = 1;
   adapt::ProgressCallback progress;  // the sewn-fit simulation's progress (lines prefixed "verification: ")
 };

@@ -1122,6 +1122,58 @@ void remove_overlapping_darts(Pattern& pattern, const PatternOptions& options, F
   }
 }
 
+int split_overlapping_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
+  int added = 0;
+  int panels = 0;
+  for (const auto& s : pattern.seams)
+    if (s.kind == "panel") ++panels;
+  for (const auto& m : pattern.merged_cuts)
+    if (m.rfind("panel", 0) == 0) ++panels;
+  // Each round splits every piece still overlapping once, then flattens:
+  // a piece's two parts are each smaller than the outline that crossed
+  // itself, and a part that still overlaps is split again.
+  for (int round = 0; round < options.max_overlap_splits; ++round) {
+    std::vector<PatternSeam> seams;
+    std::vector<SurfaceCurve> curves;
+    for (size_t c = 0; c < pattern.pieces.size(); ++c) {
+      const PatternPiece& p = pattern.pieces[c];
+      if (!p.flat.boundary_overlaps) continue;
+      Eigen::MatrixXd chart;
+      try {
+        chart = conformal_chart(p);
+      } catch (const NumericalError&) {
+        continue;
+      }
+      // Through the crossing: the outline vertices there, halfway to the
+      // piece's centroid (a grain line through an outline point itself may
+      // only graze the piece).
+      Eigen::Vector3d at = Eigen::Vector3d::Zero();
+      for (int v : p.flat.overlap_vertex_ids) at += p.V.row(v).transpose();
+      if (!p.flat.overlap_vertex_ids.empty()) at /= static_cast<double>(p.flat.overlap_vertex_ids.size());
+      const Eigen::Vector3d centroid = p.V.colwise().mean().transpose();
+      std::string where;
+      std::optional<SurfaceCurve> curve;
+      for (const Eigen::Vector3d& x : {Eigen::Vector3d(0.5 * (at + centroid)), at, centroid}) {
+        curve = panel_curve(pattern, c, chart, x, options, &where);
+        if (curve) break;
+      }
+      if (!curve) continue;
+      PatternSeam seam{"panel" + std::to_string(++panels), "panel", "", {}, false, true, {}};
+      seam.reason = "piece " + p.name + " overlapped itself in the flat near (" + metres(at.x()) + ", " +
+                    metres(at.y()) + ", " + metres(at.z()) + "): " + where + ", " +
+                    metres(curve_length(p.V, p.F, *curve)) + " long";
+      seams.push_back(seam);
+      curves.push_back(piece_to_mesh(p, *curve));
+    }
+    if (seams.empty()) break;
+    added += static_cast<int>(seams.size());
+    insert_cuts(pattern, seams, curves);
+    flatten_pieces(pattern, options, cache, true);
+    while (match_seams(pattern, options, cache)) flatten_pieces(pattern, options, cache, true);
+  }
+  return added;
+}
+
 Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SeamPath>& seams,
                      const PatternOptions& options, const PatternContext& context) {
   LapTimer timer;
@@ -1156,6 +1208,7 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   review_panels(pattern, options, cache, ledger);
   merge_small_pieces(pattern, options, cache);
   remove_overlapping_darts(pattern, options, cache);
+  split_overlapping_pieces(pattern, options, cache);
   // The output has no flipped triangle: pieces left with flips are
   // flattened injectively.
   flatten_pieces(pattern, options, cache, true);

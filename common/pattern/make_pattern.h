@@ -67,6 +67,7 @@ struct PatternOptions {
 
   double min_piece_area = 0.01;     // m^2: added cuts leave no piece smaller than this
   int max_rounds = 16;              // flatten / place rounds
+  int max_overlap_splits = 4;       // rounds of split_overlapping_pieces
 
   // Armholes: a loop ending a limb's tube (centroid at least limb_offset from
   // the body's vertical axis) gets a seam at the geodesic level set whose
@@ -135,6 +136,7 @@ struct PatternOptionFields {
     f.number("budget_share", o.budget_share, Range::non_negative());
     f.number("min_piece_area_m2", o.min_piece_area, Range::non_negative());
     f.integer("max_rounds", o.max_rounds, Range::between(1, 1e6));
+    f.integer("max_overlap_splits", o.max_overlap_splits, Range::between(0, 100));
     f.flag("armholes", o.armholes);
     f.number("min_sleeve_length_m", o.min_sleeve_length, Range::non_negative());
     f.number("armhole_slope", o.armhole_slope, Range::positive());
@@ -234,6 +236,12 @@ void merge_small_pieces(Pattern& pattern, const PatternOptions& options, Flatten
 // such darts, the one that leaves the least cloth beyond the limit
 // (panel_excess); listed in merged_cuts.
 void remove_overlapping_darts(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
+
+// Phase 6c: a piece whose outline still overlaps itself is split by a panel
+// seam along the grain through the crossing (halfway to its centroid), at
+// most max_overlap_splits rounds; returns how many seams were added. A
+// pattern is never written with an overlapping piece (export_rest.h).
+int split_overlapping_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
 
 // All phases.
 Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SeamPath>& seams,

@@ -107,6 +107,12 @@ int main(int argc, char** argv) {
                  "The fit's report (simulate-adapt's report.json): the garment sewn from the flat pieces is simulated "
                  "through the fit's key poses with its settings and judged like its verification; a failing pose "
                  "exits 8 (needs --garment); none: no sewn-fit check");
+  app.add_option("--drape-mean-limit", o.drape.max_mean,
+                 "Sewn-fit check: a key pose fails when the sewn drape lies farther than this from the fit's "
+                 "verified drape on average [m]")->capture_default_str()->check(CLI::Range(0.0, 10.0));
+  app.add_option("--drape-p95-limit", o.drape.max_p95,
+                 "Sewn-fit check: ... or farther than this on 5 % of the area [m]")
+      ->capture_default_str()->check(CLI::Range(0.0, 10.0));
   app.add_option("--seam-allowance", o.layout.seam_allowance, "Seam allowance around every piece [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.2));
   app.add_option("--notch-spacing", o.layout.notch_spacing, "Distance between notches along a seam [m]")
