@@ -1122,6 +1122,60 @@ void remove_overlapping_darts(Pattern& pattern, const PatternOptions& options, F
   }
 }
 
+namespace {
+
+// The shortest path through piece p (3D edge lengths, inner vertices only
+// between its ends) from outline vertex `from` to the outline vertex half
+// the outline's length round from it; nullopt when none runs inside.
+std::optional<SurfaceCurve> halving_cut(const PatternPiece& p, int from) {
+  const std::vector<int>& loop = p.boundary;
+  const size_t nb = loop.size();
+  const auto start = std::find(loop.begin(), loop.end(), from);
+  if (start == loop.end() || nb < 4) return std::nullopt;
+  const size_t i0 = static_cast<size_t>(start - loop.begin());
+  std::vector<double> along(nb + 1, 0.0);
+  for (size_t k = 0; k < nb; ++k)
+    along[k + 1] = along[k] + (p.V.row(loop[(i0 + k) % nb]) - p.V.row(loop[(i0 + k + 1) % nb])).norm();
+  size_t half = 1;
+  while (half + 1 < nb && along[half] < 0.5 * along[nb]) ++half;
+  const int to = loop[(i0 + half) % nb];
+  const std::vector<char> on_outline = boundary_flags(p);
+  std::vector<std::vector<int>> neighbors(static_cast<size_t>(p.V.rows()));
+  for (int f = 0; f < p.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = p.F(f, k), b = p.F(f, (k + 1) % 3);
+      neighbors[static_cast<size_t>(a)].push_back(b);
+      neighbors[static_cast<size_t>(b)].push_back(a);
+    }
+  for (auto& n : neighbors) {
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+  }
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> dist;
+  std::vector<int> parent;
+  dijkstra(
+      neighbors, {from},
+      [&](int v, int w) {
+        // Along the outline only to reach the far end directly.
+        if (w != to && on_outline[static_cast<size_t>(w)]) return inf;
+        if (v == from && w == to && on_outline[static_cast<size_t>(v)]) {
+          // An outline edge is no cut.
+          const size_t k = static_cast<size_t>(std::find(loop.begin(), loop.end(), w) - loop.begin());
+          if (loop[(k + 1) % nb] == v || loop[(k + nb - 1) % nb] == v) return inf;
+        }
+        return (p.V.row(v) - p.V.row(w)).norm();
+      },
+      dist, parent, [&](int v) { return v == to; });
+  if (!std::isfinite(dist[static_cast<size_t>(to)])) return std::nullopt;
+  SurfaceCurve cut;
+  for (int v : trace_parents(parent, to)) cut.push_back(CurvePoint::at_vertex(v));
+  if (cut.size() < 2) return std::nullopt;
+  return cut;
+}
+
+}  // namespace
+
 int split_overlapping_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
   int added = 0;
   int panels = 0;
@@ -1156,6 +1210,14 @@ int split_overlapping_pieces(Pattern& pattern, const PatternOptions& options, Fl
       for (const Eigen::Vector3d& x : {Eigen::Vector3d(0.5 * (at + centroid)), at, centroid}) {
         curve = panel_curve(pattern, c, chart, x, options, &where);
         if (curve) break;
+      }
+      // The grain line needs a chart to run straight in, and the chart of a
+      // piece that winds past a full turn overlaps too: else the shortest
+      // path through the piece from the crossing to the outline point
+      // halfway round from it, which halves the outline's winding.
+      for (size_t i = 0; !curve && i < p.flat.overlap_vertex_ids.size(); ++i) {
+        curve = halving_cut(p, p.flat.overlap_vertex_ids[i]);
+        where = "the shortest path through it from the crossing to the outline point halfway round";
       }
       if (!curve) continue;
       PatternSeam seam{"panel" + std::to_string(++panels), "panel", "", {}, false, true, {}};

@@ -57,6 +57,9 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
   app.add_option("--max-rounds", po.max_rounds, "Rounds of flattening and placing darts and panels [count]")
       ->capture_default_str()->check(CLI::Range(1, 1000));
+  app.add_option("--max-overlap-splits", po.max_overlap_splits,
+                 "Rounds of splitting a piece whose outline overlaps itself through the crossing; one still "
+                 "overlapping fails the stage [count]")->capture_default_str()->check(CLI::Range(0, 100));
   app.add_option("--min-piece-area", po.min_piece_area, "Added cuts leave no piece smaller than this [m^2]")
       ->capture_default_str()->check(CLI::Range(0.0, 100.0));
   bool no_mirror = false;
