@@ -239,16 +239,8 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
       if (p.meets_limit) continue;
       const bool compression = po.symmetric ? p.stats.max_error > po.max_limit
                                             : p.stats.worst1_compression > po.compression_worst1;
-      const MaterialFace* worst = nullptr;
-      double most = -1.0;
-      const std::vector<MaterialFace> faces = material_faces(result.pattern, c);
-      for (const MaterialFace& m : faces) {
-        const double x = compression ? 1.0 - m.stretch[1] : m.stretch[0] - 1.0;
-        if (x > most) {
-          most = x;
-          worst = &m;
-        }
-      }
+      const Eigen::Vector3d worst = worst_region_centroid(material_faces(result.pattern, c),
+                                                          compression ? 0.01 : 0.05, compression);
       char buf[256];
       if (po.symmetric)
         std::snprintf(buf, sizeof(buf), "%s (p95 error %.1f %%, max %.1f %%", p.name.c_str(), 100.0 * p.stats.p95_error,
@@ -259,11 +251,9 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
       std::string line = buf;
       if (p.flat.boundary_overlaps) line += ", overlapping";
       if (p.flat.stats.flipped_triangles > 0) line += ", flipped triangles";
-      if (worst) {
-        std::snprintf(buf, sizeof(buf), "; worst at (%.3f, %.3f, %.3f) m", worst->centroid.x(), worst->centroid.y(),
-                      worst->centroid.z());
-        line += buf;
-      }
+      std::snprintf(buf, sizeof(buf), "; its worst %s at (%.3f, %.3f, %.3f) m", compression ? "compression" : "ease",
+                    worst.x(), worst.y(), worst.z());
+      line += buf;
       failing += (failing.empty() ? "" : ", ") + line + ")";
     }
     result.warnings.push_back("the distortion limit is not met in " + failing + " (report.json lists the pieces)");
