@@ -1010,13 +1010,20 @@ int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache&
     // A seam that brings both its pieces within the limit does what the
     // cutter is for, however little cloth that took, where the compression
     // it relieved ate much of the fit's stretch budget.
-    if (relief >= options.min_panel_relief * length || (within && tight)) {
+    // And the cutter stops adding pieces only when the limit is met (issue
+    // 49): a seam that took away most of its piece's cloth beyond the limit
+    // (min_relief_share) stays, however long, while that piece was over it.
+    const bool most = options.min_relief_share > 0.0 && before > 0.0 && relief >= options.min_relief_share * before;
+    if (relief >= options.min_panel_relief * length || (within && tight) || most) {
       char budget[180] = "";
-      if (relief < options.min_panel_relief * length)
+      if (relief < options.min_panel_relief * length && within && tight)
         std::snprintf(budget, sizeof(budget),
                       ", and both its pieces meet the limit (the piece was compressed by %.2f %%, more than %.0f %% of "
                       "the stretch budget %.3f)",
                       100.0 * compression, 100.0 * options.budget_share, options.stretch_budget);
+      else if (relief < options.min_panel_relief * length)
+        std::snprintf(budget, sizeof(budget), ", at least %.0f %% of it (min_relief_share)",
+                      100.0 * options.min_relief_share);
       for (const PanelSides& j : js) pattern.seams[j.seam].reason += std::string("; it relieved ") + buf + budget;
       continue;
     }

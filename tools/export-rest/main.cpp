@@ -48,6 +48,9 @@ int main(int argc, char** argv) {
   app.add_option("--max-darts", po.max_darts, "Darts per piece [count]")->capture_default_str()->check(CLI::Range(0, 100));
   app.add_option("--max-pieces", po.max_pieces, "Panel seams stop at this many pieces [count]")
       ->capture_default_str()->check(CLI::Range(0, 1000));
+  app.add_option("--min-relief-share", po.min_relief_share,
+                 "... or relieves at least this share of its piece's cloth beyond the limit (0: off) [fraction]")
+      ->capture_default_str()->check(CLI::Range(0.0, 1e6));
   app.add_option("--min-panel-relief", po.min_panel_relief,
                  "A panel seam stays only where it relieves this much cloth beyond the limit per metre of its length [m^2/m]")
       ->capture_default_str()->check(CLI::Range(0.0, 100.0));
@@ -62,6 +65,11 @@ int main(int argc, char** argv) {
                  "overlapping fails the stage [count]")->capture_default_str()->check(CLI::Range(0, 100));
   app.add_option("--min-piece-area", po.min_piece_area, "Added cuts leave no piece smaller than this [m^2]")
       ->capture_default_str()->check(CLI::Range(0.0, 100.0));
+  app.add_option("--tip-margin", po.tip_margin, "A dart's tip lies at least this far inside its piece [m]")
+      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  bool no_tip_inward = false;
+  app.add_flag("--no-tip-inward", no_tip_inward,
+               "A dart's curvature mode within the tip margin of the outline is skipped, not pointed at from inside");
   bool no_mirror = false;
   app.add_flag("--no-mirror", no_mirror,
                "Cut each piece on its own (default: a piece's mirror image across the body gets the mirror image of its darts and panel seams)");
@@ -134,6 +142,7 @@ int main(int argc, char** argv) {
     po.smooth = !edge_cuts;
     po.armholes = !no_armholes;
     po.mirror = !no_mirror;
+    po.tip_inward = !no_tip_inward;
     if (po.p95_limit > po.max_limit) throw gp::UsageError("--p95-limit must not exceed --max-limit", "--p95-limit");
     o.tolerance.absolute = po.seam_tolerance;
     o.tolerance.relative = po.seam_tolerance_relative;
