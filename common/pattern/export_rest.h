@@ -60,7 +60,10 @@ struct ExportRestResult {
 
 // Runs the stage up to (not including) writing. Throws the library's typed
 // errors: UsageError (inconsistent options), InputError, SpecError,
-// GeometryError, NumericalError.
+// GeometryError (also: --fit names a fit of another rest shape, whose
+// verified drapes are not this rest shape's), NumericalError (also: a flat
+// piece still overlaps itself after make_pattern split it; no pattern is
+// written with one).
 ExportRestResult export_rest(const ExportRestOptions& options);
 
 // The stage's report ("export-rest-report/1"), without timings.
