@@ -256,7 +256,28 @@ std::vector<DartTip> dart_tips(const Pattern& pattern, size_t c, const PatternOp
     for (size_t i = 0; i < m; ++i)
       tip.curvature += value[i] * kernel((X[i] - tip.point).norm(), r);
     if (tip.curvature < options.min_dart_angle) break;  // weaker modes follow
-    if (distance_to_outline(p, tip.point) < options.tip_margin) continue;
+    if (distance_to_outline(p, tip.point) < options.tip_margin) {
+      // A cone at the outline (a shoulder point, where the shoulder seam
+      // meets the armhole) has no room for a tip; a tailor points the dart
+      // at it from as near as a tip fits: the inner vertex tip_margin inside
+      // nearest to the mode, if the curvature around it still calls for a
+      // dart.
+      if (!options.tip_inward) continue;
+      int inner = -1;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (int v = 0; v < p.V.rows(); ++v) {
+        const Eigen::Vector3d x = p.V.row(v).transpose();
+        const double d = (x - mode).norm();
+        if (d < nearest && distance_to_outline(p, x) >= options.tip_margin) nearest = d, inner = v;
+      }
+      if (inner < 0 || nearest > 2.0 * r) continue;
+      DartTip moved;
+      moved.point = p.V.row(inner).transpose();
+      moved.at = CurvePoint::at_vertex(inner);
+      for (size_t i = 0; i < m; ++i) moved.curvature += value[i] * kernel((X[i] - moved.point).norm(), r);
+      if (moved.curvature < options.min_dart_angle) continue;
+      tip = moved;
+    }
     tips.push_back(tip);
   }
   // Named in a fixed order (left to right, then top down) rather than by

@@ -119,6 +119,28 @@ void write_seams_obj(std::ostream& out, const Pattern& pattern) {
   }
 }
 
+Eigen::Vector3d worst_region_centroid(const std::vector<MaterialFace>& faces, double fraction, bool compression) {
+  std::vector<const MaterialFace*> order;
+  double total = 0.0;
+  for (const MaterialFace& m : faces) {
+    order.push_back(&m);
+    total += m.area;
+  }
+  // Worst first; ties by centroid (deterministic whatever the face order).
+  auto value = [compression](const MaterialFace* m) { return compression ? 1.0 - m->stretch[1] : m->stretch[0] - 1.0; };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](const MaterialFace* a, const MaterialFace* b) { return value(a) > value(b); });
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double taken = 0.0;
+  for (const MaterialFace* m : order) {
+    const double w = std::min(m->area, fraction * total - taken);
+    if (w <= 0.0) break;
+    sum += w * m->centroid;
+    taken += w;
+  }
+  return taken > 0.0 ? Eigen::Vector3d(sum / taken) : Eigen::Vector3d::Zero();
+}
+
 OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const PatternOptions& options,
                            const SeamTolerance& tol) {
   OrderedJson j;
@@ -226,6 +248,12 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
     const LaidOutPiece& lp = layout.pieces[i];
     std::vector<std::string> darts_here;
     for (int d : p.dart_seams) darts_here.push_back(pattern.seams[static_cast<size_t>(d)].name);
+    // Where the piece is most compressed and most eased: where a dart or a
+    // seam would go.
+    const std::vector<MaterialFace> faces = material_faces(pattern, i);
+    auto at = [](const Eigen::Vector3d& x) { return OrderedJson::array({x.x(), x.y(), x.z()}); };
+    const OrderedJson worst_at = {{"compression_worst1_m", at(worst_region_centroid(faces, 0.01, true))},
+                                  {"ease_worst5_m", at(worst_region_centroid(faces, 0.05, false))}};
     pieces.push_back({{"name", p.name},
                       {"vertices", p.V.rows()},
                       {"faces", p.F.rows()},
@@ -247,6 +275,7 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
                         {"p95_compression", s.p95_compression}}},
                       {"meets_limit", p.meets_limit},
                       {"over_limit", bounds_exceeded(p)},
+                      {"worst_at", worst_at},
                       {"flipped_triangles", p.flat.stats.flipped_triangles},
                       {"boundary_overlaps", p.flat.boundary_overlaps},
                       {"initialization", p.flat.initialization},

@@ -55,6 +55,12 @@ void write_pieces_obj(std::ostream& out, const Pattern& pattern, const Layout& l
 // seam named after it, in the pattern's seam order: where the cuts run.
 void write_seams_obj(std::ostream& out, const Pattern& pattern);
 
+// Area-weighted centroid (rest shape, metres) of the worst `fraction` of the
+// faces' area, by compression 1 - s2 or by ease s1 - 1: where the limit's
+// figure of a piece comes from (the last face taken in part, as the limit
+// takes it).
+Eigen::Vector3d worst_region_centroid(const std::vector<MaterialFace>& faces, double fraction, bool compression);
+
 // The report body: pieces, seams, added cuts, totals (without options and timing).
 OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const PatternOptions& options,
                            const SeamTolerance& tol);

@@ -31,6 +31,38 @@ std::string sewn_drape_name(const adapt::KeyPoseResult& k) {
 
 OrderedJson vector_json(const Eigen::Vector3d& x) { return OrderedJson::array({x.x(), x.y(), x.z()}); }
 
+// The sewn drapes against the verified ones, over all key poses, and how
+// much of the flattening's ease is extra cloth in the drape: the pattern's
+// cloth exceeds the rest shape's by sewn / rest area - 1; the drape's by
+// sewn / verified drape area - 1 (cloth that hangs, not stretched flat, is
+// the difference). Their ratio is the share of the ease the drape shows.
+OrderedJson drape_summary(const SewnFitResult& sewn) {
+  const double ease = sewn.rest_area > 0.0 ? sewn.sewn_rest_area / sewn.rest_area - 1.0 : 0.0;
+  OrderedJson j = {{"criteria", write_options(sewn.drape_criteria, DrapeCriteriaFields{})},
+                   {"measured", !sewn.drape.empty()},
+                   {"why_not", sewn.drape.empty() ? OrderedJson(sewn.drape_not_measured) : OrderedJson(nullptr)},
+                   {"verdict", sewn.drape.empty() ? "not measured" : sewn.drape_passed() ? "pass" : "fail"},
+                   {"rest_area_m2", sewn.rest_area},
+                   {"sewn_rest_area_m2", sewn.sewn_rest_area},
+                   {"pattern_ease", ease}};
+  if (sewn.drape.empty()) return j;
+  double mean = 0.0, p95 = 0.0, max = 0.0, area_ratio = 0.0;
+  for (const DrapeDistance& d : sewn.drape) {
+    mean = std::max(mean, d.mean);
+    p95 = std::max(p95, d.p95);
+    max = std::max(max, d.max);
+    area_ratio += d.verified_area > 0.0 ? d.sewn_area / d.verified_area : 0.0;
+  }
+  area_ratio /= static_cast<double>(sewn.drape.size());
+  j["worst_mean_m"] = mean;
+  j["worst_p95_m"] = p95;
+  j["max_m"] = max;
+  j["mean_drape_area_ratio"] = area_ratio;
+  j["ease_in_drape"] = area_ratio - 1.0;
+  j["ease_share_in_drape"] = ease != 0.0 ? OrderedJson((area_ratio - 1.0) / ease) : OrderedJson(nullptr);
+  return j;
+}
+
 OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOptions& options) {
   if (!result.sewn_fit_done)
     return {{"checked", false}, {"why", "no fit report given (--fit FIT/report.json)"}};
@@ -39,6 +71,7 @@ OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOpti
   auto piece_name = [&result](int p) {
     return p >= 0 ? OrderedJson(result.pattern.pieces[static_cast<size_t>(p)].name) : OrderedJson(nullptr);
   };
+  const std::vector<int> vertex_piece = piece_of_rest_vertex(result.pattern);
   OrderedJson poses = OrderedJson::array();
   for (size_t i = 0; i < sewn.verification.poses.size(); ++i) {
     const adapt::PoseCheck& check = sewn.verification.poses[i];
@@ -61,6 +94,23 @@ OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOpti
       where["deepest_vertex_inside"] = nullptr;
     OrderedJson pose = adapt::to_json(check, sewn_drape_name(k));
     pose["where"] = where;
+    if (i < sewn.drape.size()) {
+      const DrapeDistance& d = sewn.drape[i];
+      pose["distance_to_verified"] = {
+          {"verdict", d.passed() ? "pass" : "fail"},
+          {"failures", d.failures},
+          {"verified_mesh", d.verified_mesh},
+          {"mean_m", d.mean},
+          {"p95_m", d.p95},
+          {"max_m", d.max},
+          {"farthest", {{"vertex", d.max_vertex},
+                        {"piece", d.max_vertex >= 0 ? piece_name(vertex_piece[static_cast<size_t>(d.max_vertex)])
+                                                    : OrderedJson(nullptr)},
+                        {"position_m", vector_json(d.max_position)}}},
+          {"sewn_drape_area_m2", d.sewn_area},
+          {"verified_drape_area_m2", d.verified_area},
+          {"drape_area_ratio", d.verified_area > 0.0 ? d.sewn_area / d.verified_area : 0.0}};
+    }
     poses.push_back(pose);
   }
   const bool failed = result.sewn_fit_failed();
@@ -77,6 +127,7 @@ OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOpti
                                                                          : result.sewn_fit_error)
                              : OrderedJson(nullptr)},
           {"faces_from_rest_shape", sewn.faces_from_rest_shape.size()},
+          {"drape", drape_summary(sewn)},
           {"steps", sewn.verification.steps},
           {"rejected_steps", sewn.verification.rejected_steps},
           {"key_poses", poses}};
@@ -160,15 +211,53 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
   result.stretch_budget = pattern_options.stretch_budget;
   result.pattern = make_pattern(rest.V, rest.F, result.seams, pattern_options, context);
   lap("cut_and_flatten");
+  // Never a pattern with an overlapping piece: its outline crosses itself,
+  // so it cannot be cut from a sheet (make_pattern first removes a dart
+  // whose sides crossed, then splits the piece through the crossing). What
+  // is left is the flattening's failure on this rest shape; nothing is
+  // written.
+  for (const PatternPiece& p : result.pattern.pieces) {
+    if (!p.flat.boundary_overlaps) continue;
+    Eigen::Vector3d at = Eigen::Vector3d::Zero();
+    for (int v : p.flat.overlap_vertex_ids) at += p.V.row(v).transpose();
+    if (!p.flat.overlap_vertex_ids.empty()) at /= static_cast<double>(p.flat.overlap_vertex_ids.size());
+    char where[160];
+    std::snprintf(where, sizeof(where), "near (%.3f, %.3f, %.3f) m on the rest shape", at.x(), at.y(), at.z());
+    throw NumericalError("the flat piece " + p.name + " overlaps itself and no cut removed the overlap", where);
+  }
   for (const auto& [phase, s] : result.pattern.seconds) result.timing["cut_and_flatten_" + phase] = s;
   LayoutOptions layout = options.layout;
   layout.title = result.name;
   result.layout = layout_pattern(result.pattern, layout);
   lap("layout");
   if (!result.pattern.meets_limit) {
+    // Which piece, by how much and where: the rest-shape point of its
+    // face farthest over the bound it exceeds, so that a tailor (or a seam
+    // spec) can put a dart or a seam there.
     std::string failing;
-    for (const PatternPiece& p : result.pattern.pieces)
-      if (!p.meets_limit) failing += (failing.empty() ? "" : ", ") + p.name;
+    const PatternOptions& po = pattern_options;
+    for (size_t c = 0; c < result.pattern.pieces.size(); ++c) {
+      const PatternPiece& p = result.pattern.pieces[c];
+      if (p.meets_limit) continue;
+      const bool compression = po.symmetric ? p.stats.max_error > po.max_limit
+                                            : p.stats.worst1_compression > po.compression_worst1;
+      const Eigen::Vector3d worst = worst_region_centroid(material_faces(result.pattern, c),
+                                                          compression ? 0.01 : 0.05, compression);
+      char buf[256];
+      if (po.symmetric)
+        std::snprintf(buf, sizeof(buf), "%s (p95 error %.1f %%, max %.1f %%", p.name.c_str(), 100.0 * p.stats.p95_error,
+                      100.0 * p.stats.max_error);
+      else
+        std::snprintf(buf, sizeof(buf), "%s (compression %.1f %% over its worst 1 %%, ease %.1f %% over its worst 5 %%",
+                      p.name.c_str(), 100.0 * p.stats.worst1_compression, 100.0 * p.stats.worst5_ease);
+      std::string line = buf;
+      if (p.flat.boundary_overlaps) line += ", overlapping";
+      if (p.flat.stats.flipped_triangles > 0) line += ", flipped triangles";
+      std::snprintf(buf, sizeof(buf), "; its worst %s at (%.3f, %.3f, %.3f) m", compression ? "compression" : "ease",
+                    worst.x(), worst.y(), worst.z());
+      line += buf;
+      failing += (failing.empty() ? "" : ", ") + line + ")";
+    }
     result.warnings.push_back("the distortion limit is not met in " + failing + " (report.json lists the pieces)");
   }
 
@@ -225,6 +314,28 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
       result.sewn_fit.delta = result.fit.delta();
     }
     result.sewn_fit_done = true;
+    if (result.sewn_fit_error.empty()) {
+      // The sewn drapes against the fit's verified drapes of this rest shape.
+      SewnFitResult& sewn = result.sewn_fit;
+      sewn.drape_criteria = options.drape;
+      if (result.fit.verified.empty()) {
+        sewn.drape_not_measured = "the fit's report has no verified drapes (a fit run without verification)";
+      } else {
+        std::vector<Eigen::MatrixXd> verified;
+        std::vector<std::string> names;
+        for (const FitSettings::VerifiedDrape& d : result.fit.verified) {
+          const Mesh m = read_mesh(d.path).mesh;
+          if (m.V.rows() != rest.V.rows() || m.F != rest.F)
+            throw GeometryError("the fit's verified drape is not a drape of this rest shape (" +
+                                    std::to_string(m.V.rows()) + " vertices, the rest shape " +
+                                    std::to_string(rest.V.rows()) + "); --fit must name the fit of " + options.rest,
+                                d.path.string());
+          verified.push_back(m.V);
+          names.push_back(d.mesh);
+        }
+        compare_with_verified(sewn, verified, names, rest.F, options.drape);
+      }
+    }
     lap("sewn_fit");
   }
   return result;
@@ -285,6 +396,9 @@ void write_export_rest(const ExportRestResult& result, const ExportRestOptions& 
     drape.F = result.rest.F;
     drape.V = check.figures.V_draped;
     drape.face_fields.push_back({"max_stretch", check.figures.face_max_stretch});
+    for (const DrapeDistance& d : result.sewn_fit.drape)
+      if (d.key == check.figures.key && d.pose == check.figures.pose)
+        drape.vertex_fields.push_back({"distance_to_verified", d.vertex_distance});
     write_mesh(dir / sewn_drape_name(check.figures), drape);
   }
   const Pattern& pattern = result.pattern;

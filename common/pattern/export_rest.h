@@ -35,6 +35,7 @@ struct ExportRestOptions {
   // pattern.dxf's profile and style text; style defaults to the garment's name.
   DxfOptions dxf;
   SeamTolerance tolerance;
+  DrapeCriteria drape;     // the sewn drape against the fit's verified drape (sewn_fit.h)
   int threads = 1;
   adapt::ProgressCallback progress;  // the sewn-fit simulation's progress (lines prefixed "verification: ")
 };
@@ -62,7 +63,10 @@ struct ExportRestResult {
 
 // Runs the stage up to (not including) writing. Throws the library's typed
 // errors: UsageError (inconsistent options), InputError, SpecError,
-// GeometryError, NumericalError.
+// GeometryError (also: --fit names a fit of another rest shape, whose
+// verified drapes are not this rest shape's), NumericalError (also: a flat
+// piece still overlaps itself after make_pattern split it; no pattern is
+// written with one).
 ExportRestResult export_rest(const ExportRestOptions& options);
 
 // The stage's report ("export-rest-report/1"), without timings.

@@ -30,6 +30,21 @@ FitSettings read_fit_settings(const std::filesystem::path& report) {
   if (v && v->is_object()) {
     const SpecObject c = SpecObject(root, file).object("verification").object("criteria");
     read_options(c, true, s.criteria, adapt::FitCriteriaFields{});
+    // The drapes the fit verified its rest shape by: the sewn garment's
+    // drapes are compared with these (sewn_fit.h, compare_with_verified).
+    const SpecObject vo = SpecObject(root, file).object("verification");
+    if (vo.has("key_poses")) {
+      const SpecArray keys = vo.array("key_poses");
+      for (size_t i = 0; i < keys.size(); ++i) {
+        const SpecObject k = keys.object(i);
+        FitSettings::VerifiedDrape d;
+        d.key = static_cast<int>(k.required_integer("key", Range::non_negative()));
+        d.pose = k.required_string("pose");
+        d.mesh = k.required_string("mesh");
+        d.path = report.parent_path() / d.mesh;
+        s.verified.push_back(d);
+      }
+    }
   }
   return s;
 }

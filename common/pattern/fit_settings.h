@@ -7,6 +7,7 @@
 // verdict and the fit's verification mean the same thing.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "adapt/fit_verification.h"
 #include "adapt/garment_motion.h"
@@ -19,6 +20,15 @@ struct FitSettings {
   std::string motion;                 // motion spec of the fit (motion/1), as the fit was given it
   adapt::MotionRunOptions run;        // the simulation's settings; adapt is false, threads 1
   adapt::FitCriteria criteria;        // the verification's bounds (the defaults when the fit skipped it)
+  // The verification's drape of every key pose (verification/key_poses/*/mesh),
+  // paths beside the report; empty when the fit ran without verification.
+  struct VerifiedDrape {
+    int key = -1;
+    std::string pose;
+    std::string mesh;  // as the report names it
+    std::filesystem::path path;
+  };
+  std::vector<VerifiedDrape> verified;
   double delta() const { return run.adaptation.delta; }
 };
 

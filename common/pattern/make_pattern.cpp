@@ -1010,13 +1010,20 @@ int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache&
     // A seam that brings both its pieces within the limit does what the
     // cutter is for, however little cloth that took, where the compression
     // it relieved ate much of the fit's stretch budget.
-    if (relief >= options.min_panel_relief * length || (within && tight)) {
+    // And the cutter stops adding pieces only when the limit is met (issue
+    // 49): a seam that took away most of its piece's cloth beyond the limit
+    // (min_relief_share) stays, however long, while that piece was over it.
+    const bool most = options.min_relief_share > 0.0 && before > 0.0 && relief >= options.min_relief_share * before;
+    if (relief >= options.min_panel_relief * length || (within && tight) || most) {
       char budget[180] = "";
-      if (relief < options.min_panel_relief * length)
+      if (relief < options.min_panel_relief * length && within && tight)
         std::snprintf(budget, sizeof(budget),
                       ", and both its pieces meet the limit (the piece was compressed by %.2f %%, more than %.0f %% of "
                       "the stretch budget %.3f)",
                       100.0 * compression, 100.0 * options.budget_share, options.stretch_budget);
+      else if (relief < options.min_panel_relief * length)
+        std::snprintf(budget, sizeof(budget), ", at least %.0f %% of it (min_relief_share)",
+                      100.0 * options.min_relief_share);
       for (const PanelSides& j : js) pattern.seams[j.seam].reason += std::string("; it relieved ") + buf + budget;
       continue;
     }
@@ -1122,6 +1129,120 @@ void remove_overlapping_darts(Pattern& pattern, const PatternOptions& options, F
   }
 }
 
+namespace {
+
+// The shortest path through piece p (3D edge lengths, inner vertices only
+// between its ends) from outline vertex `from` to the outline vertex half
+// the outline's length round from it; nullopt when none runs inside.
+std::optional<SurfaceCurve> halving_cut(const PatternPiece& p, int from) {
+  const std::vector<int>& loop = p.boundary;
+  const size_t nb = loop.size();
+  const auto start = std::find(loop.begin(), loop.end(), from);
+  if (start == loop.end() || nb < 4) return std::nullopt;
+  const size_t i0 = static_cast<size_t>(start - loop.begin());
+  std::vector<double> along(nb + 1, 0.0);
+  for (size_t k = 0; k < nb; ++k)
+    along[k + 1] = along[k] + (p.V.row(loop[(i0 + k) % nb]) - p.V.row(loop[(i0 + k + 1) % nb])).norm();
+  size_t half = 1;
+  while (half + 1 < nb && along[half] < 0.5 * along[nb]) ++half;
+  const int to = loop[(i0 + half) % nb];
+  const std::vector<char> on_outline = boundary_flags(p);
+  std::vector<std::vector<int>> neighbors(static_cast<size_t>(p.V.rows()));
+  for (int f = 0; f < p.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = p.F(f, k), b = p.F(f, (k + 1) % 3);
+      neighbors[static_cast<size_t>(a)].push_back(b);
+      neighbors[static_cast<size_t>(b)].push_back(a);
+    }
+  for (auto& n : neighbors) {
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+  }
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> dist;
+  std::vector<int> parent;
+  dijkstra(
+      neighbors, {from},
+      [&](int v, int w) {
+        // Along the outline only to reach the far end directly.
+        if (w != to && on_outline[static_cast<size_t>(w)]) return inf;
+        if (v == from && w == to && on_outline[static_cast<size_t>(v)]) {
+          // An outline edge is no cut.
+          const size_t k = static_cast<size_t>(std::find(loop.begin(), loop.end(), w) - loop.begin());
+          if (loop[(k + 1) % nb] == v || loop[(k + nb - 1) % nb] == v) return inf;
+        }
+        return (p.V.row(v) - p.V.row(w)).norm();
+      },
+      dist, parent, [&](int v) { return v == to; });
+  if (!std::isfinite(dist[static_cast<size_t>(to)])) return std::nullopt;
+  SurfaceCurve cut;
+  for (int v : trace_parents(parent, to)) cut.push_back(CurvePoint::at_vertex(v));
+  if (cut.size() < 2) return std::nullopt;
+  return cut;
+}
+
+}  // namespace
+
+int split_overlapping_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
+  int added = 0;
+  int panels = 0;
+  for (const auto& s : pattern.seams)
+    if (s.kind == "panel") ++panels;
+  for (const auto& m : pattern.merged_cuts)
+    if (m.rfind("panel", 0) == 0) ++panels;
+  // Each round splits every piece still overlapping once, then flattens:
+  // a piece's two parts are each smaller than the outline that crossed
+  // itself, and a part that still overlaps is split again.
+  for (int round = 0; round < options.max_overlap_splits; ++round) {
+    std::vector<PatternSeam> seams;
+    std::vector<SurfaceCurve> curves;
+    for (size_t c = 0; c < pattern.pieces.size(); ++c) {
+      const PatternPiece& p = pattern.pieces[c];
+      if (!p.flat.boundary_overlaps) continue;
+      Eigen::MatrixXd chart;
+      try {
+        chart = conformal_chart(p);
+      } catch (const NumericalError&) {
+        continue;
+      }
+      // Through the crossing: the outline vertices there, halfway to the
+      // piece's centroid (a grain line through an outline point itself may
+      // only graze the piece).
+      Eigen::Vector3d at = Eigen::Vector3d::Zero();
+      for (int v : p.flat.overlap_vertex_ids) at += p.V.row(v).transpose();
+      if (!p.flat.overlap_vertex_ids.empty()) at /= static_cast<double>(p.flat.overlap_vertex_ids.size());
+      const Eigen::Vector3d centroid = p.V.colwise().mean().transpose();
+      std::string where;
+      std::optional<SurfaceCurve> curve;
+      for (const Eigen::Vector3d& x : {Eigen::Vector3d(0.5 * (at + centroid)), at, centroid}) {
+        curve = panel_curve(pattern, c, chart, x, options, &where);
+        if (curve) break;
+      }
+      // The grain line needs a chart to run straight in, and the chart of a
+      // piece that winds past a full turn overlaps too: else the shortest
+      // path through the piece from the crossing to the outline point
+      // halfway round from it, which halves the outline's winding.
+      for (size_t i = 0; !curve && i < p.flat.overlap_vertex_ids.size(); ++i) {
+        curve = halving_cut(p, p.flat.overlap_vertex_ids[i]);
+        where = "the shortest path through it from the crossing to the outline point halfway round";
+      }
+      if (!curve) continue;
+      PatternSeam seam{"panel" + std::to_string(++panels), "panel", "", {}, false, true, {}};
+      seam.reason = "piece " + p.name + " overlapped itself in the flat near (" + metres(at.x()) + ", " +
+                    metres(at.y()) + ", " + metres(at.z()) + "): " + where + ", " +
+                    metres(curve_length(p.V, p.F, *curve)) + " long";
+      seams.push_back(seam);
+      curves.push_back(piece_to_mesh(p, *curve));
+    }
+    if (seams.empty()) break;
+    added += static_cast<int>(seams.size());
+    insert_cuts(pattern, seams, curves);
+    flatten_pieces(pattern, options, cache, true);
+    while (match_seams(pattern, options, cache)) flatten_pieces(pattern, options, cache, true);
+  }
+  return added;
+}
+
 Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SeamPath>& seams,
                      const PatternOptions& options, const PatternContext& context) {
   LapTimer timer;
@@ -1156,6 +1277,7 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   review_panels(pattern, options, cache, ledger);
   merge_small_pieces(pattern, options, cache);
   remove_overlapping_darts(pattern, options, cache);
+  split_overlapping_pieces(pattern, options, cache);
   // The output has no flipped triangle: pieces left with flips are
   // flattened injectively.
   flatten_pieces(pattern, options, cache, true);

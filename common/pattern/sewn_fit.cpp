@@ -200,13 +200,112 @@ SewnFitResult sewn_fit_check(PoseInterpolator& interpolator, const MotionSpec& m
   const std::vector<cloth::TriangleRest> sewn =
       sewn_rest_triangles(pattern, layout, static_cast<int>(F.rows()), &result.faces_from_rest_shape);
   result.delta = options.adaptation.delta;
+  for (const cloth::TriangleRest& t : sewn) result.sewn_rest_area += t.area;
+  for (int f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = pattern.mesh.rest_V.row(F(f, 0)), b = pattern.mesh.rest_V.row(F(f, 1)),
+                          c = pattern.mesh.rest_V.row(F(f, 2));
+    result.rest_area += 0.5 * (b - a).cross(c - a).norm();
+  }
   result.verification = adapt::verify_fit(interpolator, motion, V_start, F, garment, sewn, options, criteria, progress);
   for (const adapt::PoseCheck& check : result.verification.poses)
     result.where.push_back(locate_sewn_pose(check, pattern, sewn, F, result.delta));
   return result;
 }
 
+DrapeDistance drape_distance(const Eigen::MatrixXd& V_sewn, const Eigen::MatrixXd& V_verified,
+                             const Eigen::MatrixXi& F, const DrapeCriteria& criteria) {
+  if (V_sewn.rows() != V_verified.rows() || V_sewn.cols() != 3 || V_verified.cols() != 3)
+    throw GeometryError("the sewn drape has " + std::to_string(V_sewn.rows()) + " vertices, the verified drape " +
+                        std::to_string(V_verified.rows()));
+  DrapeDistance d;
+  const Eigen::Index n = V_sewn.rows();
+  d.vertex_distance = (V_sewn - V_verified).rowwise().norm();
+  // Vertex weights: a third of the verified drape's area of every face
+  // around it (the distance is a field on the cloth, so a dense patch of
+  // small triangles counts by its area, not its vertex count).
+  Eigen::VectorXd weight = Eigen::VectorXd::Zero(n);
+  for (int f = 0; f < F.rows(); ++f) {
+    auto area = [&](const Eigen::MatrixXd& V) {
+      const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+      return 0.5 * (b - a).cross(c - a).norm();
+    };
+    const double av = area(V_verified);
+    d.verified_area += av;
+    d.sewn_area += area(V_sewn);
+    for (int k = 0; k < 3; ++k) weight[F(f, k)] += av / 3.0;
+  }
+  const double total = weight.sum();
+  if (n == 0 || !(total > 0.0)) return d;
+  d.mean = weight.dot(d.vertex_distance) / total;
+  std::vector<Eigen::Index> order(static_cast<size_t>(n));
+  for (Eigen::Index v = 0; v < n; ++v) order[static_cast<size_t>(v)] = v;
+  // Ascending distance, ties by vertex id (deterministic).
+  std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) {
+    return d.vertex_distance[a] < d.vertex_distance[b] || (d.vertex_distance[a] == d.vertex_distance[b] && a < b);
+  });
+  double acc = 0.0;
+  d.p95 = d.vertex_distance[order.back()];
+  for (Eigen::Index v : order) {
+    acc += weight[v];
+    if (acc >= 0.95 * total) {
+      d.p95 = d.vertex_distance[v];
+      break;
+    }
+  }
+  d.max_vertex = static_cast<int>(order.back());
+  d.max = d.vertex_distance[order.back()];
+  d.max_position = V_sewn.row(d.max_vertex).transpose();
+  char buf[160];
+  if (d.mean > criteria.max_mean) {
+    std::snprintf(buf, sizeof(buf), "mean distance to the verified drape %.1f mm above %.1f mm", 1e3 * d.mean,
+                  1e3 * criteria.max_mean);
+    d.failures.push_back(buf);
+  }
+  if (d.p95 > criteria.max_p95) {
+    std::snprintf(buf, sizeof(buf), "p95 distance to the verified drape %.1f mm above %.1f mm", 1e3 * d.p95,
+                  1e3 * criteria.max_p95);
+    d.failures.push_back(buf);
+  }
+  return d;
+}
+
+void compare_with_verified(SewnFitResult& result, const std::vector<Eigen::MatrixXd>& verified,
+                           const std::vector<std::string>& verified_meshes, const Eigen::MatrixXi& F,
+                           const DrapeCriteria& criteria) {
+  const auto& poses = result.verification.poses;
+  if (verified.size() != poses.size() || verified_meshes.size() != poses.size())
+    throw GeometryError("the fit verified " + std::to_string(verified.size()) + " key poses, the sewn garment has " +
+                        std::to_string(poses.size()));
+  result.drape_criteria = criteria;
+  result.drape.clear();
+  for (size_t i = 0; i < poses.size(); ++i) {
+    DrapeDistance d = drape_distance(poses[i].figures.V_draped, verified[i], F, criteria);
+    d.key = poses[i].figures.key;
+    d.pose = poses[i].figures.pose;
+    d.verified_mesh = verified_meshes[i];
+    result.drape.push_back(std::move(d));
+  }
+}
+
 std::string sewn_fit_failure(const SewnFitResult& result, const Pattern& pattern) {
+  // A pose that fits but drapes away from the verified drape: the sewn
+  // garment is not the designed one (stretch failures are named first).
+  if (result.verification.passed())
+    for (const DrapeDistance& d : result.drape) {
+      if (d.passed()) continue;
+      std::string line = "key pose " + std::to_string(d.key) + " (" + d.pose + "): ";
+      for (size_t j = 0; j < d.failures.size(); ++j) line += (j ? "; " : "") + d.failures[j];
+      const std::vector<int> vertex_piece = piece_of_rest_vertex(pattern);
+      if (d.max_vertex >= 0 && static_cast<size_t>(d.max_vertex) < vertex_piece.size() &&
+          vertex_piece[static_cast<size_t>(d.max_vertex)] >= 0) {
+        char buf[160];
+        std::snprintf(buf, sizeof(buf), "; farthest in %s (%.1f mm, vertex %d)",
+                      pattern.pieces[static_cast<size_t>(vertex_piece[static_cast<size_t>(d.max_vertex)])].name.c_str(),
+                      1e3 * d.max, d.max_vertex);
+        line += buf;
+      }
+      return line;
+    }
   for (size_t i = 0; i < result.verification.poses.size(); ++i) {
     const adapt::PoseCheck& check = result.verification.poses[i];
     if (check.passed()) continue;

@@ -8,6 +8,7 @@
 // pose fails as the fit's verification fails one (FitCriteria); the check
 // also says where: the pieces with cloth above 1 + delta, the worst face and
 // the deepest vertex, by piece name.
+#include <algorithm>
 #include <string>
 #include <vector>
 #include <Eigen/Core>
@@ -19,6 +20,7 @@
 #include "interp/pose_interpolator.h"
 #include "pattern/layout.h"
 #include "pattern/pattern.h"
+#include "spec/option_fields.h"
 
 namespace gp {
 
@@ -62,12 +64,67 @@ struct SewnPoseWhere {
   Eigen::Vector3d deepest_vertex_position = Eigen::Vector3d::Zero();
 };
 
+// Bounds on the distance from the sewn garment's drape to the fit's verified
+// drape of its rest shape at a key pose (export-rest --drape-mean-limit,
+// --drape-p95-limit). The fit's verification proves the rest shape fits;
+// the sewn garment is the designed one only if it drapes where the rest
+// shape drapes (the paper's "does not change visibly"). A piece eased by
+// 12 % passes the stretch bounds (it is loose, not tight) and hangs
+// centimetres away: these bounds catch it.
+struct DrapeCriteria {
+  double max_mean = 0.005;  // metres: area-weighted mean distance
+  double max_p95 = 0.015;   // metres: 95th percentile by area
+};
+
+struct DrapeCriteriaFields {
+  template <class Fields>
+  void operator()(DrapeCriteria& c, Fields& f) const {
+    f.number("max_mean_m", c.max_mean, Range::non_negative());
+    f.number("max_p95_m", c.max_p95, Range::non_negative());
+  }
+};
+
+// One key pose: the sewn drape against the verified one. Vertex v of the
+// sewn garment is rest vertex v (every rest face is sewn from its pieces'
+// triangles, sewn_rest_triangles), so the two drapes are in full vertex
+// correspondence and the distance is per vertex, weighted by a third of the
+// verified drape's area around it.
+struct DrapeDistance {
+  int key = -1;
+  std::string pose;
+  std::string verified_mesh;            // the fit's drape compared with (file name in the fit's folder)
+  double mean = 0.0;                    // metres
+  double p95 = 0.0;                     // metres
+  double max = 0.0;                     // metres
+  int max_vertex = -1;
+  Eigen::Vector3d max_position = Eigen::Vector3d::Zero();  // on the sewn drape, metres
+  double sewn_area = 0.0;               // area of the sewn drape, m^2
+  double verified_area = 0.0;           // area of the verified drape, m^2
+  Eigen::VectorXd vertex_distance;      // #V, metres
+  std::vector<std::string> failures;    // one sentence per bound exceeded
+  bool passed() const { return failures.empty(); }
+};
+
+// The distance between two drapes of one mesh (#V by 3 each, F #F by 3);
+// key and pose are left for the caller. Throws GeometryError when the sizes
+// differ.
+DrapeDistance drape_distance(const Eigen::MatrixXd& V_sewn, const Eigen::MatrixXd& V_verified,
+                             const Eigen::MatrixXi& F, const DrapeCriteria& criteria);
+
 struct SewnFitResult {
   adapt::FitVerification verification;  // one PoseCheck per key pose
   std::vector<SewnPoseWhere> where;      // one per key pose
   double delta = 0.0;
   std::vector<int> faces_from_rest_shape;  // rest faces sewn with their rest shape's triangle (sewn_rest_triangles)
-  bool passed() const { return verification.passed(); }
+  double sewn_rest_area = 0.0;           // the sewn garment's rest area (its flat triangles), m^2
+  double rest_area = 0.0;                // the rest shape's area, m^2
+  DrapeCriteria drape_criteria;
+  std::vector<DrapeDistance> drape;      // one per key pose; empty when not measured
+  std::string drape_not_measured;        // why `drape` is empty (the fit has no verified drapes, ...)
+  bool drape_passed() const {
+    return std::all_of(drape.begin(), drape.end(), [](const DrapeDistance& d) { return d.passed(); });
+  }
+  bool passed() const { return verification.passed() && drape_passed(); }
 };
 
 // Where the sewn garment's key pose `check` stretches or lies inside the
@@ -85,6 +142,14 @@ SewnFitResult sewn_fit_check(PoseInterpolator& interpolator, const MotionSpec& m
                              const Eigen::MatrixXi& F, const GarmentFile& garment, const Pattern& pattern,
                              const Layout& layout, const adapt::MotionRunOptions& options,
                              const adapt::FitCriteria& criteria, const adapt::ProgressCallback& progress = {});
+
+// Measures result.drape: the sewn drape of every key pose against the fit's
+// verified drape of the same key pose (verified: #V by 3 each, in key-pose
+// order, keys and poses as the verification's). Throws GeometryError when
+// their count or sizes do not match the sewn garment's.
+void compare_with_verified(SewnFitResult& result, const std::vector<Eigen::MatrixXd>& verified,
+                           const std::vector<std::string>& verified_meshes, const Eigen::MatrixXi& F,
+                           const DrapeCriteria& criteria);
 
 // One line naming the first failing key pose, what fails and where
 // ("key pose 2 (armsup): p99 stretch 1.1534 above 1.1200; worst in left

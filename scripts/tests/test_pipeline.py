@@ -139,7 +139,9 @@ class PipelineTest(unittest.TestCase):
         good = read(mk)
         try:
             with open(mk, "a") as f:
-                f.write("EXPORT_FLAGS := --max-rounds 16\n")  # the default: another string, the same pattern
+                # The default: another string, the same pattern (added to
+                # customer.mk's own flags, which bound the sewn drape).
+                f.write("EXPORT_FLAGS += --max-rounds 16\n")
             _, stages = fit(self.customer, self.out)
             self.assertEqual(stages, ["export-rest", "fit-report"])
             _, stages = fit(self.customer, self.out)

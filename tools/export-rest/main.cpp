@@ -48,6 +48,9 @@ int main(int argc, char** argv) {
   app.add_option("--max-darts", po.max_darts, "Darts per piece [count]")->capture_default_str()->check(CLI::Range(0, 100));
   app.add_option("--max-pieces", po.max_pieces, "Panel seams stop at this many pieces [count]")
       ->capture_default_str()->check(CLI::Range(0, 1000));
+  app.add_option("--min-relief-share", po.min_relief_share,
+                 "... or relieves at least this share of its piece's cloth beyond the limit (0: off) [fraction]")
+      ->capture_default_str()->check(CLI::Range(0.0, 1e6));
   app.add_option("--min-panel-relief", po.min_panel_relief,
                  "A panel seam stays only where it relieves this much cloth beyond the limit per metre of its length [m^2/m]")
       ->capture_default_str()->check(CLI::Range(0.0, 100.0));
@@ -57,8 +60,16 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
   app.add_option("--max-rounds", po.max_rounds, "Rounds of flattening and placing darts and panels [count]")
       ->capture_default_str()->check(CLI::Range(1, 1000));
+  app.add_option("--max-overlap-splits", po.max_overlap_splits,
+                 "Rounds of splitting a piece whose outline overlaps itself through the crossing; one still "
+                 "overlapping fails the stage [count]")->capture_default_str()->check(CLI::Range(0, 100));
   app.add_option("--min-piece-area", po.min_piece_area, "Added cuts leave no piece smaller than this [m^2]")
       ->capture_default_str()->check(CLI::Range(0.0, 100.0));
+  app.add_option("--tip-margin", po.tip_margin, "A dart's tip lies at least this far inside its piece [m]")
+      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  bool no_tip_inward = false;
+  app.add_flag("--no-tip-inward", no_tip_inward,
+               "A dart's curvature mode within the tip margin of the outline is skipped, not pointed at from inside");
   bool no_mirror = false;
   app.add_flag("--no-mirror", no_mirror,
                "Cut each piece on its own (default: a piece's mirror image across the body gets the mirror image of its darts and panel seams)");
@@ -112,6 +123,12 @@ int main(int argc, char** argv) {
                  "The fit's report (simulate-adapt's report.json): the garment sewn from the flat pieces is simulated "
                  "through the fit's key poses with its settings and judged like its verification; a failing pose "
                  "exits 8 (needs --garment); none: no sewn-fit check");
+  app.add_option("--drape-mean-limit", o.drape.max_mean,
+                 "Sewn-fit check: a key pose fails when the sewn drape lies farther than this from the fit's "
+                 "verified drape on average [m]")->capture_default_str()->check(CLI::Range(0.0, 10.0));
+  app.add_option("--drape-p95-limit", o.drape.max_p95,
+                 "Sewn-fit check: ... or farther than this on 5 % of the area [m]")
+      ->capture_default_str()->check(CLI::Range(0.0, 10.0));
   app.add_option("--seam-allowance", o.layout.seam_allowance, "Seam allowance around every piece [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.2));
   app.add_option("--notch-spacing", o.layout.notch_spacing, "Distance between notches along a seam [m]")
@@ -140,6 +157,7 @@ int main(int argc, char** argv) {
     po.mirror = !no_mirror;
     o.dxf.profile = gp::dxf_profile_from_name(dxf_profile);
     if (o.dxf.date.empty()) o.dxf.date = gp::default_creation_date(o.rest);
+    po.tip_inward = !no_tip_inward;
     if (po.p95_limit > po.max_limit) throw gp::UsageError("--p95-limit must not exceed --max-limit", "--p95-limit");
     o.tolerance.absolute = po.seam_tolerance;
     o.tolerance.relative = po.seam_tolerance_relative;

@@ -196,6 +196,36 @@ TEST_CASE("the sewn-fit check passes a good pattern and fails one shrunk by 5 %"
   }
   CHECK(sewn["key_poses"][0]["pose"] == "a");
   CHECK(sewn["key_poses"][1]["pose"] == "b");
+  // The sewn drape against the fit's drape of the same rest shape (the
+  // design here): both measured, and the pattern of an undistorted cap
+  // drapes within a few millimetres of it.
+  REQUIRE(sewn["drape"]["measured"] == true);
+  CHECK(sewn["drape"]["verdict"] == "pass");
+  CHECK(sewn["drape"]["criteria"]["max_mean_m"] == 0.005);
+  CHECK(sewn["drape"]["criteria"]["max_p95_m"] == 0.015);
+  for (const Json& k : sewn["key_poses"]) {
+    const Json& d = k["distance_to_verified"];
+    INFO("pose " << k["pose"] << " mean " << d["mean_m"] << " p95 " << d["p95_m"] << " max " << d["max_m"]);
+    CHECK(d["verdict"] == "pass");
+    CHECK(d["mean_m"].get<double>() > 0.0);
+    CHECK(d["mean_m"].get<double>() < 0.003);
+    CHECK(d["p95_m"].get<double>() >= d["mean_m"].get<double>() * 0.5);
+    CHECK(d["max_m"].get<double>() >= d["p95_m"].get<double>());
+    CHECK(d["drape_area_ratio"].get<double>() == Approx(1.0).margin(0.03));
+  }
+  {
+    const MeshReadResult drape = read_mesh(s.dir / "good" / "sewn_01_b.ply");
+    const ScalarField* dist = find_field(drape.mesh.vertex_fields, "distance_to_verified");
+    REQUIRE(dist != nullptr);
+    CHECK(dist->values.maxCoeff() == Approx(sewn["key_poses"][1]["distance_to_verified"]["max_m"].get<double>()));
+  }
+  // A drape bound tighter than any pattern meets: exit 8, the pose named.
+  const auto tight = testing::run_command(base + " --drape-mean-limit 1e-7 " + (s.dir / "garment.ply").string() +
+                                          " --out " + (s.dir / "tight").string());
+  INFO(tight.err);
+  CHECK(tight.exit_code == 8);
+  CHECK(tight.err.find("mean distance to the verified drape") != std::string::npos);
+  CHECK(read_json_file(s.dir / "tight" / "report.json")["sewn_fit"]["drape"]["verdict"] == "fail");
   // Same inputs, same outputs.
   const auto again = testing::run_command(base + " " + (s.dir / "garment.ply").string() + " --out " +
                                           (s.dir / "again").string());
@@ -238,6 +268,36 @@ TEST_CASE("the sewn-fit check passes a good pattern and fails one shrunk by 5 %"
                                                " --out " + (s.dir / "x").string());
   CHECK(no_garment.exit_code == 2);
   CHECK(no_garment.err.find("--fit") != std::string::npos);
+}
+
+TEST_CASE("the distance between two drapes of one mesh, by area", "[sewn_fit]") {
+  const Mesh m = testing::make_icosphere(2, 0.2);
+  // A rigid shift by 4 mm: every figure is 4 mm.
+  Eigen::MatrixXd shifted = m.V;
+  shifted.col(0).array() += 0.004;
+  const DrapeDistance d = drape_distance(shifted, m.V, m.F, DrapeCriteria{});
+  CHECK(d.mean == Approx(0.004).epsilon(1e-9));
+  CHECK(d.p95 == Approx(0.004).epsilon(1e-9));
+  CHECK(d.max == Approx(0.004).epsilon(1e-9));
+  CHECK(d.passed());
+  CHECK(d.sewn_area == Approx(d.verified_area).epsilon(1e-12));
+  // One vertex 5 cm off: the max sees it, the p95 and the mean hardly.
+  Eigen::MatrixXd bump = m.V;
+  bump.row(7) *= 1.25;
+  const DrapeDistance b = drape_distance(bump, m.V, m.F, DrapeCriteria{});
+  CHECK(b.max == Approx(0.05).epsilon(1e-9));
+  CHECK(b.max_vertex == 7);
+  CHECK(b.p95 == 0.0);
+  CHECK(b.mean < 0.05 / 100.0);
+  CHECK(b.passed());
+  // 2 cm everywhere fails both bounds; 8 mm only the mean.
+  const DrapeDistance far = drape_distance(m.V * 1.1, m.V, m.F, DrapeCriteria{});
+  CHECK(far.failures.size() == 2);
+  const DrapeDistance mid = drape_distance(m.V * 1.04, m.V, m.F, DrapeCriteria{});
+  REQUIRE(mid.failures.size() == 1);
+  CHECK(mid.failures[0].find("mean distance") != std::string::npos);
+  CHECK(mid.sewn_area / mid.verified_area == Approx(1.04 * 1.04).epsilon(1e-9));
+  CHECK_THROWS_AS(drape_distance(m.V.topRows(5), m.V, m.F, DrapeCriteria{}), GeometryError);
 }
 
 TEST_CASE("the fit's settings are read from its report, strictly", "[sewn_fit]") {

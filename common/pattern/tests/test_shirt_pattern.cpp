@@ -292,3 +292,42 @@ TEST_CASE("panel seams that relieve too little are taken out again", "[cli][shir
   CHECK((names.count("front") + names.count("left front") + names.count("right front")) >= 1);
   CHECK((names.count("back") + names.count("left back") + names.count("right back")) >= 1);
 }
+
+TEST_CASE("a generated rest shape without seams is cut with no overlap, and a piece over the limit is located",
+          "[cli][shirt][overlap]") {
+  // The generated shirt as designed, cut with neither seams nor a garment
+  // file (issue 49: "rest shapes cut without seams"). Every pattern written
+  // has no overlapping piece and no flipped triangle. Measured on
+  // 2026-12-01: 6 pieces, none overlapping, but the limit is not met (the
+  // fronts and backs compressed by 3.4-4.2 % over their worst 1 % at the
+  // shoulders; README, "Patterns within their own limit"): a piece over it
+  // is named with its figures and the rest-shape point its worst 1 % lies
+  // around.
+  const Shirt& s = shirt();
+  INFO(s.error);
+  REQUIRE(s.ok);
+  const auto r = testing::run_command(testing::tool_path("export-rest") + " " +
+                                      (s.dir / "garment" / "garment.ply").string() + " --out " +
+                                      (s.dir / "no-seams").string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const Json report = read_json_file(s.dir / "no-seams" / "report.json");
+  const Json& sum = report["summary"];
+  INFO(sum.dump());
+  CHECK(sum["overlapping_pieces"] == 0);
+  CHECK(sum["flipped_triangles"] == 0);
+  CHECK(sum["pieces"].get<int>() <= 10);
+  for (const auto& p : report["pieces"]) {
+    INFO(p["name"]);
+    CHECK(p["boundary_overlaps"] == false);
+    REQUIRE(p["worst_at"]["compression_worst1_m"].size() == 3);
+    if (p["meets_limit"] == false) {
+      CHECK(r.err.find(p["name"].get<std::string>() + " (compression") != std::string::npos);
+      // The point lies on the garment: within its bounding box.
+      const double y = p["worst_at"]["compression_worst1_m"][1].get<double>();
+      CHECK(y > 0.5);
+      CHECK(y < 2.0);
+    }
+  }
+  if (sum["meets_distortion_limit"] == false) CHECK(r.err.find("its worst") != std::string::npos);
+}
