@@ -256,12 +256,12 @@ DrapeDistance drape_distance(const Eigen::MatrixXd& V_sewn, const Eigen::MatrixX
   d.max = d.vertex_distance[order.back()];
   d.max_position = V_sewn.row(d.max_vertex).transpose();
   char buf[160];
-  if (d.mean > criteria.max_mean) {
+  if (criteria.max_mean > 0.0 && d.mean > criteria.max_mean) {
     std::snprintf(buf, sizeof(buf), "mean distance to the verified drape %.1f mm above %.1f mm", 1e3 * d.mean,
                   1e3 * criteria.max_mean);
     d.failures.push_back(buf);
   }
-  if (d.p95 > criteria.max_p95) {
+  if (criteria.max_p95 > 0.0 && d.p95 > criteria.max_p95) {
     std::snprintf(buf, sizeof(buf), "p95 distance to the verified drape %.1f mm above %.1f mm", 1e3 * d.p95,
                   1e3 * criteria.max_p95);
     d.failures.push_back(buf);
