@@ -28,6 +28,7 @@ constexpr double kMaxCorrectionSpeed = 0.5;
 cloth::ClothParameters parameters_from(const Material& m) {
   cloth::ClothParameters p;
   p.k_stretch = m.k_stretch;
+  p.k_stretch_weft = m.k_stretch_weft;  // the fabric's weft (common/fabric/README.md)
   p.k_shear = m.k_shear;
   p.k_bend = m.k_bend;
   p.damping_stretch = m.damping_stretch;

@@ -90,7 +90,17 @@ GarmentSpec parse_garment_spec(const Json& j, const std::string& file) {
       s.paint.push_back(r);
     }
   }
-  if (const auto material = root.optional_object("material")) s.material = read_material(*material);
+  if (root.has("fabric") && root.has("material")) {
+    throw SpecError("give either 'fabric' (a fabric by name, or in full with units) or 'material' (raw cloth "
+                    "parameters), not both",
+                    root.where("material"));
+  }
+  if (const Json* fabric = root.raw("fabric")) s.material = read_fabric(*fabric, root.file(), root.pointer() + "/fabric");
+  if (const auto material = root.optional_object("material")) {
+    s.material = read_material(*material);
+    // Raw parameters are no fabric of the library: named so unless they say.
+    if (!material->has("fabric")) s.material.fabric = "custom";
+  }
   if (const auto smoothing = root.optional_object("smoothing")) {
     s.smoothing.smoothing_iterations = static_cast<int>(
         smoothing->integer("iterations", s.smoothing.smoothing_iterations, Range::between(0, 200)));

@@ -19,7 +19,10 @@
 //     "paint": [                          // T3, optional; factors multiply where regions overlap
 //       { "name": "back", "factor": 1.2, "disc": { "center": 4321, "radius": 0.1 } },
 //       { "name": "elbow", "factor": 1.1, "vertices": [ 11, 12, 13 ] } ],
-//     "material": { "k_stretch": 800, ... },  // optional, paper defaults
+//     "fabric": "cotton-poplin",          // optional: a fabric of common/fabric (default "paper"),
+//                                         //   or in full with units: { "name": "my-twill",
+//                                         //   "areal_density": "210 g/m^2", "k_warp": "4000 N/m", ... }
+//     "material": { "k_stretch": 800, ... },  // optional instead of "fabric": raw cloth parameters
 //     "smoothing": { "iterations": 12, "band_rings": 5 },   // optional
 //     "remesh": { "iterations": 8, "relaxation_steps": 2 },  // optional
 //     "snap_tolerance": 0.05              // metres: how far a 3D point may be from the body
