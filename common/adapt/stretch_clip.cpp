@@ -79,18 +79,12 @@ std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, cons
 Eigen::Matrix2d clipped_target_grain(const Eigen::Matrix2d& D_rest, const Eigen::Matrix2d& G,
                                      const Eigen::Matrix2d& R, double limit_warp, double limit_weft,
                                      double hysteresis) {
-  const Eigen::Vector2d limits(limit_warp, limit_weft);
-  const Eigen::Matrix2d Gn = G * R * limits.cwiseInverse().asDiagonal();
-  const Eigen::JacobiSVD<Eigen::Matrix2d> svd(Gn, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Eigen::Vector2d s = svd.singularValues();
-  if (!(s(0) > 1.0)) return D_rest;
-  const double clip = 1.0 - hysteresis / std::sqrt(limit_warp * limit_weft);
-  Eigen::Vector2d factor;
-  for (int i = 0; i < 2; ++i) factor(i) = s(i) > clip ? s(i) / clip : 1.0;
-  const Eigen::Matrix2d& Vn = svd.matrixV();
-  // In the normalized material metric, then back to the rest triangle's frame.
-  const Eigen::Matrix2d Dn = limits.asDiagonal() * R.transpose() * D_rest;
-  return R * limits.cwiseInverse().asDiagonal() * Vn * factor.asDiagonal() * Vn.transpose() * Dn;
+  const Eigen::Matrix2d Gm = G * R;  // columns: the images of the unit warp and weft
+  const double su = Gm.col(0).norm(), sv = Gm.col(1).norm();
+  if (!(su > limit_warp) && !(sv > limit_weft)) return D_rest;
+  const double cu = limit_warp - hysteresis, cv = limit_weft - hysteresis;
+  const Eigen::Vector2d factor(su > cu ? su / cu : 1.0, sv > cv ? sv / cv : 1.0);
+  return R * factor.asDiagonal() * R.transpose() * D_rest;
 }
 
 std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V_sim,
@@ -142,10 +136,7 @@ std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, cons
     local.max_stretch = std::max(local.max_stretch, Eigen::JacobiSVD<Eigen::Matrix2d>(G).singularValues()(0));
     local.max_warp_stretch = std::max(local.max_warp_stretch, Gm.col(0).norm());
     local.max_weft_stretch = std::max(local.max_weft_stretch, Gm.col(1).norm());
-    Eigen::Matrix2d Gn = Gm;
-    Gn.col(0) /= grain.limit_warp;
-    Gn.col(1) /= grain.limit_weft;
-    const double s_limit = Eigen::JacobiSVD<Eigen::Matrix2d>(Gn).singularValues()(0);
+    const double s_limit = std::max(Gm.col(0).norm() / grain.limit_warp, Gm.col(1).norm() / grain.limit_weft);
     local.max_limit_stretch = std::max(local.max_limit_stretch, s_limit);
     if (s_limit > 1.0) ++local.clipped_faces;
     Eigen::Matrix2d T =

@@ -25,7 +25,8 @@ struct ClipStats {
   double max_stretch = 0.0;   // largest principal stretch before clipping
   double target_area = 0.0;   // sum of the target areas [m^2]
   // With a GrainClip only (else 0): the largest stretch along the warp and
-  // along the weft, and the largest stretch relative to the limits (1: at a limit).
+  // along the weft, and the largest of s_u / limit_warp and s_v / limit_weft
+  // (1: at a limit).
   double max_warp_stretch = 0.0;
   double max_weft_stretch = 0.0;
   double max_limit_stretch = 0.0;
@@ -42,16 +43,15 @@ struct GrainClip {
   const std::vector<double>* grain_angles = nullptr;  // per face, radians; nullptr: no face turned
 };
 
-// The clip against per-direction limits. With Lambda = diag(limit_warp,
-// limit_weft) in the material frame, the stretch relative to the limits is
-// G_n = G R Lambda^-1 (R: the material frame's axes in the rest triangle's
-// frame, columns warp and weft): the paper's rule applied in the metric in
-// which every limit is 1. Where s1(G_n) > 1, its stretches above c = 1 -
-// hysteresis / sqrt(limit_warp limit_weft) are clipped to c, and the target
-// is mapped back, T = R Lambda^-1 V_n diag(s_i / min(s_i, c)) V_n^T Lambda
-// R^T D_rest. A face stretched only along its warp grows only along its warp,
-// to its warp limit; with equal limits L this is clipped_target with 1 + delta
-// = L exactly (up to rounding).
+// The clip against per-direction limits: the stretches along the warp and
+// the weft, s_u = |G R e_u| and s_v = |G R e_v| (R: the material frame's
+// axes in the rest triangle's frame, columns warp and weft), each against its
+// own limit. Where one exceeds its limit, the rest grows along that material
+// direction by s / (limit - hysteresis): T = R diag(f_u, f_v) R^T D_rest.
+// Shear (the bias) is not clipped: a woven gives way on the bias by turning
+// its yarns, not by stretching them, at the fabric's shear stiffness
+// (common/fabric/README.md, "Stretch limits"). A face stretched along one
+// direction only clips as the paper's rule would with that direction's limit.
 Eigen::Matrix2d clipped_target_grain(const Eigen::Matrix2d& D_rest, const Eigen::Matrix2d& G,
                                      const Eigen::Matrix2d& R, double limit_warp, double limit_weft,
                                      double hysteresis);

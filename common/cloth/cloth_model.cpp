@@ -1,5 +1,6 @@
 #include "cloth/cloth_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
@@ -212,10 +213,8 @@ Eigen::VectorXd face_limit_stretches(const Eigen::MatrixXd& V, const Eigen::Matr
   if (!(limit_warp > 0.0) || !(limit_weft > 0.0)) throw UsageError("stretch limits must be positive");
   Eigen::VectorXd s(F.rows());
   for (int f = 0; f < F.rows(); ++f) {
-    Eigen::Matrix<double, 3, 2> W = triangle_w(triangle_positions(V, F, f), rest.triangles[f]);
-    W.col(0) /= limit_warp;
-    W.col(1) /= limit_weft;
-    s(f) = Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(W).singularValues()(0);
+    const Eigen::Matrix<double, 3, 2> W = triangle_w(triangle_positions(V, F, f), rest.triangles[f]);
+    s(f) = std::max(W.col(0).norm() / limit_warp, W.col(1).norm() / limit_weft);
   }
   return s;
 }

@@ -97,10 +97,11 @@ Eigen::MatrixXd face_principal_stretches(const Eigen::MatrixXd& V, const Eigen::
 Eigen::MatrixXd face_grain_stretches(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                      const ClothRestState& rest);
 
-// Largest stretch of every face relative to per-direction limits: the largest
-// singular value of W diag(1/limit_warp, 1/limit_weft), #F. A face is within
-// its fabric's limits in every direction (warp, weft and every bias between)
-// when this is at most 1; with equal limits L it is s1 / L.
+// Largest stretch of every face relative to per-direction limits,
+// max(|w_u| / limit_warp, |w_v| / limit_weft), #F: a face is within its
+// fabric's limits when this is at most 1. The bias (shear) is not limited:
+// a woven gives way there by turning its yarns (common/fabric/README.md,
+// "Stretch limits").
 Eigen::VectorXd face_limit_stretches(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                      const ClothRestState& rest, double limit_warp, double limit_weft);
 

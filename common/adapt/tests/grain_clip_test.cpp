@@ -37,21 +37,41 @@ gp::Mesh upright_grid(int n, double size) {
 
 }  // namespace
 
-TEST_CASE("equal grain limits give the paper's clip", "[adapt][fabric]") {
+TEST_CASE("a stretch along one material direction clips as the paper's rule with that direction's limit", "[adapt][fabric]") {
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int rep = 0; rep < 200; ++rep) {
     Eigen::Matrix2d D;
     D << 0.02, 0.01 * u(rng), 0.0, 0.015 + 0.005 * u(rng);
-    Eigen::Matrix2d G = Eigen::Matrix2d::Identity();
-    for (int i = 0; i < 4; ++i) G(i) += 0.25 * u(rng);
-    if (G.determinant() <= 0.05) continue;
-    const double L = 1.05 + 0.1 * (u(rng) + 1.0), h = 0.01;
     const Eigen::Matrix2d R = rotation(kPi * u(rng));
+    const int axis = rep % 2;  // warp or weft
+    const Eigen::Vector2d d = R.col(axis);
+    const double s = 1.0 + 0.3 * (u(rng) + 1.0);
+    // The stretch along d, then any rotation (the simulated triangle's frame).
+    const Eigen::Matrix2d G = rotation(u(rng)) * (Eigen::Matrix2d::Identity() + (s - 1.0) * d * d.transpose());
+    const double L = 1.05 + 0.1 * (u(rng) + 1.0), h = 0.01;
+    const double other = 1.5;  // the other direction's limit: far above
     const Eigen::Matrix2d a = clipped_target(D, G, L - 1.0, h);
-    const Eigen::Matrix2d b = clipped_target_grain(D, G, R, L, L, h);
+    const Eigen::Matrix2d b =
+        axis == 0 ? clipped_target_grain(D, G, R, L, other, h) : clipped_target_grain(D, G, R, other, L, h);
     CHECK((a - b).norm() <= 1e-12 * D.norm());
   }
+}
+
+TEST_CASE("a shear (the bias) is left to the fabric, a principal stretch is not", "[adapt][fabric]") {
+  Eigen::Matrix2d D;
+  D << 0.02, 0.0, 0.0, 0.02;
+  const Eigen::Matrix2d R = Eigen::Matrix2d::Identity();
+  // A pure shear of 20 degrees: warp and weft keep their lengths, the principal stretch is 1.19.
+  const double g = std::tan(20.0 * kPi / 180.0);
+  Eigen::Matrix2d G;
+  G << 1.0, g, 0.0, 1.0;
+  G.col(1).normalize();
+  CHECK(G.col(0).norm() == Approx(1.0));
+  CHECK(G.col(1).norm() == Approx(1.0));
+  CHECK(Eigen::JacobiSVD<Eigen::Matrix2d>(G).singularValues()(0) > 1.15);
+  CHECK(clipped_target_grain(D, G, R, 1.10, 1.10, 0.0) == D);
+  CHECK((clipped_target(D, G, 0.10, 0.0) - D).norm() > 1e-4);
 }
 
 TEST_CASE("each material direction is clipped at its own limit", "[adapt][fabric]") {
@@ -120,12 +140,15 @@ TEST_CASE("grain clips over a mesh: statistics per direction, the warp turned pe
   clipped_targets(m.V, V_warp, m.F, g, nullptr, &s, 0.0);
   CHECK(s.clipped_faces == 0);
   CHECK(s.max_weft_stretch == Approx(1.2).epsilon(1e-12));
-  // A bias grain (45 degrees): a vertical pull of 20 % stretches warp and weft by about 10 %.
+  // A bias grain (45 degrees): a vertical pull of 20 % stretches warp and weft by 10.5 %
+  // each (and shears them): beyond the warp's 10 %.
   const std::vector<double> bias(m.F.rows(), kPi / 4.0);
   g.grain_angles = &bias;
   clipped_targets(m.V, V_warp, m.F, g, nullptr, &s, 0.0);
   CHECK(s.max_warp_stretch == Approx(std::sqrt(0.5 * (1.0 + 1.44))).epsilon(1e-12));
   CHECK(s.max_weft_stretch == Approx(s.max_warp_stretch).epsilon(1e-12));
+  CHECK(s.clipped_faces == m.F.rows());
+  CHECK(s.max_limit_stretch == Approx(std::sqrt(0.5 * (1.0 + 1.44)) / 1.1).epsilon(1e-12));
   const std::vector<double> wrong(3, 0.0);
   g.grain_angles = &wrong;
   CHECK_THROWS_AS(clipped_targets(m.V, V_warp, m.F, g, nullptr, &s, 0.0), gp::UsageError);
