@@ -214,6 +214,7 @@ OrderedJson to_json(const GarmentFile& g) {
   }
   j["loops"] = loops;
   j["paint"] = g.paint;
+  j["ease"] = g.ease;
   j["material"] = to_json(g.material);
   OrderedJson ext = OrderedJson::array();
   for (const auto& e : g.extensions)
@@ -286,6 +287,7 @@ GarmentFile read_garment_file(const std::filesystem::path& path) {
       throw SpecError("expected a positive number", root.where("paint") + "/" + std::to_string(f));
     g.paint.push_back((*paint)[f].get<double>());
   }
+  g.ease = root.number("ease", 0.0, Range::between(-0.5, 0.0));
   g.material = read_material(root.object("material"));
   const SpecArray ext = root.array("extensions");
   for (size_t i = 0; i < ext.size(); ++i) {

@@ -96,7 +96,8 @@ struct GarmentFile {
   double target_edge_length = 0.0;
   double offset = 0.0;
   std::vector<GarmentLoop> loops;
-  std::vector<double> paint;  // per garment face
+  std::vector<double> paint;  // per garment face (a knit's negative ease included)
+  double ease = 0.0;          // the spec's negative ease (already in the paint); 0: none
   Material material;
   std::vector<GarmentExtension> extensions;
 

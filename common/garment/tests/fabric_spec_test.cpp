@@ -164,3 +164,35 @@ TEST_CASE("make-garment refuses an unknown fabric in one line with exit 4, and n
   CHECK(g.material.k_stretch == gp::fabric::find_fabric("cotton-poplin")->k_warp);
   fs::remove_all(dir);
 }
+
+TEST_CASE("negative ease: knits only, within what the knit's stretch allows", "[garment][fabric]") {
+  Json j = cap_spec();
+  j["fabric"] = "jersey-interlock";  // limits 1.15 warp, 1.30 weft: at least 1 / 1.15 - 1 = -0.130
+  j["ease"] = -0.08;
+  CHECK(gp::parse_garment_spec(j, "s.json").ease == -0.08);
+  j["ease"] = -0.14;
+  CHECK(spec_error(j).find("beyond what the knit's stretch allows") != std::string::npos);
+  j["ease"] = 0.05;
+  CHECK(spec_error(j).find("/ease") != std::string::npos);
+  j["fabric"] = "cotton-poplin";
+  j["ease"] = -0.02;
+  CHECK(spec_error(j).find("needs a knit") != std::string::npos);
+}
+
+TEST_CASE("make-garment puts a knit's negative ease into the paint", "[garment][fabric][cli]") {
+  const fs::path dir = gp::testing::fresh_temp_dir("garment_ease_cli");
+  gp::write_mesh(dir / "body.ply", gp::testing::make_icosphere(4, 0.2));
+  Json j = cap_spec();
+  j["fabric"] = "jersey-interlock";
+  j["ease"] = -0.08;
+  std::ofstream(dir / "knit.json") << j.dump(2);
+  const std::string d = dir.string();
+  const auto r = gp::testing::run_command(gp::testing::tool_path("make-garment") + " " + d + "/knit.json --avatar " + d +
+                                          "/body.ply --out " + d + "/knit -q");
+  REQUIRE(r.exit_code == 0);
+  const gp::GarmentFile g = gp::read_garment_file(dir / "knit" / "garment.json");
+  CHECK(g.ease == -0.08);
+  REQUIRE(!g.paint.empty());
+  for (double p : g.paint) CHECK(p == Approx(0.92 * 0.92).epsilon(1e-12));
+  fs::remove_all(dir);
+}
