@@ -161,6 +161,8 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
   for (const auto& [phase, s] : result.pattern.seconds) result.timing["cut_and_flatten_" + phase] = s;
   LayoutOptions layout = options.layout;
   layout.title = result.name;
+  // The cutter's labels name a fabric the spec chose (the paper's default stays as it was).
+  if (result.have_garment && result.garment.material.fabric != "paper") layout.title += ", " + result.garment.material.fabric;
   result.layout = layout_pattern(result.pattern, layout);
   lap("layout");
   if (!result.pattern.meets_limit) {
@@ -238,6 +240,7 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
                      {"seams", options.seams},
                      {"vertices", result.rest.V.rows()},
                      {"faces", result.rest.F.rows()}};
+  if (result.have_garment) report["input"]["fabric"] = result.garment.material.fabric;
   // The cutter's options with the stretch budget it used (the fit's delta
   // with --fit).
   PatternOptions used = options.pattern;
