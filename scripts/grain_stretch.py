@@ -9,8 +9,8 @@ horizontal use their first edge, as the cloth model does), the weft the
 in-plane perpendicular. Prints, per draped mesh, the largest and the
 area-weighted 99th percentile stretch along warp and weft, |F warp| and
 |F weft| with F the rest-to-draped map, as JSON. With --limits, also the
-largest stretch relative to them (the singular value the fit judges,
-cloth::face_limit_stretches). Needs numpy (Debian's python3); reads meshes with meshdiff.py's reader.
+largest stretch relative to them, max(warp / WARP, weft / WEFT), what the fit
+judges (cloth::face_limit_stretches). Needs numpy (Debian's python3); reads meshes with meshdiff.py's reader.
 """
 import argparse
 import json
@@ -75,8 +75,7 @@ def main():
              "max_warp": float(warp.max()), "p99_warp": weighted_quantile(warp, area, 0.99),
              "max_weft": float(weft.max()), "p99_weft": weighted_quantile(weft, area, 0.99)}
         if a.limits:
-            Wn = W / np.array(a.limits)[None, None, :]
-            r["max_relative_to_limits"] = float(np.linalg.svd(Wn, compute_uv=False)[:, 0].max())
+            r["max_relative_to_limits"] = float(np.maximum(warp / a.limits[0], weft / a.limits[1]).max())
         out.append(r)
     print(json.dumps(out, indent=2))
 

@@ -20,6 +20,16 @@ namespace gp {
 namespace fs = std::filesystem;
 namespace {
 
+// The title on the pattern's labels: the garment's name, and the fabric when
+// the spec chose one (the paper's default stays unnamed, as before).
+std::string pattern_title(const ExportRestResult& result) {
+  if (result.have_garment && result.garment.material.fabric != "paper") {
+    return result.name + ", " + result.garment.material.fabric;
+  }
+  return result.name;
+}
+
+
 // "sewn_02_armsup.ply": the sewn garment's drape at key pose 2.
 std::string sewn_drape_name(const adapt::KeyPoseResult& k) {
   char name[256];
@@ -160,9 +170,7 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
   lap("cut_and_flatten");
   for (const auto& [phase, s] : result.pattern.seconds) result.timing["cut_and_flatten_" + phase] = s;
   LayoutOptions layout = options.layout;
-  layout.title = result.name;
-  // The cutter's labels name a fabric the spec chose (the paper's default stays as it was).
-  if (result.have_garment && result.garment.material.fabric != "paper") layout.title += ", " + result.garment.material.fabric;
+  layout.title = pattern_title(result);
   result.layout = layout_pattern(result.pattern, layout);
   lap("layout");
   if (!result.pattern.meets_limit) {
@@ -267,8 +275,8 @@ void write_export_rest(const ExportRestResult& result, const ExportRestOptions& 
   }
   const Pattern& pattern = result.pattern;
   const Layout& layout = result.layout;
-  write_file_atomic(dir / "pattern.svg", [&](std::ostream& s) { write_svg(s, pattern, layout, {result.name}); }, false);
-  write_file_atomic(dir / "pattern.dxf", [&](std::ostream& s) { write_dxf(s, pattern, layout, result.name); }, false);
+  write_file_atomic(dir / "pattern.svg", [&](std::ostream& s) { write_svg(s, pattern, layout, {pattern_title(result)}); }, false);
+  write_file_atomic(dir / "pattern.dxf", [&](std::ostream& s) { write_dxf(s, pattern, layout, pattern_title(result)); }, false);
   write_file_atomic(dir / "pieces.obj", [&](std::ostream& s) { write_pieces_obj(s, pattern, layout); }, false);
   write_file_atomic(dir / "seams.obj", [&](std::ostream& s) { write_seams_obj(s, pattern); }, false);
   write_mesh(dir / "pieces_flat.ply", flat_pieces_mesh(pattern, layout));
