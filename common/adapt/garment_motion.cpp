@@ -32,6 +32,7 @@ constexpr double kHeldGapRadius = 0.05;
 cloth::ClothParameters parameters_from(const Material& m) {
   cloth::ClothParameters p;
   p.k_stretch = m.k_stretch;
+  p.k_stretch_weft = m.k_stretch_weft;  // the fabric's weft (common/fabric/README.md)
   p.k_shear = m.k_shear;
   p.k_bend = m.k_bend;
   p.damping_stretch = m.damping_stretch;
@@ -252,7 +253,7 @@ struct GarmentMotion::Impl {
   }
 
   void set_up_adaptation(const Eigen::MatrixXd& V_garment) {
-    adapter.emplace(V_garment, F, options.adaptation);
+    adapter.emplace(V_garment, F, with_fabric_limits(options.adaptation, garment.material));
     design_area = mesh_area(V_garment, F);
     V_rest = V_garment;
     if (options.initial_rest.size()) {
@@ -420,6 +421,12 @@ struct GarmentMotion::Impl {
   // Largest principal stretch per face against the rest triangles the
   // simulator uses (the rest shape's, or given ones such as a sewn pattern's).
   Eigen::VectorXd largest_stretches() const {
+    // A fabric with limits of its own: every direction against its own limit,
+    // in units of the fit's 1 + delta (common/fabric/README.md, "Stretch limits").
+    const Material& m = garment.material;
+    if (m.has_own_limits())
+      return (1.0 + options.adaptation.delta) *
+             cloth::face_limit_stretches(sim->positions(), F, sim->rest_state(), m.stretch_limit_warp, m.stretch_limit_weft);
     return cloth::face_principal_stretches(sim->positions(), F, sim->rest_state()).col(0);
   }
 

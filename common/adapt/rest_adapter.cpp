@@ -1,5 +1,6 @@
 #include "adapt/rest_adapter.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Dense>
@@ -8,6 +9,14 @@
 #include "mesh/measures.h"
 
 namespace gp::adapt {
+
+AdaptOptions with_fabric_limits(AdaptOptions options, const Material& material) {
+  if (material.has_own_limits()) {
+    options.limit_warp = material.stretch_limit_warp;
+    options.limit_weft = material.stretch_limit_weft;
+  }
+  return options;
+}
 
 RestShapeAdapter::RestShapeAdapter(const Eigen::MatrixXd& V_reference, const Eigen::MatrixXi& F,
                                    AdaptOptions options)
@@ -24,6 +33,15 @@ RestShapeAdapter::RestShapeAdapter(const Eigen::MatrixXd& V_reference, const Eig
     throw UsageError("the smoothing length must be non-negative and the rounds at least 1");
   }
   if (!(options.max_face_growth > 1.0)) throw UsageError("the face growth cap must be above 1");
+  if (options.limit_warp != 0.0 || options.limit_weft != 0.0) {
+    const double least = std::min(options.limit_warp, options.limit_weft) - 1.0;
+    if (!(least >= 0.0) || !(options.margin + options.hysteresis <= least)) {
+      throw UsageError("the fabric's stretch limits must both be at least 1 plus the adaptation's margin and hysteresis");
+    }
+    if (!options.grain_angles.empty() && static_cast<Eigen::Index>(options.grain_angles.size()) != F.rows()) {
+      throw UsageError("grain angles must be one per face");
+    }
+  }
   for (int f = 0; f < F.rows(); ++f) {
     const Eigen::Vector3d a = V_reference.row(F(f, 0)), b = V_reference.row(F(f, 1)), c = V_reference.row(F(f, 2));
     reference_areas_(f) = 0.5 * (b - a).cross(c - a).norm();
@@ -35,8 +53,18 @@ AdaptReport RestShapeAdapter::adapt(const Eigen::MatrixXd& V_sim, Eigen::MatrixX
   AdaptReport report;
   report.area_before = mesh_area(V_rest, F_);
   const double clip_delta = options_.delta - options_.margin;  // the adaptation's own limit
-  const std::vector<Eigen::Matrix2d> targets =
-      clipped_targets(V_rest, V_sim, F_, clip_delta, area_factors, &report.clip, options_.hysteresis);
+  // With a fabric's own limits, each material direction against its own.
+  const bool by_grain = options_.limit_warp > 0.0;
+  GrainClip grain;
+  grain.limit_warp = options_.limit_warp - options_.margin;
+  grain.limit_weft = options_.limit_weft - options_.margin;
+  grain.material_direction = options_.material_direction;
+  grain.grain_angles = options_.grain_angles.empty() ? nullptr : &options_.grain_angles;
+  auto clip_all = [&](const Eigen::VectorXd* factors, ClipStats* stats) {
+    return by_grain ? clipped_targets(V_rest, V_sim, F_, grain, factors, stats, options_.hysteresis)
+                    : clipped_targets(V_rest, V_sim, F_, clip_delta, factors, stats, options_.hysteresis);
+  };
+  const std::vector<Eigen::Matrix2d> targets = clip_all(area_factors, &report.clip);
   if (report.clip.clipped_faces == 0 && area_factors == nullptr) {
     report.area_after = report.area_before;
     return report;
@@ -58,7 +86,7 @@ AdaptReport RestShapeAdapter::adapt(const Eigen::MatrixXd& V_sim, Eigen::MatrixX
   for (int round = 0; round < options_.rounds; ++round) {
     if (round > 0) {
       ClipStats clip;
-      next = clipped_targets(V_rest, V_sim, F_, clip_delta, nullptr, &clip, options_.hysteresis);
+      next = clip_all(nullptr, &clip);
       if (clip.clipped_faces == 0) break;
     }
     cap(next);

@@ -5,10 +5,13 @@
 // triangle beyond the limit and no paint, the targets are the current rest
 // triangles and the rest shape comes back unchanged: a settled garment is a
 // fixed point.
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "adapt/arap_stitch.h"
 #include "adapt/stretch_clip.h"
+#include "garment/garment_file.h"
 
 namespace gp::adapt {
 
@@ -28,6 +31,15 @@ struct AdaptOptions {
   // positions, until no triangle is clipped: the smoothing lets one stitching
   // meet its targets only in part.
   int rounds = 4;
+  // A fabric's own stretch limits along warp and weft (stretch ratios; both
+  // 0: 1 + delta in every direction, the paper's rule). With them, each
+  // direction is clipped at its own limit less the margin (GrainClip,
+  // stretch_clip.h); the warp is material_direction turned by grain_angles,
+  // as the cloth model lays it.
+  double limit_warp = 0.0;
+  double limit_weft = 0.0;
+  Eigen::Vector3d material_direction = Eigen::Vector3d::UnitY();
+  std::vector<double> grain_angles;  // per face, radians; empty: none
   // A face's target area stays within this multiple of its design area:
   // where the body holds the cloth, growth relieves nothing and would balloon
   // (README.md); the verification still sees that stretch.
@@ -44,6 +56,10 @@ struct AdaptReport {
   int rounds = 0;            // clip-and-stitch rounds done
   int capped_faces = 0;      // faces whose target was held at max_face_growth (last round)
 };
+
+// `options` with the garment fabric's limits (Material::stretch_limit_*), or
+// as they are for a material without limits of its own (the paper's).
+AdaptOptions with_fabric_limits(AdaptOptions options, const Material& material);
 
 class RestShapeAdapter {
  public:

@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 
+#include "cloth/cloth_energy.h"
 #include "core/error.h"
 
 namespace gp::adapt {
@@ -67,6 +68,79 @@ std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, cons
     local.max_stretch = std::max(local.max_stretch, s_max);
     if (s_max > 1.0 + delta) ++local.clipped_faces;
     Eigen::Matrix2d T = clipped_target(triangle_frame_edges(X_rest), G, delta, hysteresis);
+    if (area_factors) T *= std::sqrt((*area_factors)(f));
+    targets[f] = T;
+    local.target_area += 0.5 * T.determinant();
+  }
+  if (stats) *stats = local;
+  return targets;
+}
+
+Eigen::Matrix2d clipped_target_grain(const Eigen::Matrix2d& D_rest, const Eigen::Matrix2d& G,
+                                     const Eigen::Matrix2d& R, double limit_warp, double limit_weft,
+                                     double hysteresis) {
+  const Eigen::Matrix2d Gm = G * R;  // columns: the images of the unit warp and weft
+  const double su = Gm.col(0).norm(), sv = Gm.col(1).norm();
+  if (!(su > limit_warp) && !(sv > limit_weft)) return D_rest;
+  const double cu = limit_warp - hysteresis, cv = limit_weft - hysteresis;
+  const Eigen::Vector2d factor(su > cu ? su / cu : 1.0, sv > cv ? sv / cv : 1.0);
+  return R * factor.asDiagonal() * R.transpose() * D_rest;
+}
+
+std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V_sim,
+                                             const Eigen::MatrixXi& F, const GrainClip& grain,
+                                             const Eigen::VectorXd* area_factors, ClipStats* stats,
+                                             double hysteresis) {
+  if (V_rest.rows() != V_sim.rows() || V_rest.cols() != 3 || V_sim.cols() != 3) {
+    throw UsageError("rest and simulated positions must both be #V by 3");
+  }
+  if (!(grain.limit_warp >= 1.0) || !(grain.limit_weft >= 1.0)) {
+    throw UsageError("the grain's stretch limits must be at least 1");
+  }
+  const double least = std::min(grain.limit_warp, grain.limit_weft);
+  if (!(hysteresis >= 0.0) || !(hysteresis < least)) throw UsageError("clipping hysteresis must be in [0, limit)");
+  if (grain.grain_angles && static_cast<Eigen::Index>(grain.grain_angles->size()) != F.rows()) {
+    throw UsageError("grain angles must be one per face");
+  }
+  if (area_factors) {
+    if (area_factors->size() != F.rows()) throw UsageError("one area factor per face is needed");
+    for (int f = 0; f < F.rows(); ++f) {
+      if (!((*area_factors)(f) > 0.0) || !std::isfinite((*area_factors)(f))) {
+        throw UsageError("area factors must be positive", "face " + std::to_string(f));
+      }
+    }
+  }
+  if (!V_sim.allFinite()) throw NumericalError("simulated positions are not finite");
+  std::vector<Eigen::Matrix2d> targets(F.rows());
+  ClipStats local;
+  for (int f = 0; f < F.rows(); ++f) {
+    const Eigen::Matrix3d X_rest = face_positions(V_rest, F, f);
+    Eigen::Matrix2d G;
+    Eigen::Vector3d warp;
+    try {
+      G = deformation_gradient(X_rest, face_positions(V_sim, F, f));
+      warp = cloth::warp_direction(X_rest, grain.material_direction,
+                                   grain.grain_angles ? (*grain.grain_angles)[f] : 0.0);
+    } catch (const GeometryError& e) {
+      throw GeometryError(e.what(), "face " + std::to_string(f));
+    }
+    // The rest triangle's frame (mesh/principal_stretches.h): x along the
+    // first edge, y in the plane towards x2; the warp's angle in it.
+    const Eigen::Vector3d e1 = X_rest.col(1) - X_rest.col(0), e2 = X_rest.col(2) - X_rest.col(0);
+    const Eigen::Vector3d x = e1.normalized();
+    const Eigen::Vector3d y = e1.cross(e2).normalized().cross(x);
+    const double phi = std::atan2(warp.dot(y), warp.dot(x));
+    Eigen::Matrix2d R;
+    R << std::cos(phi), -std::sin(phi), std::sin(phi), std::cos(phi);
+    const Eigen::Matrix2d Gm = G * R;
+    local.max_stretch = std::max(local.max_stretch, Eigen::JacobiSVD<Eigen::Matrix2d>(G).singularValues()(0));
+    local.max_warp_stretch = std::max(local.max_warp_stretch, Gm.col(0).norm());
+    local.max_weft_stretch = std::max(local.max_weft_stretch, Gm.col(1).norm());
+    const double s_limit = std::max(Gm.col(0).norm() / grain.limit_warp, Gm.col(1).norm() / grain.limit_weft);
+    local.max_limit_stretch = std::max(local.max_limit_stretch, s_limit);
+    if (s_limit > 1.0) ++local.clipped_faces;
+    Eigen::Matrix2d T =
+        clipped_target_grain(triangle_frame_edges(X_rest), G, R, grain.limit_warp, grain.limit_weft, hysteresis);
     if (area_factors) T *= std::sqrt((*area_factors)(f));
     targets[f] = T;
     local.target_area += 0.5 * T.determinant();

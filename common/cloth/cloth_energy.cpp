@@ -139,7 +139,8 @@ constexpr double kMinRestQuality = 1e-6;
 
 }  // namespace
 
-TriangleRest triangle_rest(const Eigen::Matrix3d& X_rest, const Eigen::Vector3d& material_direction) {
+Eigen::Vector3d warp_direction(const Eigen::Matrix3d& X_rest, const Eigen::Vector3d& material_direction,
+                               double grain_angle) {
   const Eigen::Vector3d e1 = X_rest.col(1) - X_rest.col(0);
   const Eigen::Vector3d e2 = X_rest.col(2) - X_rest.col(0);
   Eigen::Vector3d n = e1.cross(e2);
@@ -154,6 +155,19 @@ TriangleRest triangle_rest(const Eigen::Matrix3d& X_rest, const Eigen::Vector3d&
   // axis; the first edge is used then (the anisotropy is lost there, not the model).
   if (!(d.norm() >= 0.1 * material_direction.norm())) d = e1;
   d.normalize();
+  // A turned grain (a bias cut): the warp rotated about the normal. Skipped at
+  // 0 so that the default frame is bit for bit the unturned one.
+  if (grain_angle != 0.0) d = std::cos(grain_angle) * d + std::sin(grain_angle) * n.cross(d);
+  return d;
+}
+
+TriangleRest triangle_rest(const Eigen::Matrix3d& X_rest, const Eigen::Vector3d& material_direction,
+                           double grain_angle) {
+  const Eigen::Vector3d d = warp_direction(X_rest, material_direction, grain_angle);
+  const Eigen::Vector3d e1 = X_rest.col(1) - X_rest.col(0);
+  const Eigen::Vector3d e2 = X_rest.col(2) - X_rest.col(0);
+  Eigen::Vector3d n = e1.cross(e2);
+  n /= n.norm();
   const Eigen::Vector3d v = n.cross(d);
   // The triangle in its own (u, v) frame: a flat triangle with the warp along x.
   Eigen::Matrix<double, 2, 3> P;
@@ -191,7 +205,7 @@ double stretch_energy(const Eigen::Matrix3d& X, const TriangleRest& rest, double
   Eigen::Vector3d g;
   Eigen::Matrix3d H;
   return stretch_term(W.col(0), k * rest.area, compression_ratio, false, g, H) +
-         stretch_term(W.col(1), k * rest.area, compression_ratio, false, g, H);
+         stretch_term(W.col(1), k * rest.area * rest.weft_ratio, compression_ratio, false, g, H);
 }
 
 Vector9d stretch_gradient(const Eigen::Matrix3d& X, const TriangleRest& rest, double k, double compression_ratio) {
@@ -199,7 +213,7 @@ Vector9d stretch_gradient(const Eigen::Matrix3d& X, const TriangleRest& rest, do
   Eigen::Vector3d gu, gv;
   Eigen::Matrix3d H;
   stretch_term(W.col(0), k * rest.area, compression_ratio, false, gu, H);
-  stretch_term(W.col(1), k * rest.area, compression_ratio, false, gv, H);
+  stretch_term(W.col(1), k * rest.area * rest.weft_ratio, compression_ratio, false, gv, H);
   return map_gradient(gu, gv, rest.a, rest.b);
 }
 
@@ -209,7 +223,7 @@ Matrix9d stretch_hessian(const Eigen::Matrix3d& X, const TriangleRest& rest, dou
   Eigen::Vector3d g;
   Eigen::Matrix3d Hu, Hv;
   stretch_term(W.col(0), k * rest.area, compression_ratio, project_psd, g, Hu);
-  stretch_term(W.col(1), k * rest.area, compression_ratio, project_psd, g, Hv);
+  stretch_term(W.col(1), k * rest.area * rest.weft_ratio, compression_ratio, project_psd, g, Hv);
   Matrix6d H6 = Matrix6d::Zero();
   H6.block<3, 3>(0, 0) = Hu;
   H6.block<3, 3>(3, 3) = Hv;
@@ -326,7 +340,7 @@ double membrane_system_block(const Eigen::Matrix3d& X, const TriangleRest& rest,
   Eigen::Vector3d gu, gv;
   Eigen::Matrix3d Hu, Hv;
   double energy = stretch_term(wu, c.k_stretch * A, c.compression_ratio, true, gu, Hu);
-  energy += stretch_term(wv, c.k_stretch * A, c.compression_ratio, true, gv, Hv);
+  energy += stretch_term(wv, c.k_stretch * A * rest.weft_ratio, c.compression_ratio, true, gv, Hv);
   Vector6d g6;
   Matrix6d H6;
   energy += shear_term(wu, wv, c.k_shear * A, true, g6, H6);

@@ -1,5 +1,6 @@
 #include "cloth/cloth_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
@@ -29,12 +30,15 @@ Eigen::Matrix<double, 3, 4> stencil_positions(const Eigen::MatrixXd& V, const Ei
 // masses zeroed by the caller.
 void set_triangles_and_masses(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
                               const ClothParameters& params, ClothRestState& rest) {
+  const double ratio = weft_ratio(params);
   for (int f = 0; f < F.rows(); ++f) {
     try {
-      rest.triangles[f] = triangle_rest(triangle_positions(V_rest, F, f), params.material_direction);
+      rest.triangles[f] = triangle_rest(triangle_positions(V_rest, F, f), params.material_direction,
+                                        grain_angle(params, f, F.rows()));
     } catch (const GeometryError& e) {
       throw GeometryError(e.what(), "face " + std::to_string(f));
     }
+    rest.triangles[f].weft_ratio = ratio;
     const double A = rest.triangles[f].area;
     rest.total_area += A;
     for (int k = 0; k < 3; ++k) rest.masses(F(f, k)) += params.density * A / 3.0;
@@ -42,6 +46,24 @@ void set_triangles_and_masses(const Eigen::MatrixXd& V_rest, const Eigen::Matrix
 }
 
 }  // namespace
+
+double weft_ratio(const ClothParameters& params) {
+  if (!(params.k_stretch_weft >= 0.0) || !(params.k_stretch >= 0.0)) {
+    throw UsageError("stretch stiffnesses must be non-negative");
+  }
+  if (params.k_stretch_weft == params.k_stretch) return 1.0;
+  if (!(params.k_stretch > 0.0)) throw UsageError("a weft stiffness needs a positive warp stiffness");
+  return params.k_stretch_weft / params.k_stretch;
+}
+
+double grain_angle(const ClothParameters& params, int f, long face_count) {
+  if (params.grain_angles.empty()) return 0.0;
+  if (static_cast<long>(params.grain_angles.size()) != face_count) {
+    throw UsageError("grain angles must be one per face (" + std::to_string(params.grain_angles.size()) + " for " +
+                     std::to_string(face_count) + " faces)");
+  }
+  return params.grain_angles[f];
+}
 
 ClothRestState build_rest_state(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
                                 const ClothParameters& params) {
@@ -128,12 +150,14 @@ void set_rest_triangles(const std::vector<TriangleRest>& triangles, const Eigen:
   }
   rest.masses.setZero();
   rest.total_area = 0.0;
+  const double ratio = weft_ratio(params);
   for (int f = 0; f < F.rows(); ++f) {
     const double A = triangles[f].area;
     if (!(A > 0.0) || !std::isfinite(A)) {
       throw GeometryError("rest triangle has zero or non-finite area", "face " + std::to_string(f));
     }
     rest.triangles[f] = triangles[f];
+    rest.triangles[f].weft_ratio = ratio;
     rest.total_area += A;
     for (int k = 0; k < 3; ++k) rest.masses(F(f, k)) += params.density * A / 3.0;
   }
@@ -165,6 +189,34 @@ Eigen::MatrixXd face_principal_stretches(const Eigen::MatrixXd& V, const Eigen::
     S.row(f) = Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(W).singularValues().transpose();
   }
   return S;
+}
+
+Eigen::MatrixXd face_grain_stretches(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                     const ClothRestState& rest) {
+  if (rest.triangles.size() != static_cast<size_t>(F.rows())) {
+    throw UsageError("one rest triangle per face is needed for the stretches");
+  }
+  Eigen::MatrixXd S(F.rows(), 2);
+  for (int f = 0; f < F.rows(); ++f) {
+    const Eigen::Matrix<double, 3, 2> W = triangle_w(triangle_positions(V, F, f), rest.triangles[f]);
+    S(f, 0) = W.col(0).norm();
+    S(f, 1) = W.col(1).norm();
+  }
+  return S;
+}
+
+Eigen::VectorXd face_limit_stretches(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                     const ClothRestState& rest, double limit_warp, double limit_weft) {
+  if (rest.triangles.size() != static_cast<size_t>(F.rows())) {
+    throw UsageError("one rest triangle per face is needed for the stretches");
+  }
+  if (!(limit_warp > 0.0) || !(limit_weft > 0.0)) throw UsageError("stretch limits must be positive");
+  Eigen::VectorXd s(F.rows());
+  for (int f = 0; f < F.rows(); ++f) {
+    const Eigen::Matrix<double, 3, 2> W = triangle_w(triangle_positions(V, F, f), rest.triangles[f]);
+    s(f) = std::max(W.col(0).norm() / limit_warp, W.col(1).norm() / limit_weft);
+  }
+  return s;
 }
 
 Eigen::MatrixXd cloth_gradient(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,

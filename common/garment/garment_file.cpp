@@ -1,6 +1,10 @@
 #include "garment/garment_file.h"
 
+#include <optional>
+
 #include "core/error.h"
+#include "fabric/fabric.h"
+#include "fabric/fabric_units.h"
 
 namespace gp {
 namespace {
@@ -46,11 +50,33 @@ std::vector<SurfacePoint> read_surface_points(const SpecObject& parent, const st
   return points;
 }
 
+
+Material material_of(const fabric::Fabric& f) {
+  Material m;
+  m.fabric = f.name;
+  m.k_stretch = f.k_warp;
+  m.k_stretch_weft = f.k_weft;
+  m.k_shear = f.k_shear;
+  m.k_bend = f.k_bend;
+  m.damping_stretch = f.damping_stretch;
+  m.damping_shear = f.damping_shear;
+  m.damping_bend = f.damping_bend;
+  m.density = f.areal_density;
+  m.compression_ratio = f.compression_ratio;
+  m.thickness = f.thickness;
+  m.knit = f.knit;
+  m.stretch_limit_warp = f.limit_warp;
+  m.stretch_limit_weft = f.limit_weft;
+  return m;
+}
+
 }  // namespace
 
 OrderedJson to_json(const Material& m) {
   OrderedJson j;
+  j["fabric"] = m.fabric;
   j["k_stretch"] = m.k_stretch;
+  j["k_stretch_weft"] = m.k_stretch_weft;
   j["k_shear"] = m.k_shear;
   j["k_bend"] = m.k_bend;
   j["damping_stretch"] = m.damping_stretch;
@@ -58,12 +84,19 @@ OrderedJson to_json(const Material& m) {
   j["damping_bend"] = m.damping_bend;
   j["density"] = m.density;
   j["compression_ratio"] = m.compression_ratio;
+  j["thickness"] = m.thickness;
+  j["knit"] = m.knit;
+  j["stretch_limit_warp"] = m.stretch_limit_warp;
+  j["stretch_limit_weft"] = m.stretch_limit_weft;
   return j;
 }
 
 Material read_material(const SpecObject& obj) {
   Material m;
+  m.fabric = obj.string("fabric", m.fabric);
   m.k_stretch = obj.number("k_stretch", m.k_stretch, Range::non_negative());
+  // An isotropic material by default: the weft as stiff as the warp.
+  m.k_stretch_weft = obj.number("k_stretch_weft", m.k_stretch, Range::non_negative());
   m.k_shear = obj.number("k_shear", m.k_shear, Range::non_negative());
   m.k_bend = obj.number("k_bend", m.k_bend, Range::non_negative());
   m.damping_stretch = obj.number("damping_stretch", m.damping_stretch, Range::non_negative());
@@ -71,8 +104,77 @@ Material read_material(const SpecObject& obj) {
   m.damping_bend = obj.number("damping_bend", m.damping_bend, Range::non_negative());
   m.density = obj.number("density", m.density, Range::positive());
   m.compression_ratio = obj.number("compression_ratio", m.compression_ratio, Range::between(1e-3, 1.0));
+  m.thickness = obj.number("thickness", m.thickness, Range::non_negative());
+  m.knit = obj.boolean("knit", m.knit);
+  m.stretch_limit_warp = obj.number("stretch_limit_warp", m.stretch_limit_warp, Range::between(0.0, 3.0));
+  m.stretch_limit_weft = obj.number("stretch_limit_weft", m.stretch_limit_weft, Range::between(0.0, 3.0));
   obj.finish();
+  if ((m.stretch_limit_warp == 0.0) != (m.stretch_limit_weft == 0.0) ||
+      (m.has_own_limits() && (m.stretch_limit_warp < 1.0 || m.stretch_limit_weft < 1.0))) {
+    throw SpecError("stretch limits must both be stretch ratios of at least 1, or both 0 (the fit's delta)",
+                    obj.where("stretch_limit_warp"));
+  }
+  if (m.k_stretch_weft != m.k_stretch && !(m.k_stretch > 0.0)) {
+    throw SpecError("a weft stiffness needs a positive warp stiffness", obj.where("k_stretch"));
+  }
   return m;
+}
+
+Material read_fabric(const Json& value, const std::string& file, const std::string& pointer) {
+  const std::string where = file + ": " + (pointer.empty() ? "/" : pointer);
+  if (value.is_string()) {
+    const std::string name = value.get<std::string>();
+    const fabric::Fabric* f = fabric::find_fabric(name);
+    if (!f) throw SpecError("unknown fabric '" + name + "' (known: " + fabric::fabric_names() + ")", where);
+    return material_of(*f);
+  }
+  if (!value.is_object()) {
+    throw SpecError("expected a fabric name or an object with its values and units, got " + json_type_name(value),
+                    where);
+  }
+  const SpecObject obj(value, file, pointer);
+  fabric::Fabric f;
+  f.name = obj.required_string("name");
+  if (fabric::find_fabric(f.name)) {
+    throw SpecError("a fabric given in full needs a name of its own, '" + f.name + "' is the library's",
+                    obj.where("name"));
+  }
+  f.description = obj.string("description", "");
+  f.source = obj.string("source", "the garment spec");
+  f.knit = obj.boolean("knit", false);
+  auto quantity = [&](const char* key, fabric::Dimension d, std::optional<double> fallback) {
+    const Json* raw = obj.raw(key);
+    if (!raw) {
+      if (fallback) return *fallback;
+      throw SpecError(std::string("missing required field '") + key + "'", obj.where(key));
+    }
+    if (!raw->is_string()) {
+      throw SpecError("expected \"<number> <unit>\" (e.g. \"" + std::string("1 ") + fabric::unit_names(d)[0] +
+                          "\"), got " + json_type_name(*raw),
+                      obj.where(key));
+    }
+    try {
+      return fabric::parse_quantity(raw->get<std::string>(), d);
+    } catch (const SpecError& e) {
+      throw SpecError(e.what(), obj.where(key));
+    }
+  };
+  using fabric::Dimension;
+  f.areal_density = quantity("areal_density", Dimension::areal_density, {});
+  f.thickness = quantity("thickness", Dimension::length, 0.0);
+  f.k_warp = quantity("k_warp", Dimension::tension, {});
+  f.k_weft = quantity("k_weft", Dimension::tension, {});
+  f.k_shear = quantity("k_shear", Dimension::tension, {});
+  f.k_bend = quantity("k_bend", Dimension::bending, {});
+  f.damping_stretch = quantity("damping_stretch", Dimension::damping_tension, f.damping_stretch);
+  f.damping_shear = quantity("damping_shear", Dimension::damping_tension, f.damping_shear);
+  f.damping_bend = quantity("damping_bend", Dimension::damping_bending, f.damping_bend);
+  f.limit_warp = obj.required_number("limit_warp", Range::between(1.0, 3.0));
+  f.limit_weft = obj.required_number("limit_weft", Range::between(1.0, 3.0));
+  f.compression_ratio = obj.number("compression_ratio", f.compression_ratio, Range::between(1e-3, 1.0));
+  obj.finish();
+  fabric::check_fabric(f, obj.where());
+  return material_of(f);
 }
 
 int GarmentFile::find_loop(const std::string& loop_name) const {
@@ -112,6 +214,7 @@ OrderedJson to_json(const GarmentFile& g) {
   }
   j["loops"] = loops;
   j["paint"] = g.paint;
+  j["ease"] = g.ease;
   j["material"] = to_json(g.material);
   OrderedJson ext = OrderedJson::array();
   for (const auto& e : g.extensions)
@@ -184,6 +287,7 @@ GarmentFile read_garment_file(const std::filesystem::path& path) {
       throw SpecError("expected a positive number", root.where("paint") + "/" + std::to_string(f));
     g.paint.push_back((*paint)[f].get<double>());
   }
+  g.ease = root.number("ease", 0.0, Range::between(-0.5, 0.0));
   g.material = read_material(root.object("material"));
   const SpecArray ext = root.array("extensions");
   for (size_t i = 0; i < ext.size(); ++i) {

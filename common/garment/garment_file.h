@@ -20,9 +20,13 @@
 
 namespace gp {
 
-// Baraff-Witkin cloth parameters, defaults from the paper (Wolff et al. 2023).
+// Baraff-Witkin cloth parameters of the garment's fabric (common/fabric/README.md),
+// defaults from the paper (Wolff et al. 2023: the fabric "paper"). Stiffnesses
+// in N/m (membrane) and N m (bending), as cloth/cloth_model.h reads them.
 struct Material {
-  double k_stretch = 800.0;       // stretch stiffness
+  std::string fabric = "paper";   // the fabric's name (a library name, or the spec's own)
+  double k_stretch = 800.0;       // stretch stiffness along the warp
+  double k_stretch_weft = 800.0;  // stretch stiffness along the weft
   double k_shear = 200.0;         // shear stiffness
   double k_bend = 1e-6;           // bending stiffness
   double damping_stretch = 100.0;  // stretch damping
@@ -35,10 +39,23 @@ struct Material {
   // small fraction of the load it stretches under (common/cloth/README.md,
   // "Compression"); 1 is the paper's symmetric stretch term.
   double compression_ratio = 0.1;
+  double thickness = 0.0;  // m, nominal (not used by the solver)
+  bool knit = false;       // may be cut with negative ease (a comfort offset below zero)
+  // The wearer's stretch limits along warp and weft (stretch ratios, 1.1 = 10 %
+  // longer); both 0: the fit's 1 + delta in every direction (the paper's rule).
+  double stretch_limit_warp = 0.0;
+  double stretch_limit_weft = 0.0;
+
+  bool has_own_limits() const { return stretch_limit_warp > 0.0 && stretch_limit_weft > 0.0; }
+  bool anisotropic() const { return k_stretch_weft != k_stretch; }
 };
 OrderedJson to_json(const Material& material);
 // Reads the fields present in `obj` over the defaults (strict: unknown keys fail).
 Material read_material(const SpecObject& obj);
+// A spec's "fabric": a library name (SpecError at `where`, listing the known
+// names, for any other) or an object with the values in full and their units
+// (common/garment/README.md, "Fabric").
+Material read_fabric(const Json& value, const std::string& file, const std::string& pointer);
 
 struct GarmentLoop {
   std::string name;
@@ -79,7 +96,8 @@ struct GarmentFile {
   double target_edge_length = 0.0;
   double offset = 0.0;
   std::vector<GarmentLoop> loops;
-  std::vector<double> paint;  // per garment face
+  std::vector<double> paint;  // per garment face (a knit's negative ease included)
+  double ease = 0.0;          // the spec's negative ease (already in the paint); 0: none
   Material material;
   std::vector<GarmentExtension> extensions;
 

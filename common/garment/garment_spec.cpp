@@ -1,5 +1,6 @@
 #include "garment/garment_spec.h"
 
+#include <algorithm>
 #include <set>
 
 #include "core/error.h"
@@ -91,7 +92,30 @@ GarmentSpec parse_garment_spec(const Json& j, const std::string& file) {
       s.paint.push_back(r);
     }
   }
-  if (const auto material = root.optional_object("material")) s.material = read_material(*material);
+  if (root.has("fabric") && root.has("material")) {
+    throw SpecError("give either 'fabric' (a fabric by name, or in full with units) or 'material' (raw cloth "
+                    "parameters), not both",
+                    root.where("material"));
+  }
+  if (const Json* fabric = root.raw("fabric")) s.material = read_fabric(*fabric, root.file(), root.pointer() + "/fabric");
+  s.ease = root.number("ease", 0.0, Range::between(-0.5, 0.0));
+  if (s.ease < 0.0) {
+    if (!s.material.knit) {
+      throw SpecError("negative ease needs a knit; the fabric '" + s.material.fabric + "' is not one",
+                      root.where("ease"));
+    }
+    const double least = std::min(s.material.stretch_limit_warp, s.material.stretch_limit_weft);
+    if (!(least > 1.0) || 1.0 + s.ease < 1.0 / least) {
+      throw SpecError("ease " + std::to_string(s.ease) + " is beyond what the knit's stretch allows (at least " +
+                          std::to_string(least > 1.0 ? 1.0 / least - 1.0 : 0.0) + ")",
+                      root.where("ease"));
+    }
+  }
+  if (const auto material = root.optional_object("material")) {
+    s.material = read_material(*material);
+    // Raw parameters are no fabric of the library: named so unless they say.
+    if (!material->has("fabric")) s.material.fabric = "custom";
+  }
   if (const auto smoothing = root.optional_object("smoothing")) {
     s.smoothing.smoothing_iterations = static_cast<int>(
         smoothing->integer("iterations", s.smoothing.smoothing_iterations, Range::between(0, 200)));
@@ -143,6 +167,7 @@ OrderedJson to_json(const GarmentSpec& s) {
     paint.push_back(p);
   }
   j["paint"] = paint;
+  j["ease"] = s.ease;
   j["material"] = to_json(s.material);
   j["smoothing"] = {{"iterations", s.smoothing.smoothing_iterations}, {"band_rings", s.smoothing.band_rings}};
   j["remesh"] = {{"iterations", s.remesh.iterations}, {"relaxation_steps", s.remesh.relaxation_steps}};

@@ -19,7 +19,11 @@
 //     "paint": [                          // T3, optional; factors multiply where regions overlap
 //       { "name": "back", "factor": 1.2, "disc": { "center": 4321, "radius": 0.1 } },
 //       { "name": "elbow", "factor": 1.1, "vertices": [ 11, 12, 13 ] } ],
-//     "material": { "k_stretch": 800, ... },  // optional, paper defaults
+//     "fabric": "cotton-poplin",          // optional: a fabric of common/fabric (default "paper"),
+//                                         //   or in full with units: { "name": "my-twill",
+//                                         //   "areal_density": "210 g/m^2", "k_warp": "4000 N/m", ... }
+//     "material": { "k_stretch": 800, ... },  // optional instead of "fabric": raw cloth parameters
+//     "ease": -0.08,                      // optional, knits only: start 8 % smaller than the design
 //     "smoothing": { "iterations": 12, "band_rings": 5 },   // optional
 //     "remesh": { "iterations": 8, "relaxation_steps": 2 },  // optional
 //     "snap_tolerance": 0.05              // metres: how far a 3D point may be from the body
@@ -72,6 +76,11 @@ struct GarmentSpec {
   // armpit). 0.02 suits garments of 1-1.5 cm edges (common/garment/README.md).
   double offset_fillet = 0.0;
   std::vector<PaintRegion> paint;
+  // Negative ease of a knit (common/garment/README.md, "Negative ease"): the
+  // rest shape starts this fraction smaller than the design in every
+  // direction (-0.08: 8 % smaller), at most as small as the knit's smaller
+  // stretch limit allows (1 + ease >= 1 / min(limit_warp, limit_weft)); 0: none.
+  double ease = 0.0;
   Material material;
   RegionCutOptions smoothing;
   RemeshOptions remesh;  // target_edge_length is filled in by make_garment

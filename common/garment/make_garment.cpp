@@ -245,6 +245,14 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
       if (in) file.paint[static_cast<size_t>(f)] *= region.factor;
     }
   }
+  // A knit's negative ease: the rest shape starts smaller in every direction
+  // by 1 + ease, through the paint (an area factor, applied at the first
+  // adaptation); the fit grows it back only where a pose needs more than the
+  // knit's limits give.
+  if (spec.ease < 0.0) {
+    for (double& p : file.paint) p *= (1.0 + spec.ease) * (1.0 + spec.ease);
+  }
+  file.ease = spec.ease;
   result.timing["bind_paint"] = seconds_since(t0);
 
   // Remeshing moved interior vertices on the dense offset surface; they are

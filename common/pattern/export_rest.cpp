@@ -22,6 +22,16 @@ namespace gp {
 namespace fs = std::filesystem;
 namespace {
 
+// The title on the pattern's labels: the garment's name, and the fabric when
+// the spec chose one (the paper's default stays unnamed, as before).
+std::string pattern_title(const ExportRestResult& result) {
+  if (result.have_garment && result.garment.material.fabric != "paper") {
+    return result.name + ", " + result.garment.material.fabric;
+  }
+  return result.name;
+}
+
+
 // "sewn_02_armsup.ply": the sewn garment's drape at key pose 2.
 std::string sewn_drape_name(const adapt::KeyPoseResult& k) {
   char name[256];
@@ -227,7 +237,7 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
   }
   for (const auto& [phase, s] : result.pattern.seconds) result.timing["cut_and_flatten_" + phase] = s;
   LayoutOptions layout = options.layout;
-  layout.title = result.name;
+  layout.title = pattern_title(result);
   result.layout = layout_pattern(result.pattern, layout);
   lap("layout");
   if (!result.pattern.meets_limit) {
@@ -351,6 +361,7 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
                      {"seams", options.seams},
                      {"vertices", result.rest.V.rows()},
                      {"faces", result.rest.F.rows()}};
+  if (result.have_garment) report["input"]["fabric"] = result.garment.material.fabric;
   // The cutter's options with the stretch budget it used (the fit's delta
   // with --fit).
   PatternOptions used = options.pattern;
@@ -403,15 +414,15 @@ void write_export_rest(const ExportRestResult& result, const ExportRestOptions& 
   }
   const Pattern& pattern = result.pattern;
   const Layout& layout = result.layout;
-  write_file_atomic(dir / "pattern.svg", [&](std::ostream& s) { write_svg(s, pattern, layout, {result.name}); }, false);
+  write_file_atomic(dir / "pattern.svg", [&](std::ostream& s) { write_svg(s, pattern, layout, {pattern_title(result)}); }, false);
   DxfOptions dxf = options.dxf;
-  if (dxf.style.empty() || dxf.style == DxfOptions{}.style) dxf.style = result.name;
+  if (dxf.style.empty() || dxf.style == DxfOptions{}.style) dxf.style = pattern_title(result);
   const std::vector<CutInstruction> cut = cut_instructions(pattern);
   write_file_atomic(dir / "pattern.dxf", [&](std::ostream& s) { write_dxf(s, pattern, layout, dxf, cut); }, false);
   for (const PaperSize& paper : pdf_papers()) {
     PdfOptions po;
     po.paper = paper;
-    po.title = result.name;
+    po.title = pattern_title(result);
     write_file_atomic(dir / ("pattern-" + paper.name + ".pdf"),
                       [&](std::ostream& s) { write_pdf(s, pattern, layout, cut, po, options.dxf.date); });
   }

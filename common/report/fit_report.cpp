@@ -316,6 +316,9 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
                               lookup(run.garment, "/options/effective_spec/name")->is_string()
                           ? lookup(run.garment, "/options/effective_spec/name")->get<std::string>()
                           : run.dir.filename().string();
+  // The header names a fabric the spec chose (common/fabric); the paper's default is not named.
+  const Json* fabric = lookup(run.garment, "/options/effective_spec/material/fabric");
+  if (fabric && fabric->is_string() && fabric->get<std::string>() != "paper") title += " in " + fabric->get<std::string>();
   write_text(folder / "index.html", html_report(run, files, result.checks, title));
 
   for (const auto& entry : fs::recursive_directory_iterator(folder))
