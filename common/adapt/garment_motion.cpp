@@ -195,9 +195,10 @@ struct GarmentMotion::Impl {
     collider.emplace(surface.F, collision::reachable_body_faces(V_surface, surface.F, V_garment, options.reach));
     result.culled_body_faces = collider->face_ids().size();
     collider->set_threads(options.threads);
-    // In a pinch the cloth keeps its own thickness from the nearer part.
-    collider->set_min_pinch_offset(options.contact.thickness);
-    collider->set_facing_gaps(options.facing_gaps);
+    if (options.facing_gaps) {
+      collider->set_facing_gaps(true);
+      collider->set_min_pinch_offset(options.contact.thickness);
+    }
     collider->set_body(V_surface);
     contact.emplace(F, surface.F, collider->face_ids(), options.contact);
     contact->set_pinned(pin_ids);

@@ -12,6 +12,26 @@
 namespace gp::adapt {
 namespace {
 
+void check_clip_shapes(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V_sim) {
+  if (V_rest.rows() != V_sim.rows() || V_rest.cols() != 3 || V_sim.cols() != 3) {
+    throw UsageError("rest and simulated positions must both be #V by 3");
+  }
+}
+
+// The per-face area factors (one per face, positive, finite) and the
+// simulated positions (finite) of a clipping.
+void check_clip_inputs(const Eigen::MatrixXd& V_sim, const Eigen::MatrixXi& F, const Eigen::VectorXd* area_factors) {
+  if (area_factors) {
+    if (area_factors->size() != F.rows()) throw UsageError("one area factor per face is needed");
+    for (int f = 0; f < F.rows(); ++f) {
+      if (!((*area_factors)(f) > 0.0) || !std::isfinite((*area_factors)(f))) {
+        throw UsageError("area factors must be positive", "face " + std::to_string(f));
+      }
+    }
+  }
+  if (!V_sim.allFinite()) throw NumericalError("simulated positions are not finite");
+}
+
 Eigen::Matrix3d face_positions(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int f) {
   Eigen::Matrix3d X;
   for (int k = 0; k < 3; ++k) X.col(k) = V.row(F(f, k)).transpose();
@@ -38,22 +58,12 @@ std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, cons
                                              const Eigen::MatrixXi& F, double delta,
                                              const Eigen::VectorXd* area_factors, ClipStats* stats,
                                              double hysteresis) {
-  if (V_rest.rows() != V_sim.rows() || V_rest.cols() != 3 || V_sim.cols() != 3) {
-    throw UsageError("rest and simulated positions must both be #V by 3");
-  }
+  check_clip_shapes(V_rest, V_sim);
   if (!(delta >= 0.0)) throw UsageError("stretch limit delta must be non-negative");
   if (!(hysteresis >= 0.0) || !(hysteresis < 1.0 + delta)) {
     throw UsageError("clipping hysteresis must be in [0, 1 + delta)");
   }
-  if (area_factors) {
-    if (area_factors->size() != F.rows()) throw UsageError("one area factor per face is needed");
-    for (int f = 0; f < F.rows(); ++f) {
-      if (!((*area_factors)(f) > 0.0) || !std::isfinite((*area_factors)(f))) {
-        throw UsageError("area factors must be positive", "face " + std::to_string(f));
-      }
-    }
-  }
-  if (!V_sim.allFinite()) throw NumericalError("simulated positions are not finite");
+  check_clip_inputs(V_sim, F, area_factors);
   std::vector<Eigen::Matrix2d> targets(F.rows());
   ClipStats local;
   for (int f = 0; f < F.rows(); ++f) {
@@ -91,9 +101,7 @@ std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, cons
                                              const Eigen::MatrixXi& F, const GrainClip& grain,
                                              const Eigen::VectorXd* area_factors, ClipStats* stats,
                                              double hysteresis) {
-  if (V_rest.rows() != V_sim.rows() || V_rest.cols() != 3 || V_sim.cols() != 3) {
-    throw UsageError("rest and simulated positions must both be #V by 3");
-  }
+  check_clip_shapes(V_rest, V_sim);
   if (!(grain.limit_warp >= 1.0) || !(grain.limit_weft >= 1.0)) {
     throw UsageError("the grain's stretch limits must be at least 1");
   }
@@ -102,15 +110,7 @@ std::vector<Eigen::Matrix2d> clipped_targets(const Eigen::MatrixXd& V_rest, cons
   if (grain.grain_angles && static_cast<Eigen::Index>(grain.grain_angles->size()) != F.rows()) {
     throw UsageError("grain angles must be one per face");
   }
-  if (area_factors) {
-    if (area_factors->size() != F.rows()) throw UsageError("one area factor per face is needed");
-    for (int f = 0; f < F.rows(); ++f) {
-      if (!((*area_factors)(f) > 0.0) || !std::isfinite((*area_factors)(f))) {
-        throw UsageError("area factors must be positive", "face " + std::to_string(f));
-      }
-    }
-  }
-  if (!V_sim.allFinite()) throw NumericalError("simulated positions are not finite");
+  check_clip_inputs(V_sim, F, area_factors);
   std::vector<Eigen::Matrix2d> targets(F.rows());
   ClipStats local;
   for (int f = 0; f < F.rows(); ++f) {

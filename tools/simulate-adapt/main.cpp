@@ -163,11 +163,11 @@ int main(int argc, char** argv) {
                  "Body contact: velocity (constraints inside the implicit solve, then projection) or "
                  "projection (position projection after the step only)")
       ->capture_default_str()->check(CLI::IsMember({"velocity", "projection"}));
-  std::string pinch_gaps = "facing";
+  std::string pinch_gaps = "ray";
   app.add_option("--pinch-gaps", pinch_gaps,
                  "Where two body parts are closer than twice the offset, the cloth keeps half the gap from each: "
-                 "the gap to the nearest body surface facing the contact in any direction (facing) or along its "
-                 "normal only (ray)")
+                 "the gap along the contact's normal (ray) or to the nearest body surface facing it in any "
+                 "direction, never less than the contact thickness (facing)")
       ->capture_default_str()->check(CLI::IsMember({"facing", "ray"}));
   std::string continuous = "on";
   app.add_option("--continuous-contact", continuous,
