@@ -300,31 +300,7 @@ void write_dxf(std::ostream& out, const Pattern& pattern, const Layout& layout, 
 void write_dxf(std::ostream& out, const Pattern& pattern, const Layout& layout, const std::string& title) {
   const std::vector<CutInstruction> cut = cut_instructions(pattern);
   DxfStream d(out);
-  d.pair(0, "SECTION");
-  d.pair(2, "HEADER");
-  d.pair(9, "$ACADVER");
-  d.pair(1, "AC1009");
-  d.pair(9, "$EXTMIN");
-  d.point(Eigen::Vector2d::Zero());
-  d.pair(9, "$EXTMAX");
-  d.point(Eigen::Vector2d(layout.width, layout.height));
-  d.pair(0, "ENDSEC");
-  d.pair(0, "SECTION");
-  d.pair(2, "TABLES");
-  d.pair(0, "TABLE");
-  d.pair(2, "LAYER");
-  const char* layers[] = {"SEW", "CUT", "NOTCH", "GRAIN", "LABEL"};
-  d.pair(70, std::to_string(sizeof(layers) / sizeof(layers[0])));
-  int color = 1;
-  for (const char* name : layers) {
-    d.pair(0, "LAYER");
-    d.pair(2, name);
-    d.pair(70, "0");
-    d.pair(62, std::to_string(color++));
-    d.pair(6, "CONTINUOUS");
-  }
-  d.pair(0, "ENDTAB");
-  d.pair(0, "ENDSEC");
+  write_header_and_layers(d, layout, {"SEW", "CUT", "NOTCH", "GRAIN", "LABEL"});
   d.pair(0, "SECTION");
   d.pair(2, "ENTITIES");
   for (size_t i = 0; i < pattern.pieces.size(); ++i) {

@@ -1,37 +1,14 @@
 #pragma once
-// The pattern sheet as an ASCII DXF in millimetres, in one of three profiles:
-//
+// The pattern sheet as an ASCII DXF in millimetres (the SVG's sheet
+// coordinates with y up, the DXF convention), in one of three profiles; the
+// layers, entities and text of each are in common/pattern/README.md ("DXF
+// profiles"):
 // - astm (default): the garment industry's interchange format, ASTM D6673-10
-//   ("Standard Practice for Sewn Products Pattern Data Interchange - Data
-//   Exchange Format"), the successor of the AAMA-DXF of 1997. DXF R12
-//   (AC1009) entities only; every piece is one BLOCK, inserted once in the
-//   ENTITIES section at its place on the sheet; layers are numbers:
-//     1  the cutting line (closed POLYLINE) and the piece text (TEXT),
-//     2  turn points (POINT at every vertex of the cutting line where it
-//        turns by more than kTurnPointDegrees),
-//     3  curve points (POINT at every other vertex of the cutting line),
-//     4  notches: POINT on the cutting line, group 50 the notch's angle in
-//        degrees (the direction it cuts into the piece, counter-clockwise
-//        from +x),
-//     6  fold lines (none: every piece is cut whole, cut_instructions.h),
-//     7  the grain line (LINE, arrow towards +y of the sheet),
-//     8  internal lines: the darts as drawn (their two legs, LINE),
-//     13 drill holes: a POINT a centimetre short of each dart's tip,
-//     14 the sewing line (closed POLYLINE).
-//   Piece text, one TEXT per line on layer 1 in 7-bit ASCII: "Piece Name:",
-//   "Quantity:", "Size:", "Category:", "Fabric:", "Annotation:". Style text
-//   once, in ENTITIES outside any block: "Style Name:", "Creation Date:",
-//   "Author:", "Sample Size:", "Units: METRIC". No other blocks (Gerber
-//   AccuMark refuses extra ones).
-// - aama: the same, but notches as the AAMA-DXF of 1997 draws them, a slit:
-//   a LINE on layer 4 from the cutting line into the piece, with no angle
-//   code, for importers that predate ASTM D6673's notch points.
-// - plain: the drawing as before these profiles, for general CAD and laser
-//   cutters: closed POLYLINE entities for the sewing lines (layer SEW) and
-//   cutting lines (layer CUT), LINE entities for notches (NOTCH), grain lines
-//   (GRAIN) and darts (DART), TEXT for labels (LABEL), all in ENTITIES.
-//
-// Same sheet coordinates as the SVG but with y up (DXF convention).
+//   (the successor of AAMA-DXF), DXF R12 entities, one BLOCK per piece
+//   inserted once, numbered layers, piece and style text in 7-bit ASCII, no
+//   other blocks (Gerber AccuMark refuses extra ones);
+// - aama: the same with notches as AAMA-DXF's slits, for older importers;
+// - plain: the drawing before these profiles, for general CAD and cutters.
 #include <ostream>
 #include <string>
 #include <vector>
