@@ -11,11 +11,15 @@
 #include <Eigen/Geometry>
 
 #include "cloth/cloth_energy.h"
+#include "finite_differences.h"
 #include "cloth/cloth_model.h"
 #include "core/error.h"
 #include "testing/test_meshes.h"
 
 using namespace gp::cloth;
+using gp::cloth::testing::fd_gradient;
+using gp::cloth::testing::fd_hessian;
+using gp::cloth::testing::min_eigenvalue;
 
 namespace {
 
@@ -28,34 +32,6 @@ Eigen::Matrix3d random_rotation(std::mt19937& rng) {
   return q.toRotationMatrix();
 }
 
-template <class Energy>
-Vector9d fd_gradient(const Eigen::Matrix3d& X, double eps, Energy energy) {
-  Vector9d g;
-  for (int i = 0; i < 9; ++i) {
-    Eigen::Matrix3d Xp = X, Xm = X;
-    Xp(i % 3, i / 3) += eps;
-    Xm(i % 3, i / 3) -= eps;
-    g(i) = (energy(Xp) - energy(Xm)) / (2.0 * eps);
-  }
-  return g;
-}
-
-template <class Gradient>
-Matrix9d fd_hessian(const Eigen::Matrix3d& X, double eps, Gradient gradient) {
-  Matrix9d H;
-  for (int i = 0; i < 9; ++i) {
-    Eigen::Matrix3d Xp = X, Xm = X;
-    Xp(i % 3, i / 3) += eps;
-    Xm(i % 3, i / 3) -= eps;
-    H.col(i) = (gradient(Xp) - gradient(Xm)) / (2.0 * eps);
-  }
-  return H;
-}
-
-double min_eigenvalue(const Matrix9d& H) {
-  Eigen::SelfAdjointEigenSolver<Matrix9d> es(0.5 * (H + H.transpose()));
-  return es.eigenvalues().minCoeff();
-}
 
 }  // namespace
 
