@@ -19,6 +19,10 @@
 #include "spec/option_fields.h"
 
 namespace gp {
+namespace {
+// m: a cone point this far from every seam and boundary lies inside a piece.
+constexpr double kConeInsideMargin = 0.01;
+}  // namespace
 namespace fs = std::filesystem;
 namespace {
 
@@ -280,6 +284,10 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
     const double limit = options.pattern.symmetric ? options.pattern.max_limit : options.pattern.compression_worst1;
     const double cone = 2.0 * M_PI * limit;
     const RestShapeDiagnostics d = diagnose_rest_shape(design.V, rest.V, rest.F, cone);
+    // The cones a piece must flatten: those at least a centimetre inside it
+    // (a seam junction is where pieces meet).
+    const InnerCones inside = cone_points_inside_pieces(design.V, rest.V, rest.F, cone, result.pattern.cut.V,
+                                                        result.pattern.cut.F, kConeInsideMargin);
     result.rest_shape = {{"design_mesh", (fs::path(options.garment).parent_path() / result.garment.mesh_file).string()},
                          {"area_growth", d.area_growth},
                          {"face_growth_p95", d.growth_p95},
@@ -289,6 +297,9 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
                          {"cone_angle_deg", d.cone_angle * 180.0 / M_PI},
                          {"cone_points", d.cone_points},
                          {"cone_points_design", d.cone_points_design},
+                         {"cone_points_inside_pieces", inside.rest},
+                         {"cone_points_inside_pieces_design", inside.design},
+                         {"cone_inside_margin_m", kConeInsideMargin},
                          {"max_abs_angle_defect_deg", d.max_abs_defect * 180.0 / M_PI},
                          {"abs_angle_defect_sum_rad", d.abs_defect_sum},
                          {"abs_angle_defect_sum_design_rad", d.abs_defect_sum_design}};

@@ -86,4 +86,46 @@ RestShapeDiagnostics diagnose_rest_shape(const Eigen::MatrixXd& V_design, const 
   return d;
 }
 
+InnerCones cone_points_inside_pieces(const Eigen::MatrixXd& V_design, const Eigen::MatrixXd& V_rest,
+                                     const Eigen::MatrixXi& F, double cone_angle, const Eigen::MatrixXd& V_cut,
+                                     const Eigen::MatrixXi& F_cut, double margin) {
+  if (V_design.rows() != V_rest.rows() || V_design.cols() != 3 || V_rest.cols() != 3)
+    throw GeometryError("the rest shape and the designed garment differ in size");
+  // Boundary edges of the cut mesh: used by one face.
+  std::vector<std::pair<int, int>> edges;
+  for (int f = 0; f < F_cut.rows(); ++f)
+    for (int k = 0; k < 3; ++k) edges.emplace_back(std::min(F_cut(f, k), F_cut(f, (k + 1) % 3)),
+                                                   std::max(F_cut(f, k), F_cut(f, (k + 1) % 3)));
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::pair<int, int>> boundary;
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) boundary.push_back(edges[i]);
+    i = j;
+  }
+  const auto inside = [&](const Eigen::Vector3d& p) {
+    for (const auto& [a, b] : boundary) {
+      const Eigen::Vector3d x = V_cut.row(a).transpose(), y = V_cut.row(b).transpose();
+      const double len2 = (y - x).squaredNorm();
+      const double t = len2 > 0.0 ? std::clamp((p - x).dot(y - x) / len2, 0.0, 1.0) : 0.0;
+      if ((x + t * (y - x) - p).norm() < margin) return false;
+    }
+    return true;
+  };
+  std::vector<char> inner(static_cast<size_t>(V_rest.rows()), 1);
+  for (const auto& loop : boundary_loops(F))
+    for (int v : loop) inner[static_cast<size_t>(v)] = 0;
+  const std::vector<double> K_rest = inner_angle_defects(V_rest, F, inner),
+                            K_design = inner_angle_defects(V_design, F, inner);
+  InnerCones c;
+  for (size_t v = 0; v < K_rest.size(); ++v) {
+    const Eigen::Vector3d p = V_rest.row(static_cast<Eigen::Index>(v)).transpose();
+    if (std::abs(K_rest[v]) >= cone_angle && inside(p)) ++c.rest;
+    // The design's cones measured against the same cuts, at the same vertex.
+    if (std::abs(K_design[v]) >= cone_angle && inside(p)) ++c.design;
+  }
+  return c;
+}
+
 }  // namespace gp

@@ -33,4 +33,18 @@ struct RestShapeDiagnostics {
 RestShapeDiagnostics diagnose_rest_shape(const Eigen::MatrixXd& V_design, const Eigen::MatrixXd& V_rest,
                                          const Eigen::MatrixXi& F, double cone_angle);
 
+// Cone points of V_design and V_rest (inner vertices with |angle defect| >=
+// cone_angle, as above) that lie inside the pieces: at least `margin` [m] in
+// 3D from every boundary edge of the cut mesh (V_cut #Vc by 3 over the rest
+// shape, F_cut its faces: the seams and the garment's boundary). A cone on a
+// seam or at a seam junction (an armhole ring's underarm point) is where
+// pieces meet, not a tuck inside one.
+struct InnerCones {
+  int rest = 0;
+  int design = 0;
+};
+InnerCones cone_points_inside_pieces(const Eigen::MatrixXd& V_design, const Eigen::MatrixXd& V_rest,
+                                     const Eigen::MatrixXi& F, double cone_angle, const Eigen::MatrixXd& V_cut,
+                                     const Eigen::MatrixXi& F_cut, double margin);
+
 }  // namespace gp

@@ -305,6 +305,31 @@ TEST_CASE("rest-shape diagnostics find growth, tucks and cone points", "[diagnos
   CHECK_THROWS_AS(diagnose_rest_shape(grid.V, grid.V.topRows(10), grid.F, cone), GeometryError);
 }
 
+TEST_CASE("cone points count inside a piece only a margin away from its seams and boundary", "[diagnostics]") {
+  // The tent of the test above: the lifted centre is a cone, 15 cm from the
+  // grid's border. Uncut, it lies inside the one piece with a 1 cm margin,
+  // and not with a 20 cm one; cut along the middle row through the centre,
+  // it is on a seam, where pieces meet. The flat design has no cone.
+  const Mesh grid = testing::make_grid(6, 6, 0.3, 0.3);
+  const double cone = 2.0 * M_PI * 0.05;
+  const int centre = 3 * 7 + 3;
+  Mesh tent = grid;
+  tent.V(centre, 1) += 0.1;
+  const RestShapeDiagnostics lifted = diagnose_rest_shape(grid.V, tent.V, grid.F, cone);
+  REQUIRE(lifted.cone_points >= 1);
+  const InnerCones uncut = cone_points_inside_pieces(grid.V, tent.V, grid.F, cone, tent.V, grid.F, 0.01);
+  CHECK(uncut.rest == lifted.cone_points);
+  CHECK(uncut.design == 0);
+  CHECK(cone_points_inside_pieces(grid.V, tent.V, grid.F, cone, tent.V, grid.F, 0.2).rest == 0);
+  CutPath middle;
+  for (int i = 0; i < 7; ++i) middle.vertex_ids.push_back(3 * 7 + i);
+  const CutMesh cut = cut_mesh(tent.V, grid.F, {middle});
+  const InnerCones on_seam = cone_points_inside_pieces(grid.V, tent.V, grid.F, cone, cut.V, cut.F, 0.01);
+  CHECK(on_seam.rest < uncut.rest);
+  CHECK_THROWS_AS(cone_points_inside_pieces(grid.V, tent.V.topRows(10), grid.F, cone, tent.V, grid.F, 0.01),
+                  GeometryError);
+}
+
 TEST_CASE("a tuck flattens injectively without squeezed triangles", "[flatten][hard]") {
   // A flat grid (5 cm edges) with one inner vertex pushed 8 cm across its
   // neighbour: its faces turn over, as in a rest shape's tuck. The piece has
