@@ -544,6 +544,7 @@ struct GarmentMotion::Impl {
     }
     std::vector<std::vector<int>> groups(over.size());
     for (size_t i = 0; i < over.size(); ++i) groups[static_cast<size_t>(find(static_cast<int>(i)))].push_back(over[i]);
+    const Eigen::MatrixXd V_surface = surface.positions(V_body);
     std::vector<HeldCloth> patches;
     for (const std::vector<int>& g : groups) {
       if (g.empty()) continue;
@@ -559,13 +560,12 @@ struct GarmentMotion::Impl {
       const collision::Proximity q = collider->query(c);
       h.position = q.closest;
       h.surface_face = q.face;
-      const Eigen::MatrixXd V_surface = surface.positions(V_body);
       h.barycentric = closest_point_on_triangle(q.closest, V_surface.row(surface.F(q.face, 0)).transpose(),
                                                 V_surface.row(surface.F(q.face, 1)).transpose(),
                                                 V_surface.row(surface.F(q.face, 2)).transpose())
                           .bary;
       h.gap = collider->facing_distance(q.closest, q.outward, kHeldGapRadius);
-      h.region = region_of(q.face, q.closest, h.body_vertex);
+      h.region = region_of(V_surface, q.face, q.closest, h.body_vertex);
       patches.push_back(std::move(h));
     }
     std::stable_sort(patches.begin(), patches.end(),
@@ -574,12 +574,12 @@ struct GarmentMotion::Impl {
     return patches;
   }
 
-  // A name for the contact surface's face f near point p: the hull it belongs
-  // to ("left hand": the body faces +z, so its left is +x; feet are the hulls
-  // in the lowest fifth of the body), else the nearest body vertex. Sets the
-  // nearest body vertex.
-  std::string region_of(int f, const Eigen::Vector3d& p, int& body_vertex) const {
-    const Eigen::MatrixXd V_surface = surface.positions(V_body);
+  // A name for the contact surface's face f near point p (V_surface: the
+  // surface's vertices in this frame): the hull it belongs to ("left hand":
+  // the body faces +z, so its left is +x; feet are the hulls in the lowest
+  // fifth of the body), else the nearest body vertex. Sets the nearest body
+  // vertex.
+  std::string region_of(const Eigen::MatrixXd& V_surface, int f, const Eigen::Vector3d& p, int& body_vertex) const {
     double best = std::numeric_limits<double>::infinity();
     for (int k = 0; k < 3; ++k) {
       const int v = surface.F(f, k);
