@@ -63,9 +63,9 @@ OPEN_STEPS     ?= 20
 # body holds (report.json's "held", exit 8) and proposes the least opening of
 # it that frees the cloth, the fit is made again with that pose opened, as
 # OPEN_POSE would (an explicit OPEN_POSE always wins). The held run's report
-# is kept in $(OUT)/fit-held/, the choice in $(OUT)/auto-open.mk, which the
-# next make fit starts from (delete it to decide again). AUTO_OPEN=0: the
-# captured poses only.
+# is kept in $(OUT)/fit-held/ with the body that held it (body_<pose>.ply),
+# the choice in $(OUT)/auto-open.mk, which the next make fit starts from
+# (delete it to decide again). AUTO_OPEN=0: the captured poses only.
 AUTO_OPEN ?= 1
 PYTHON ?= /usr/bin/python3
 ifeq ($(OPEN_POSE),)
@@ -189,7 +189,7 @@ ifeq ($(AUTO_OPENING)$(OPEN_POSE),1)
 	if [ -n "$$open" ]; then \
 	  set -- $$open; \
 	  echo "fit: the body holds the cloth at $$1: fitting it opened 1/$$3 towards $$2 (the body moves $$4 mm at most; at least $$5 mm of room where it held; AUTO_OPEN=0 turns this off)"; \
-	  rm -rf '$(OUT)/fit-held' && cp -r '$(@D)' '$(OUT)/fit-held'; \
+	  rm -rf '$(OUT)/fit-held' && cp -r '$(@D)' '$(OUT)/fit-held' && cp '$(OUT)/poses/'"$$1"'.ply' "$(OUT)/fit-held/body_$$1.ply"; \
 	  printf 'OPEN_POSE := %s\nOPEN_TOWARD := %s\nOPEN_STEPS := %s\n' "$$1" "$$2" "$$3" > '$(OUT)/auto-open.mk'; \
 	  $(MAKE) --no-print-directory -f $(firstword $(MAKEFILE_LIST)) '$@'; \
 	fi

@@ -32,6 +32,20 @@ void fill_rect(Image& image, int x, int y, int w, int h, Rgb colour) {
     for (int xx = x0; xx < x1; ++xx) std::copy(c, c + 3, image.at(xx, yy));
 }
 
+void draw_ring(Image& image, double cx, double cy, double radius, double width, Rgb colour) {
+  const std::uint8_t c[3] = {to_byte(colour.r), to_byte(colour.g), to_byte(colour.b)};
+  const double outer = radius + 0.5 * width, inner = std::max(0.0, radius - 0.5 * width);
+  const int x0 = std::max(0, static_cast<int>(std::floor(cx - outer)));
+  const int x1 = std::min(image.width - 1, static_cast<int>(std::ceil(cx + outer)));
+  const int y0 = std::max(0, static_cast<int>(std::floor(cy - outer)));
+  const int y1 = std::min(image.height - 1, static_cast<int>(std::ceil(cy + outer)));
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const double r = std::hypot(x + 0.5 - cx, y + 0.5 - cy);
+      if (r >= inner && r <= outer) std::copy(c, c + 3, image.at(x, y));
+    }
+}
+
 void paste(Image& dst, const Image& src, int x, int y) {
   const int x0 = std::max(0, x), x1 = std::min(dst.width, x + src.width);
   const int y0 = std::max(0, y), y1 = std::min(dst.height, y + src.height);

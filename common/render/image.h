@@ -30,6 +30,11 @@ std::uint8_t to_byte(float c);
 // Fills the rectangle [x, x+w) x [y, y+h), clipped to the image.
 void fill_rect(Image& image, int x, int y, int w, int h, Rgb colour);
 
+// Draws a ring of centre (cx, cy), radius `radius` and line width `width`
+// [pixels] over the image, clipped: a pixel is coloured where its centre lies
+// within width / 2 of the circle. Marks a place on a render.
+void draw_ring(Image& image, double cx, double cy, double radius, double width, Rgb colour);
+
 // Copies `src` into `dst` with its top-left corner at (x, y), clipped.
 void paste(Image& dst, const Image& src, int x, int y);
 

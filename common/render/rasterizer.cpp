@@ -38,6 +38,12 @@ struct ScreenLayer {
 
 }  // namespace
 
+Eigen::Vector2d project(const OrthoCamera& camera, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d d = p - camera.center;
+  return {0.5 * camera.width + camera.pixels_per_metre * d.dot(camera.right.normalized()),
+          0.5 * camera.height - camera.pixels_per_metre * d.dot(camera.up.normalized())};
+}
+
 Image render(const std::vector<MeshLayer>& layers, const OrthoCamera& camera, const RenderOptions& options) {
   if (camera.width <= 0 || camera.height <= 0 || !(camera.pixels_per_metre > 0.0))
     throw UsageError("the camera needs a positive image size and scale");

@@ -54,6 +54,11 @@ struct MeshLayer {
   Rgb colour{0.7f, 0.7f, 0.7f};
 };
 
+// Where world point p lands in the camera's image [pixels, fractional], by
+// the mapping documented on OrthoCamera: marks drawn over a render (a ring
+// around a place) line up with the rendered mesh.
+Eigen::Vector2d project(const OrthoCamera& camera, const Eigen::Vector3d& p);
+
 // Renders the layers into a camera.width by camera.height image. Throws
 // UsageError for sizes that do not match, a non-positive scale or image size,
 // or a supersampling factor outside 1..8.

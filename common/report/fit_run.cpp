@@ -85,6 +85,7 @@ const Json& require(const StageReport& report, const std::string& pointer, const
                   : kind == "string"  ? v->is_string()
                   : kind == "object"  ? v->is_object()
                   : kind == "array"   ? v->is_array()
+                  : kind == "any"     ? true
                                       : false;
   if (!ok) throw SpecError("expected " + kind + ", found " + json_type_name(*v), where);
   return *v;
@@ -122,6 +123,49 @@ std::optional<OpenedPose> read_opened_stage(const fs::path& dir, const fs::path&
       return opened;
     }
   return std::nullopt;
+}
+
+std::optional<HeldPose> read_held(const StageReport& stage, const fs::path& dir, const fs::path& poses_manifest) {
+  const Json* h = lookup(stage, "/held");
+  if (!h || h->is_null()) return std::nullopt;
+  HeldPose held;
+  held.folder = stage.stage;
+  held.key = require(stage, "/held/key", "integer").get<int>();
+  held.pose = require(stage, "/held/pose", "string").get<std::string>();
+  held.settle_steps = require(stage, "/held/settle_steps", "integer").get<long long>();
+  const Json& keys = require(stage, "/key_poses", "array");
+  for (size_t i = 0; i < keys.size(); ++i)
+    if (keys[i].value("key", -1) == held.key)
+      held.drape = require_file(dir / stage.stage /
+                                require(stage, "/key_poses/" + std::to_string(i) + "/mesh", "string").get<std::string>());
+  if (held.drape.empty()) throw SpecError("the held key pose has no entry in /key_poses", stage.path.string() + ": /held/key");
+  held.rest = require_file(dir / stage.stage / "rest.ply");
+  if (stage.stage == "fit") {
+    const Json manifest = read_json_file(poses_manifest);
+    for (const Json& p : manifest.value("poses", Json::array()))
+      if (p.value("name", "") == held.pose) held.body = poses_manifest.parent_path() / p.value("file", "");
+  } else if (const fs::path body = dir / stage.stage / ("body_" + held.pose + ".ply"); fs::is_regular_file(body)) {
+    held.body = body;
+  }
+  const Json& patches = require(stage, "/held/held_cloth", "array");
+  for (size_t i = 0; i < patches.size(); ++i) {
+    const std::string p = "/held/held_cloth/" + std::to_string(i);
+    HeldPatch patch;
+    patch.region = require(stage, p + "/region", "string").get<std::string>();
+    const Json& x = require(stage, p + "/position_m", "array");
+    if (x.size() != 3 || !x[0].is_number() || !x[1].is_number() || !x[2].is_number())
+      throw SpecError("expected 3 numbers", stage.path.string() + ": " + p + "/position_m");
+    for (int c = 0; c < 3; ++c) patch.position[static_cast<size_t>(c)] = x[static_cast<size_t>(c)].get<double>();
+    const Json& gap = require(stage, p + "/gap_mm", "any");
+    patch.gap_mm = gap.is_number() ? gap.get<double>() : -1.0;
+    patch.max_stretch = require(stage, p + "/max_stretch", "number").get<double>();
+    for (const Json& f : require(stage, p + "/faces", "array")) {
+      if (!f.is_number_integer()) throw SpecError("expected face ids", stage.path.string() + ": " + p + "/faces");
+      patch.faces.push_back(f.get<int>());
+    }
+    held.patches.push_back(std::move(patch));
+  }
+  return held;
 }
 
 std::vector<const StageReport*> FitRun::stages() const {
@@ -170,6 +214,10 @@ FitRun read_fit_run(const fs::path& dir) {
                     run.fit.path.string() + ": /options/delta");
   require(run.fit, "/options/adapt", "boolean");
   run.keys = read_keys(run.fit, dir / "fit");
+  run.held = read_held(run.fit, dir, run.poses_manifest);
+  if (!run.held && run.opened && run.opened->automatic)
+    if (const std::optional<StageReport> held = read_optional_stage(dir, "fit-held", "simulate-adapt-report"))
+      run.held = read_held(*held, dir, run.poses_manifest);
   for (const char* p : {"/counts/garment_vertices", "/counts/garment_faces"}) require(run.fit, p, "integer");
   for (const char* p : {"/summary/pieces", "/summary/seams"}) require(run.pattern, p, "integer");
   // The pattern's distortion limit: one-sided (compression and ease) or symmetric.

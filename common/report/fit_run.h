@@ -15,6 +15,7 @@
 // naming the file and JSON pointer). Fields that other stages may or may not
 // write yet (verification, crossings, sewn-fit verdicts) are looked up
 // tolerantly by the report itself (html_report.h).
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -60,6 +61,28 @@ struct OpenedPose {
   double largest_displacement_mm = 0.0;
 };
 
+// A key pose at which the body held the cloth (simulate-adapt's "held"):
+// the place of each held patch and the drape where the run stopped.
+struct HeldPatch {
+  std::string region;                 // e.g. "body vertex 2750"
+  std::array<double, 3> position{};   // the body point that holds it [m]
+  double gap_mm = 0.0;                // room along the body's normal there
+  double max_stretch = 0.0;
+  std::vector<int> faces;             // the garment faces held
+};
+struct HeldPose {
+  std::string folder;                 // "fit" (the run stopped there) or "fit-held" (make fit then opened it)
+  std::string pose;
+  int key = 0;
+  long long settle_steps = 0;
+  std::filesystem::path drape;        // the garment where the run stopped
+  std::filesystem::path rest;         // that run's rest shape (its triangles are the drape's)
+  // The body that held it: poses/ for "fit"; for "fit-held" the captured
+  // pose make fit kept beside that run (body_<pose>.ply), empty if absent.
+  std::filesystem::path body;
+  std::vector<HeldPatch> patches;
+};
+
 struct FitRun {
   std::filesystem::path dir;
   std::optional<StageReport> body, extended, fit_no_adapt, marker;
@@ -68,6 +91,9 @@ struct FitRun {
   // is the one poses/ registered (same sha256), so that a folder left from an
   // earlier run claims nothing.
   std::optional<OpenedPose> opened;
+  // Where the body held the cloth: fit/ when this run stopped there, else
+  // fit-held/ when the opening above was automatic; nullopt otherwise.
+  std::optional<HeldPose> held;
   std::filesystem::path poses_manifest;  // poses/poses.json
   std::filesystem::path garment_file;    // extended/ or garment/ garment.json
   std::filesystem::path design_mesh;     // the garment as designed (the simulated one)
@@ -88,13 +114,19 @@ struct FitRun {
 std::optional<OpenedPose> read_opened_stage(const std::filesystem::path& dir,
                                             const std::filesystem::path& poses_manifest);
 
+// The held pose of the simulate-adapt report `stage` (in dir/<stage.stage>/),
+// or nullopt where it has no "held"; SpecError for a malformed one.
+std::optional<HeldPose> read_held(const StageReport& stage, const std::filesystem::path& dir,
+                                  const std::filesystem::path& poses_manifest);
+
 // Reads the fit folder `dir`. Throws InputError naming the first missing
 // file (report.json of poses/, garment/, fit/, pattern/, or a mesh they name),
 // SpecError for a wrong schema or a missing or mistyped required field.
 FitRun read_fit_run(const std::filesystem::path& dir);
 
 // Checks that `pointer` exists in `report` and is of `kind` ("number",
-// "integer", "boolean", "string", "object", "array"); SpecError otherwise.
+// "integer", "boolean", "string", "object", "array", or "any" for one that
+// may be null); SpecError otherwise.
 const Json& require(const StageReport& report, const std::string& pointer, const std::string& kind);
 
 }  // namespace gp::report

@@ -27,6 +27,7 @@ struct ReportFiles {
     std::string glb;            // models/<id>.glb
   };
   std::vector<Pose> poses;      // one per key pose
+  std::string held_sheet;       // renders/held_<kk>_<pose>.png, or empty where the body held nothing
   std::string rest_sheet;       // renders/rest_vs_design.png
   std::string rest_glb, design_glb;
   std::string pattern_svg, pattern_png;

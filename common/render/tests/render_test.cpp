@@ -198,3 +198,41 @@ TEST_CASE("text is drawn with the installed font", "[render]") {
   CHECK(font.width("1.10", 14) > font.width("1", 14));
   CHECK_THROWS_AS(gp::render::Font("/nonexistent/font.ttf"), gp::InputError);
 }
+
+// A mark drawn over a render must sit on the point it marks: project() is
+// checked against the rasterizer on the sphere's silhouette, whose extreme
+// points land at the image centre +-80 pixels in a turned camera too.
+TEST_CASE("project() maps a world point where the rasterizer draws it, and a ring marks around it", "[render]") {
+  SphereScene scene;
+  scene.camera.right = Eigen::Vector3d(1.0, 0.0, 1.0).normalized();  // a camera turned 45 degrees about y
+  scene.camera.center = Eigen::Vector3d(0.25, 0.0, 0.0);
+  const Image image = scene.render(1);
+  const Eigen::Vector3d rightmost = Eigen::Vector3d(0.0, 0.0, 0.0) + scene.camera.right.normalized();
+  const Eigen::Vector2d p = gp::render::project(scene.camera, rightmost);
+  CHECK(p.x() == Approx(100.0 + 80.0 * (1.0 - 0.25 * std::sqrt(0.5))).margin(1e-9));
+  CHECK(p.y() == Approx(100.0).margin(1e-9));
+  // The sphere is drawn just inside that point and not just outside it.
+  auto background = [&](int x, int y) {
+    const std::uint8_t* c = image.at(x, y);
+    return c[0] == 255 && c[1] == 255 && c[2] == 255;
+  };
+  CHECK_FALSE(background(static_cast<int>(p.x()) - 2, 100));
+  CHECK(background(static_cast<int>(p.x()) + 2, 100));
+
+  Image canvas(64, 64, gp::render::Rgb{1.0f, 1.0f, 1.0f});
+  gp::render::draw_ring(canvas, 32.0, 32.0, 10.0, 3.0, gp::render::Rgb{1.0f, 0.0f, 1.0f});
+  auto magenta = [&](int x, int y) {
+    const std::uint8_t* c = canvas.at(x, y);
+    return c[0] == 255 && c[1] == 0 && c[2] == 255;
+  };
+  CHECK(magenta(42, 32));   // pixel centre 10.5 from the centre: on the ring
+  CHECK(magenta(32, 21));   // 10.5 above
+  CHECK_FALSE(magenta(32, 32));  // the centre stays clear, so the place shows
+  CHECK_FALSE(magenta(46, 32));  // 14.5: outside
+  int coloured = 0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) coloured += magenta(x, y);
+  // The annulus of radii 8.5 and 11.5 has area pi (11.5^2 - 8.5^2) = 188.5 pixels.
+  CHECK(coloured == Approx(188.5).margin(12.0));
+  gp::render::draw_ring(canvas, -100.0, -100.0, 5.0, 2.0, gp::render::Rgb{});  // wholly outside: clipped, no throw
+}

@@ -305,3 +305,51 @@ TEST_CASE("fit-report's options are recorded by their field list and read back s
   bad.erase("pattern_width_px");
   CHECK_THAT(error_of(bad), Catch::Contains("missing field") && Catch::Contains("/options/pattern_width_px"));
 }
+
+// The held pose is read where the run stopped (fit/) or from the run make fit
+// kept (fit-held/, with the body that held the cloth), and a malformed entry
+// is named by its pointer.
+TEST_CASE("where the body held the cloth is read with its places, faces and the body that held it", "[report]") {
+  const fs::path dir = gp::testing::fresh_temp_dir("report_held");
+  for (const char* sub : {"fit-held", "poses"}) fs::create_directories(dir / sub);
+  const fs::path manifest = dir / "poses" / "poses.json";
+  gp::testing::write_file(manifest, R"({"poses": [{"name": "apose", "file": "apose.ply", "sha256": "x"}]})");
+  for (const char* f : {"draped_00_apose.ply", "rest.ply", "body_apose.ply"}) gp::testing::write_file(dir / "fit-held" / f, "mesh");
+  const std::string held = R"({"schema": "simulate-adapt-report/1",
+    "key_poses": [{"key": 0, "pose": "apose", "mesh": "draped_00_apose.ply"}],
+    "held": {"key": 0, "pose": "apose", "settle_steps": 280,
+             "held_cloth": [{"region": "body vertex 2750", "position_m": [0.17, 0.79, 0.135], "gap_mm": null,
+                             "max_stretch": 1.5, "faces": [7028, 7029]}]}})";
+  StageReport stage;
+  stage.stage = "fit-held";
+  stage.path = dir / "fit-held" / "report.json";
+  stage.json = Json::parse(held);
+  const std::optional<HeldPose> h = read_held(stage, dir, manifest);
+  REQUIRE(h.has_value());
+  CHECK(h->pose == "apose");
+  CHECK(h->settle_steps == 280);
+  CHECK(h->drape == dir / "fit-held" / "draped_00_apose.ply");
+  CHECK(h->body == dir / "fit-held" / "body_apose.ply");
+  REQUIRE(h->patches.size() == 1);
+  CHECK(h->patches[0].region == "body vertex 2750");
+  CHECK(h->patches[0].position[2] == Approx(0.135));
+  CHECK(h->patches[0].gap_mm < 0.0);  // no facing body part found: unknown, not 0 mm
+  CHECK(h->patches[0].faces == std::vector<int>{7028, 7029});
+  // Stopped in fit/ itself: the body is the registered pose.
+  fs::create_directories(dir / "fit");
+  for (const char* f : {"draped_00_apose.ply", "rest.ply"}) gp::testing::write_file(dir / "fit" / f, "mesh");
+  stage.stage = "fit";
+  CHECK(read_held(stage, dir, manifest)->body == dir / "poses" / "apose.ply");
+  // Not held: nothing.
+  stage.json.erase("held");
+  CHECK_FALSE(read_held(stage, dir, manifest).has_value());
+  // A place without its position is refused, naming the pointer.
+  stage.json = Json::parse(held);
+  stage.json["held"]["held_cloth"][0]["position_m"] = Json::array({0.1, 0.2});
+  try {
+    read_held(stage, dir, manifest);
+    FAIL("a position of two numbers was accepted");
+  } catch (const gp::SpecError& e) {
+    CHECK_THAT(e.where(), Catch::EndsWith("report.json: /held/held_cloth/0/position_m"));
+  }
+}
