@@ -123,7 +123,7 @@ Eigen::Quaterniond rotation_from_degrees(const Eigen::Vector3d& a) {
 
 const std::vector<std::string>& builtin_pose_names() {
   static const std::vector<std::string> names = {"apose",      "tpose",       "armsup", "armsforward",
-                                                 "elbowsbent", "stepforward", "seated"};
+                                                 "elbowsbent", "stepforward", "seated", "handsonthighs"};
   return names;
 }
 
@@ -184,6 +184,20 @@ JointRotations builtin_pose(const Skeleton& s, const std::string& name) {
       b.set_global(l.hip, about(X, -80.0));
       b.set_global(l.knee, Eigen::Quaterniond::Identity());
       b.set_global(l.ankle, Eigen::Quaterniond::Identity());
+    }
+  } else if (name == "handsonthighs") {
+    // Upper arms 30 degrees out from the vertical, elbows bent 45 degrees
+    // inwards: the hands rest beside the thighs, as the scanned customer
+    // stands (../shared/avatars: the A-pose's left hand 6.5 mm from the thigh).
+    // On the default body the wrist comes within 5.7 mm of the hip
+    // (tools/make-avatar/README.md); 0.5 degree more bend makes it 2.3 mm, and
+    // one degree more makes the hand pass into the hip. A skirt has to pass
+    // through that gap.
+    for (const Arm& a : arms) {
+      const Eigen::Vector3d upper(a.side * gp::math::sin(30.0 * kDeg), -gp::math::cos(30.0 * kDeg), 0.0);
+      const Eigen::Vector3d fore(-a.side * gp::math::sin(15.0 * kDeg), -gp::math::cos(15.0 * kDeg), 0.0);
+      b.set_global(a.shoulder, swing(s, a.shoulder, a.elbow, upper));
+      b.set_global(a.elbow, swing(s, a.elbow, a.wrist, fore));
     }
   } else {
     throw SpecError("unknown built-in pose '" + name + "'", "--poses");

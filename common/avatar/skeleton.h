@@ -72,7 +72,8 @@ Eigen::MatrixXd posed_joints(const Skeleton& skeleton, const std::vector<RigidTr
 Eigen::Quaterniond rotation_from_degrees(const Eigen::Vector3d& angles);
 
 // The built-in poses, in output order: apose (the rest pose), tpose, armsup,
-// armsforward, elbowsbent, stepforward (left leg forward), seated.
+// armsforward, elbowsbent, stepforward (left leg forward), seated, handsonthighs
+// (the hands resting beside the thighs).
 const std::vector<std::string>& builtin_pose_names();
 bool is_builtin_pose(const std::string& name);
 

@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
   app.add_option("spec", spec_path,
                  "Measurement spec (JSON, schema avatar-spec/1); omit for the default body");
   app.add_option("--poses", poses,
-                 "Comma-separated poses: apose,tpose,armsup,armsforward,elbowsbent,stepforward,seated and "
+                 "Comma-separated poses: apose,tpose,armsup,armsforward,elbowsbent,stepforward,seated,handsonthighs and "
                  "the spec's poses, or 'all' [names]")
       ->capture_default_str();
   app.add_option("--resolution", resolution,

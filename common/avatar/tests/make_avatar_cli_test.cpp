@@ -143,7 +143,7 @@ TEST_CASE("the generated pose set passes register-check", "[avatar][cli]") {
       run_tool("'" + spec.string() + "' --resolution small --out '" + (dir / "body").string() + "'"));
   REQUIRE(made.exit_code == 0);
   std::string files;
-  for (const char* p : {"apose", "tpose", "armsup", "armsforward", "elbowsbent", "stepforward", "seated"})
+  for (const char* p : {"apose", "tpose", "armsup", "armsforward", "elbowsbent", "stepforward", "seated", "handsonthighs"})
     files += " '" + (dir / "body" / (std::string(p) + ".ply")).string() + "'";
   const auto r = gp::testing::run_command(rc + files + " --out '" + (dir / "checked").string() + "'");
   INFO(r.err);
