@@ -10,6 +10,7 @@
 #include <cmath>
 #include <vector>
 
+#include "pattern/export_report.h"
 #include "pattern/make_pattern.h"
 #include "testing/test_meshes.h"
 
@@ -96,4 +97,26 @@ TEST_CASE("a bent sleeve made without seams is cut within the limit, with no ove
   // (ease, never much less: compression is bounded tightly).
   CHECK(area_2d / area_3d == Approx(1.0).margin(0.05));
   CHECK(area_2d / area_3d > 0.99);
+}
+
+TEST_CASE("the worst region of a piece is reported at its densest spot, not between its parts", "[report][issue49]") {
+  // A strip of faces 1 cm apart along x, compressed by 1 % everywhere but
+  // at two spots 40 cm apart (5 % at x = 0.10 m, three faces; 4 % at
+  // x = 0.50 m, two faces): the worst 5 % of the area is both spots.
+  std::vector<MaterialFace> faces;
+  for (int i = 0; i < 100; ++i) {
+    MaterialFace m;
+    m.area = 1e-4;
+    m.centroid = Eigen::Vector3d(0.01 * i, 1.2, 0.1);
+    const double c = (i >= 9 && i <= 11) ? 0.05 : (i == 50 || i == 51) ? 0.04 : 0.01;
+    m.stretch = Eigen::Vector2d(1.0, 1.0 - c);
+    faces.push_back(m);
+  }
+  const Eigen::Vector3d at = worst_region_centroid(faces, 0.05, true, 0.06);
+  // The whole region's centroid would be at x = 0.26 m, on neither spot.
+  CHECK(at.x() == Approx(0.10).margin(1e-9));
+  CHECK(at.y() == Approx(1.2));
+  // Within a radius that holds both, their centroid again.
+  const Eigen::Vector3d wide = worst_region_centroid(faces, 0.05, true, 1.0);
+  CHECK(wide.x() == Approx((3 * 0.10 + 0.50 + 0.51) / 5.0).margin(1e-9));
 }
