@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <set>
 #include <tuple>
 
 #include <Eigen/Dense>
@@ -386,6 +388,177 @@ Eigen::Vector3d centre_seam_point(const PatternPiece& p, double plane_x, const E
       if ((x - near).squaredNorm() < best) best = (x - near).squaredNorm(), on = x;
     }
   return on;
+}
+
+std::optional<SurfaceCurve> centre_seam_curve(const Pattern& pattern, size_t c, double plane_x,
+                                              const Eigen::Vector3d& near, const PatternOptions& options) {
+  const PatternPiece& p = pattern.pieces[c];
+  const int n = static_cast<int>(p.V.rows());
+  // A symmetric mesh has vertices and whole edges on the plane: the section
+  // would run along edges and zigzag through vertices, and touch itself once
+  // snapped. The plane is moved off every vertex by at least a twentieth of
+  // the mean edge length (by the least of 0, +-0.1, +-0.2, ... edge lengths
+  // that does it; a few millimetres, nothing a tailor sees).
+  double h = 0.0;
+  for (int f = 0; f < p.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) h += (p.V.row(p.F(f, k)) - p.V.row(p.F(f, (k + 1) % 3))).norm();
+  h /= std::max<Eigen::Index>(1, 3 * p.F.rows());
+  double x0 = plane_x;
+  for (int i = 0; i <= 20; ++i) {
+    const double shift = (i % 2 ? 1.0 : -1.0) * 0.1 * h * ((i + 1) / 2);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int v = 0; v < n; ++v) nearest = std::min(nearest, std::abs(p.V(v, 0) - (plane_x + shift)));
+    if (nearest >= 0.05 * h) {
+      x0 = plane_x + shift;
+      break;
+    }
+  }
+  plane_x = x0;
+  // The level set {x = plane_x} of the piecewise-linear x: a vertex on the
+  // plane counts as beyond it, so every face has none or two crossed edges.
+  auto above = [&](int v) { return p.V(v, 0) >= plane_x; };
+  std::map<std::pair<int, int>, std::vector<int>> faces_of;  // crossed edge -> its faces
+  for (int f = 0; f < p.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = p.F(f, k), b = p.F(f, (k + 1) % 3);
+      if (above(a) != above(b)) faces_of[{std::min(a, b), std::max(a, b)}].push_back(f);
+    }
+  std::map<int, std::vector<std::pair<int, int>>> edges_of;  // face -> its crossed edges
+  for (const auto& [e, fs] : faces_of)
+    for (int f : fs) edges_of[f].push_back(e);
+  std::vector<char> on_dart(static_cast<size_t>(n), 0);
+  {
+    std::vector<char> dart_vertex(static_cast<size_t>(pattern.mesh.V.rows()), 0);
+    for (int d : p.dart_seams)
+      for (int v : pattern.seams[static_cast<size_t>(d)].vertex_ids) dart_vertex[static_cast<size_t>(v)] = 1;
+    for (int v = 0; v < n; ++v) on_dart[static_cast<size_t>(v)] = dart_vertex[static_cast<size_t>(p.mesh_vertex_ids[v])];
+  }
+  // Crossings near an edge's end are that vertex (snap_to_vertices below):
+  // where the plane runs through a vertex, the chain fans around it through
+  // edges crossed next to it, and points kept a fraction off the vertex
+  // would leave slivers there.
+  auto point_on = [&](const std::pair<int, int>& e) {
+    const double da = p.V(e.first, 0) - plane_x, db = p.V(e.second, 0) - plane_x;
+    return CurvePoint::on_edge(e.first, e.second, std::clamp(da / (da - db), 0.0, 1.0));
+  };
+  // Open chains, each walked from a crossed outline edge to another.
+  std::set<std::pair<int, int>> used;
+  struct Chain {
+    std::vector<std::pair<int, int>> edges;
+    std::vector<int> faces;
+    double distance = std::numeric_limits<double>::infinity();  // to `near`
+  };
+  std::optional<Chain> best;
+  for (const auto& [start, fs] : faces_of) {
+    if (fs.size() != 1 || used.count(start)) continue;
+    Chain chain;
+    std::pair<int, int> e = start;
+    int face = fs[0];
+    bool open = false;
+    for (int guard = 0; guard <= p.F.rows(); ++guard) {
+      used.insert(e);
+      chain.edges.push_back(e);
+      chain.faces.push_back(face);
+      const auto& es = edges_of[face];
+      if (es.size() != 2) break;
+      const std::pair<int, int> next = es[0] == e ? es[1] : es[0];
+      if (used.count(next)) break;
+      const auto& nf = faces_of[next];
+      if (nf.size() == 1) {
+        used.insert(next);
+        chain.edges.push_back(next);
+        open = true;
+        break;
+      }
+      face = nf[0] == face ? nf[1] : nf[0];
+      e = next;
+    }
+    if (!open) continue;
+    // A seam ending on a dart's leg would part the dart's sides.
+    const auto& e0 = chain.edges.front();
+    const auto& e1 = chain.edges.back();
+    if ((on_dart[static_cast<size_t>(e0.first)] && on_dart[static_cast<size_t>(e0.second)]) ||
+        (on_dart[static_cast<size_t>(e1.first)] && on_dart[static_cast<size_t>(e1.second)]))
+      continue;
+    for (const auto& ce : chain.edges)
+      chain.distance = std::min(chain.distance, (curve_point_position(p.V, p.F, point_on(ce)) - near).norm());
+    if (!best || chain.distance < best->distance) best = chain;
+  }
+  if (!best) return std::nullopt;
+  // The parts the chain leaves: faces joined across edges, not through the
+  // chain's faces (each of which the seam splits between the two parts).
+  std::vector<char> blocked(static_cast<size_t>(p.F.rows()), 0);
+  for (int f : best->faces) blocked[static_cast<size_t>(f)] = 1;
+  std::map<std::pair<int, int>, std::vector<int>> faces_of_edge;
+  for (int f = 0; f < p.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = p.F(f, k), b = p.F(f, (k + 1) % 3);
+      faces_of_edge[{std::min(a, b), std::max(a, b)}].push_back(f);
+    }
+  auto face_area = [&](int f) {
+    const Eigen::Vector3d q0 = p.V.row(p.F(f, 0)), q1 = p.V.row(p.F(f, 1)), q2 = p.V.row(p.F(f, 2));
+    return 0.5 * (q1 - q0).cross(q2 - q0).norm();
+  };
+  std::vector<int> component(static_cast<size_t>(p.F.rows()), -1);
+  std::vector<double> part;
+  for (int f0 = 0; f0 < p.F.rows(); ++f0) {
+    if (blocked[static_cast<size_t>(f0)] || component[static_cast<size_t>(f0)] >= 0) continue;
+    const int id = static_cast<int>(part.size());
+    part.push_back(0.0);
+    std::vector<int> stack{f0};
+    component[static_cast<size_t>(f0)] = id;
+    while (!stack.empty()) {
+      const int f = stack.back();
+      stack.pop_back();
+      part.back() += face_area(f);
+      for (int k = 0; k < 3; ++k) {
+        const int a = p.F(f, k), b = p.F(f, (k + 1) % 3);
+        for (int g : faces_of_edge[{std::min(a, b), std::max(a, b)}])
+          if (!blocked[static_cast<size_t>(g)] && component[static_cast<size_t>(g)] < 0) {
+            component[static_cast<size_t>(g)] = id;
+            stack.push_back(g);
+          }
+      }
+    }
+  }
+  if (part.size() < 2 || *std::min_element(part.begin(), part.end()) < options.min_piece_area) return std::nullopt;
+  SurfaceCurve cut;
+  for (const auto& ce : best->edges) cut.push_back(point_on(ce));
+  cut = snap_to_vertices(cut, std::max(options.smoothing.trace.min_edge_fraction, options.smoothing.trace.snap_fraction));
+  // Snapped, the chain can come back to a vertex it passed (around a vertex
+  // on the plane) or touch the outline at a vertex between its ends (a
+  // symmetric mesh has vertices on the plane): a cut that touches itself or
+  // the outline is no seam. Loops are erased, and of the parts between
+  // outline vertices the longest is kept.
+  SurfaceCurve simple;
+  for (const CurvePoint& q : cut) {
+    if (q.is_vertex()) {
+      const auto seen = std::find_if(simple.begin(), simple.end(), [&](const CurvePoint& r) {
+        return r.is_vertex() && r.vertex == q.vertex;
+      });
+      if (seen != simple.end()) {
+        simple.erase(seen + 1, simple.end());
+        continue;
+      }
+    }
+    simple.push_back(q);
+  }
+  std::vector<char> outline(static_cast<size_t>(n), 0);
+  for (int v : p.boundary) outline[static_cast<size_t>(v)] = 1;
+  SurfaceCurve longest, run;
+  auto close_run = [&]() {
+    if (run.size() >= 2 && curve_length(p.V, p.F, run) > curve_length(p.V, p.F, longest)) longest = run;
+  };
+  for (size_t i = 0; i < simple.size(); ++i) {
+    run.push_back(simple[i]);
+    if (i > 0 && i + 1 < simple.size() && simple[i].is_vertex() && outline[static_cast<size_t>(simple[i].vertex)]) {
+      close_run();
+      run = {simple[i]};
+    }
+  }
+  close_run();
+  if (longest.size() < 2) return std::nullopt;
+  return longest;
 }
 
 std::optional<SurfaceCurve> panel_curve(const Pattern& pattern, size_t c, const Eigen::MatrixXd& chart,

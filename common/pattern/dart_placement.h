@@ -53,6 +53,17 @@ std::optional<Eigen::Vector3d> panel_centre(const PatternPiece& p, const Pattern
 // through; `from` itself where no edge crosses the plane.
 Eigen::Vector3d centre_seam_point(const PatternPiece& p, double plane_x, const Eigen::Vector3d& from);
 
+// A centre seam in piece p: the section of the piece by the plane x =
+// plane_x (the body's middle), the open chain of it (outline to outline)
+// passing nearest to `near`, leaving no part under min_piece_area; nullopt
+// when no chain fits (none, or one ending on a dart's leg). A tailor's
+// centre front or back follows the body's middle, so the two halves are
+// mirror images; a straight line along the grain in the conformal chart
+// drifted off the middle at the neck, where the chart bends most, and left
+// the slim-shirt's right front a tab across the centre (issue 49).
+std::optional<SurfaceCurve> centre_seam_curve(const Pattern& pattern, size_t c, double plane_x,
+                                              const Eigen::Vector3d& near, const PatternOptions& options);
+
 // A panel seam in piece c along the grain through the piece's point nearest
 // to `centre`, leaving no part under min_piece_area (`where` describes it);
 // nullopt when none fits.

@@ -119,7 +119,8 @@ void write_seams_obj(std::ostream& out, const Pattern& pattern) {
   }
 }
 
-Eigen::Vector3d worst_region_centroid(const std::vector<MaterialFace>& faces, double fraction, bool compression) {
+Eigen::Vector3d worst_region_centroid(const std::vector<MaterialFace>& faces, double fraction, bool compression,
+                                      double radius) {
   std::vector<const MaterialFace*> order;
   double total = 0.0;
   for (const MaterialFace& m : faces) {
@@ -130,15 +131,33 @@ Eigen::Vector3d worst_region_centroid(const std::vector<MaterialFace>& faces, do
   auto value = [compression](const MaterialFace* m) { return compression ? 1.0 - m->stretch[1] : m->stretch[0] - 1.0; };
   std::stable_sort(order.begin(), order.end(),
                    [&](const MaterialFace* a, const MaterialFace* b) { return value(a) > value(b); });
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  std::vector<std::pair<const MaterialFace*, double>> region;  // face, its weight
   double taken = 0.0;
   for (const MaterialFace* m : order) {
     const double w = std::min(m->area, fraction * total - taken);
     if (w <= 0.0) break;
-    sum += w * m->centroid;
+    region.emplace_back(m, w);
     taken += w;
   }
-  return taken > 0.0 ? Eigen::Vector3d(sum / taken) : Eigen::Vector3d::Zero();
+  if (!(taken > 0.0)) return Eigen::Vector3d::Zero();
+  // The densest spot: the region's face with the most of the region within
+  // `radius` (the first such in the worst-first order on ties).
+  size_t best = 0;
+  double most = -1.0;
+  for (size_t i = 0; i < region.size(); ++i) {
+    double near = 0.0;
+    for (const auto& [m, w] : region)
+      if ((m->centroid - region[i].first->centroid).norm() <= radius) near += w;
+    if (near > most) most = near, best = i;
+  }
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double weight = 0.0;
+  for (const auto& [m, w] : region)
+    if ((m->centroid - region[best].first->centroid).norm() <= radius) {
+      sum += w * m->centroid;
+      weight += w;
+    }
+  return sum / weight;
 }
 
 OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const PatternOptions& options,
@@ -252,8 +271,8 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
     // seam would go.
     const std::vector<MaterialFace> faces = material_faces(pattern, i);
     auto at = [](const Eigen::Vector3d& x) { return OrderedJson::array({x.x(), x.y(), x.z()}); };
-    const OrderedJson worst_at = {{"compression_worst1_m", at(worst_region_centroid(faces, 0.01, true))},
-                                  {"ease_worst5_m", at(worst_region_centroid(faces, 0.05, false))}};
+    const OrderedJson worst_at = {{"compression_worst1_m", at(worst_region_centroid(faces, 0.01, true, options.kernel_radius))},
+                                  {"ease_worst5_m", at(worst_region_centroid(faces, 0.05, false, options.kernel_radius))}};
     pieces.push_back({{"name", p.name},
                       {"vertices", p.V.rows()},
                       {"faces", p.F.rows()},

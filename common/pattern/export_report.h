@@ -55,11 +55,16 @@ void write_pieces_obj(std::ostream& out, const Pattern& pattern, const Layout& l
 // seam named after it, in the pattern's seam order: where the cuts run.
 void write_seams_obj(std::ostream& out, const Pattern& pattern);
 
-// Area-weighted centroid (rest shape, metres) of the worst `fraction` of the
-// faces' area, by compression 1 - s2 or by ease s1 - 1: where the limit's
-// figure of a piece comes from (the last face taken in part, as the limit
-// takes it).
-Eigen::Vector3d worst_region_centroid(const std::vector<MaterialFace>& faces, double fraction, bool compression);
+// Where the limit's figure of a piece comes from: the worst `fraction` of
+// the faces' area, by compression 1 - s2 or by ease s1 - 1 (the last face
+// taken in part, as the limit takes it), and of it the densest spot: the
+// area-weighted centroid of its faces within `radius` (metres) of its face
+// with the most of it within that radius (rest shape, metres). The centroid
+// of the whole region lay between its parts: the demo front's worst
+// compression, at its two shoulder points, was reported at the centre front
+// (issue 49).
+Eigen::Vector3d worst_region_centroid(const std::vector<MaterialFace>& faces, double fraction, bool compression,
+                                      double radius = 0.06);
 
 // The report body: pieces, seams, added cuts, totals (without options and timing).
 OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const PatternOptions& options,

@@ -256,7 +256,7 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
       const bool compression = po.symmetric ? p.stats.max_error > po.max_limit
                                             : p.stats.worst1_compression > po.compression_worst1;
       const Eigen::Vector3d worst = worst_region_centroid(material_faces(result.pattern, c),
-                                                          compression ? 0.01 : 0.05, compression);
+                                                          compression ? 0.01 : 0.05, compression, po.kernel_radius);
       char buf[256];
       if (po.symmetric)
         std::snprintf(buf, sizeof(buf), "%s (p95 error %.1f %%, max %.1f %%", p.name.c_str(), 100.0 * p.stats.p95_error,

@@ -739,6 +739,31 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, Pane
   // the limit itself.
   const PieceMirror mirror = options.mirror ? mirror_pieces(pattern, options.mirror_overlap) : PieceMirror{};
   auto partner = [&](size_t c) { return mirror.partner.empty() ? -1 : mirror.partner[c]; };
+  // The limb (sleeve) each piece belongs to (most of its area beyond an
+  // armhole, as piece_names.h names sleeves), -1 for the body's, and how
+  // many pieces each limb has.
+  std::vector<int> limb_of_piece(pattern.pieces.size(), -1);
+  std::map<int, int> limb_pieces;
+  if (!pattern.limb_of_rest_face.empty())
+    for (size_t c = 0; c < pattern.pieces.size(); ++c) {
+      const PatternPiece& p = pattern.pieces[c];
+      std::map<int, double> on_limb;
+      double area = 0.0;
+      for (size_t i = 0; i < p.face_ids.size(); ++i) {
+        const Eigen::Vector3d a = p.V.row(p.F(static_cast<int>(i), 0)), b = p.V.row(p.F(static_cast<int>(i), 1)),
+                              e = p.V.row(p.F(static_cast<int>(i), 2));
+        const double w = 0.5 * (b - a).cross(e - a).norm();
+        on_limb[pattern.limb_of_rest_face[static_cast<size_t>(pattern.mesh.rest_face[static_cast<size_t>(p.face_ids[i])])]] += w;
+        area += w;
+      }
+      for (const auto& [limb, w] : on_limb)
+        if (limb >= 0 && w > 0.5 * area) limb_of_piece[c] = limb;
+      if (limb_of_piece[c] >= 0) ++limb_pieces[limb_of_piece[c]];
+    }
+  auto sleeve_full = [&](size_t c) {
+    const int limb = limb_of_piece[c];
+    return options.max_sleeve_pieces > 0 && limb >= 0 && limb_pieces[limb] >= options.max_sleeve_pieces;
+  };
   std::vector<char> done(pattern.pieces.size(), 0);
   // Pieces given a cut this round (a piece's mirror image that was given
   // none, on its own, still takes the mirror image of the piece's).
@@ -835,7 +860,8 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, Pane
                     ledger->refused.count(piece_rest_faces(pattern, static_cast<size_t>(d)))));
     // A piece and its mirror image take two pieces from the budget together.
     const int cost = !source && d >= 0 && d != static_cast<int>(c) && !cut[static_cast<size_t>(d)] ? 2 : 1;
-    if (given.tips.empty() && pieces + cost <= options.max_pieces && !refused && (!source || source->centre)) {
+    if (given.tips.empty() && pieces + cost <= options.max_pieces && !refused && !sleeve_full(c) &&
+        (!source || source->centre)) {
       std::optional<Eigen::Vector3d> centre =
           source ? std::optional<Eigen::Vector3d>(mirror.reflect(*source->centre)) : panel_centre(p, options);
       // A piece across the plane is split as a tailor splits a front or a
@@ -848,7 +874,15 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, Pane
               "distortion energy";
       }
       std::string where;
-      auto curve = centre ? panel_curve(pattern, c, chart, *centre, options, &where) : std::nullopt;
+      std::optional<SurfaceCurve> curve;
+      // The centre seam follows the body's middle (the plane section); a
+      // straight chart line along the grain where that does not fit.
+      if (centre && !how.empty()) {
+        curve = centre_seam_curve(pattern, c, mirror.plane_x, *centre, options);
+        if (curve) how = "centre seam along the middle of the body (where the plane of symmetry cuts the piece), "
+                         "through its point nearest to the centroid of its conformal distortion energy";
+      }
+      if (!curve && centre) curve = panel_curve(pattern, c, chart, *centre, options, &where);
       if (source) where = "the mirror image of " + source->panel;
       if (source && !curve) {
         // No room where the image falls (the two sides of a scanned body
@@ -878,7 +912,11 @@ int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, Pane
       else
         pattern.notes.push_back(over + "no further dart or panel seam fits" +
                                 (refused ? " (a panel seam did not relieve it)"
-                                         : pieces + cost > options.max_pieces ? " (the pattern has its most pieces)" : ""));
+                                 : sleeve_full(c)
+                                     ? " (its sleeve has its most pieces, " + std::to_string(options.max_sleeve_pieces) +
+                                           ": darts only)"
+                                 : pieces + cost > options.max_pieces ? " (the pattern has its most pieces)"
+                                                                      : ""));
     }
     return given;
   };

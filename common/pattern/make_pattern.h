@@ -44,7 +44,17 @@ struct PatternOptions {
   double tip_margin = 0.05;         // metres: a dart's tip lies at least this far inside its piece
   bool tip_inward = true;           // a curvature mode nearer the outline gets its tip moved inward to tip_margin
   double min_dart_length = 0.05;    // metres
-  int max_pieces = 12;              // panel seams stop at this many pieces
+  // Panel seams stop at this many pieces: the paper's 5-pose shirt has 10
+  // (it was 12, which the slim-shirt filled with sleeve quarters and a
+  // front split twice; issue 49).
+  int max_pieces = 10;
+  // A tailor cuts a sleeve in one piece or two (front and back, or upper
+  // and under sleeve), with darts or ease where it needs them: a piece most
+  // of whose area lies beyond an armhole (a limb, cut_armholes) gets no panel
+  // seam once its limb has this many pieces, only darts (issue 49: the
+  // slim-shirt's sleeve fronts were split into upper and lower parts, three
+  // and four pieces a sleeve). 0: no bound.
+  int max_sleeve_pieces = 2;
   // Both sides of the body cut alike (piece_mirror.h): a piece's mirror
   // image gets the mirror image of its darts and panel seam, two such panel
   // seams stay or go together, and a piece that is its own mirror image (a
@@ -141,6 +151,7 @@ struct PatternOptionFields {
     f.flag("tip_inward", o.tip_inward);
     f.number("min_dart_length_m", o.min_dart_length, Range::non_negative());
     f.integer("max_pieces", o.max_pieces, Range::between(0, 1e6));
+    f.integer("max_sleeve_pieces", o.max_sleeve_pieces, Range::between(0, 1e6));
     f.flag("mirror", o.mirror);
     f.number("mirror_overlap", o.mirror_overlap, Range::between(0.0, 1.0));
     f.number("min_panel_relief_m2_per_m", o.min_panel_relief, Range::non_negative());

@@ -48,6 +48,9 @@ int main(int argc, char** argv) {
   app.add_option("--max-darts", po.max_darts, "Darts per piece [count]")->capture_default_str()->check(CLI::Range(0, 100));
   app.add_option("--max-pieces", po.max_pieces, "Panel seams stop at this many pieces [count]")
       ->capture_default_str()->check(CLI::Range(0, 1000));
+  app.add_option("--max-sleeve-pieces", po.max_sleeve_pieces,
+                 "A sleeve's pieces get no panel seam once it has this many, only darts (0: no bound) [count]")
+      ->capture_default_str()->check(CLI::Range(0, 1000));
   app.add_option("--min-relief-share", po.min_relief_share,
                  "... or relieves at least this share of its piece's cloth beyond the limit (0: off) [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 1e6));
