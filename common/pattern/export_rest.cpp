@@ -242,7 +242,11 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
   for (const auto& [phase, s] : result.pattern.seconds) result.timing["cut_and_flatten_" + phase] = s;
   LayoutOptions layout = options.layout;
   layout.title = pattern_title(result);
-  result.layout = layout_pattern(result.pattern, layout);
+  // The grain per face of the garment (a bias-cut region), as the fit simulated it.
+  const std::vector<double> no_grain;
+  const std::vector<double>& grain =
+      result.have_garment && result.garment.material.turned_grain() ? result.garment.material.grain_angles : no_grain;
+  result.layout = layout_pattern(result.pattern, layout, grain);
   lap("layout");
   if (!result.pattern.meets_limit) {
     // Which piece, by how much and where: the rest-shape point of its
