@@ -441,7 +441,10 @@ void write_export_rest(const ExportRestResult& result, const ExportRestOptions& 
     write_file_atomic(dir / ("pattern-" + paper.name + ".pdf"),
                       [&](std::ostream& s) { write_pdf(s, pattern, layout, cut, po, options.dxf.date); });
   }
-  write_json_file(dir / "marker_pieces.json", marker_pieces_json(marker_pieces(pattern, layout, cut)));
+  MarkerPieces for_marker = marker_pieces(pattern, layout, cut);
+  // The marker names a fabric the spec chose, as the labels do (the paper's default left as it was).
+  if (result.have_garment && result.garment.material.fabric != "paper") for_marker.fabric = result.garment.material.fabric;
+  write_json_file(dir / "marker_pieces.json", marker_pieces_json(for_marker));
   write_file_atomic(dir / "pieces.obj", [&](std::ostream& s) { write_pieces_obj(s, pattern, layout); }, false);
   write_file_atomic(dir / "seams.obj", [&](std::ostream& s) { write_seams_obj(s, pattern); }, false);
   write_mesh(dir / "pieces_flat.ply", flat_pieces_mesh(pattern, layout));
