@@ -118,7 +118,9 @@ PieceLabel piece_label(const LaidOutPiece& piece, const std::string& title, cons
   l.line1 = title + " " + name;
   std::string grain = piece.grain_from_body_vertical ? "vertical" : "along the piece";
   // A turned grain (a bias cut): the line drawn is the warp, at this angle to the body's vertical.
-  if (piece.grain_from_body_vertical && piece.grain_turn != 0.0) {
+  // (A piece holding only slivers of a turned region, where a seam smooths
+  // across its border, keeps "vertical": under half a degree.)
+  if (piece.grain_from_body_vertical && std::abs(piece.grain_turn) * 180.0 / 3.14159265358979323846 >= 0.5) {
     char turned[64];
     std::snprintf(turned, sizeof(turned), "at %.0f deg to the vertical", piece.grain_turn * 180.0 / 3.14159265358979323846);
     grain = turned;
