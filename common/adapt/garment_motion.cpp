@@ -40,6 +40,7 @@ cloth::ClothParameters parameters_from(const Material& m) {
   p.damping_bend = m.damping_bend;
   p.density = m.density;
   p.compression_ratio = m.compression_ratio;
+  if (m.turned_grain()) p.grain_angles = m.grain_angles;  // a bias-cut region (garment_file.h)
   return p;
 }
 

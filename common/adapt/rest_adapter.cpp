@@ -15,6 +15,8 @@ AdaptOptions with_fabric_limits(AdaptOptions options, const Material& material) 
     options.limit_warp = material.stretch_limit_warp;
     options.limit_weft = material.stretch_limit_weft;
   }
+  // The fabric's lay per face (a bias-cut region), as the cloth model takes it.
+  if (material.turned_grain()) options.grain_angles = material.grain_angles;
   return options;
 }
 

@@ -58,7 +58,8 @@ struct AdaptReport {
 };
 
 // `options` with the garment fabric's limits (Material::stretch_limit_*), or
-// as they are for a material without limits of its own (the paper's).
+// as they are for a material without limits of its own (the paper's), and
+// its grain per face where a face is turned (Material::grain_angles).
 AdaptOptions with_fabric_limits(AdaptOptions options, const Material& material);
 
 class RestShapeAdapter {

@@ -81,6 +81,9 @@ ExtendSpec parse_extend_spec(const Json& j, const std::string& file) {
       throw SpecError("the scale must be positive (a zero scale collapses the loop)", root.where("scale"));
   }
   if (root.has("girth")) s.girth = root.required_number("girth", Range::between(1e-3, 100.0));
+  // The band's grain, degrees from the body's vertical as the garment
+  // spec's "grain" (a bias-cut skirt: 45).
+  if (root.has("grain")) s.grain_angle = root.required_number("grain", Range::between(-90.0, 90.0)) * kRadiansPerDegree;
   if (const auto remesh = root.optional_object("remesh")) {
     s.remesh_iterations = static_cast<int>(remesh->integer("iterations", s.remesh_iterations, Range::between(1, 50)));
     remesh->finish();
@@ -101,6 +104,7 @@ OrderedJson to_json(const ExtendSpec& s) {
   else j["target"] = {{"distance", s.distance}};
   if (s.girth > 0) j["girth"] = s.girth;
   else j["scale"] = s.scale;
+  if (s.grain_angle != 0.0) j["grain"] = s.grain_angle / kRadiansPerDegree;
   j["remesh"] = {{"iterations", s.remesh_iterations}};
   return j;
 }
@@ -228,15 +232,27 @@ ExtendResult extend_boundary(const Mesh& garment, const GarmentFile& file, const
   for (size_t i = 0; i < band.size(); ++i) F.row(nF + static_cast<Eigen::Index>(i)) = band[i].transpose();
   std::vector<char> selected(static_cast<size_t>(F.rows()), 0);
   std::fill(selected.begin() + nF, selected.end(), 1);
-  Eigen::VectorXd paint(F.rows());
-  for (Eigen::Index f = 0; f < nF; ++f)
-    paint[f] = file.paint.size() == static_cast<size_t>(nF) ? file.paint[static_cast<size_t>(f)] : 1.0;
-  paint.tail(static_cast<Eigen::Index>(band.size())).setOnes();
+  // Each face's garment face before the band (-1: a band face), carried
+  // through the remeshing, so that paint and grain follow their faces.
+  Eigen::VectorXd face_origin(F.rows());
+  for (Eigen::Index f = 0; f < nF; ++f) face_origin[f] = static_cast<double>(f);
+  face_origin.tail(static_cast<Eigen::Index>(band.size())).setConstant(-1.0);
 
   RemeshOptions remesh;
   remesh.target_edge_length = L;
   remesh.iterations = spec.remesh_iterations;
-  const std::vector<int> origin = remesh_selected_faces(V, F, selected, remesh, paint, 1.0);
+  const std::vector<int> origin = remesh_selected_faces(V, F, selected, remesh, face_origin, -1.0);
+  Eigen::VectorXd paint = Eigen::VectorXd::Ones(F.rows());
+  const bool painted = file.paint.size() == static_cast<size_t>(nF);
+  const bool grained = file.material.grain_angles.size() == static_cast<size_t>(nF);
+  std::vector<double> grain;
+  if (grained || spec.grain_angle != 0.0) grain.assign(static_cast<size_t>(F.rows()), spec.grain_angle);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const long old = std::lround(face_origin[f]);
+    if (old < 0) continue;  // a band face: the extension's grain
+    if (painted) paint[f] = file.paint[static_cast<size_t>(old)];
+    if (!grain.empty()) grain[static_cast<size_t>(f)] = grained ? file.material.grain_angles[static_cast<size_t>(old)] : 0.0;
+  }
   std::vector<int> new_id(static_cast<size_t>(nG + static_cast<Eigen::Index>(added.size())), -1);
   for (size_t i = 0; i < origin.size(); ++i)
     if (origin[i] >= 0) new_id[static_cast<size_t>(origin[i])] = static_cast<int>(i);
@@ -299,6 +315,7 @@ ExtendResult extend_boundary(const Mesh& garment, const GarmentFile& file, const
   out.vertex_count = V.rows();
   out.face_count = F.rows();
   out.paint.assign(paint.data(), paint.data() + paint.size());
+  out.material.grain_angles = grain;
 
   result.centroid = centroid;
   result.axis = axis;

@@ -10,6 +10,8 @@
 //     "loop": "waist",
 //     "target": { "point": [x, y, z] }  or  { "distance": 0.45 },   // metres
 //     "scale": 1.3  or  "girth": 1.6,   // factor (> 0) or new loop length in metres; default scale 1
+//     "grain": 45,                      // optional: the band's warp, degrees from the body's vertical
+//                                       //   within [-90, 90] (garment_spec.h, "grain"); default 0
 //     "remesh": { "iterations": 6 } }   // optional
 #include <filesystem>
 #include <string>
@@ -32,6 +34,7 @@ struct ExtendSpec {
   double scale = 1.0;                               // scale of the new loop about its centroid
   double girth = 0.0;                               // or its length in metres (> 0 wins over scale)
   int remesh_iterations = 6;
+  double grain_angle = 0.0;  // radians: the band's grain (the spec gives degrees)
 };
 ExtendSpec parse_extend_spec(const Json& j, const std::string& file);
 ExtendSpec read_extend_spec(const std::filesystem::path& path);

@@ -72,6 +72,14 @@ Material material_of(const fabric::Fabric& f) {
 
 }  // namespace
 
+bool Material::turned_grain() const {
+  for (double a : grain_angles)
+    if (a != 0.0) return true;
+  return false;
+}
+
+double contact_thickness(const Material& m) { return m.thickness > 0.0 ? m.thickness : kDefaultContactThickness; }
+
 OrderedJson to_json(const Material& m) {
   OrderedJson j;
   j["fabric"] = m.fabric;
@@ -216,6 +224,13 @@ OrderedJson to_json(const GarmentFile& g) {
   j["paint"] = g.paint;
   j["ease"] = g.ease;
   j["material"] = to_json(g.material);
+  // Written only where a face is turned, so that a garment laid on the
+  // straight grain (every garment before grain regions) has the same file.
+  if (g.material.turned_grain()) {
+    OrderedJson grain = OrderedJson::array();
+    for (double a : g.material.grain_angles) grain.push_back(a / kRadiansPerDegree);
+    j["grain"] = grain;
+  }
   OrderedJson ext = OrderedJson::array();
   for (const auto& e : g.extensions)
     ext.push_back({{"loop", e.loop}, {"distance", e.distance}, {"scale", e.scale}, {"girth", e.girth}});
@@ -289,6 +304,17 @@ GarmentFile read_garment_file(const std::filesystem::path& path) {
   }
   g.ease = root.number("ease", 0.0, Range::between(-0.5, 0.0));
   g.material = read_material(root.object("material"));
+  if (const Json* grain = root.raw("grain")) {
+    if (!grain->is_array() || static_cast<long long>(grain->size()) != g.face_count)
+      throw SpecError("expected one grain angle per garment face (" + std::to_string(g.face_count) + ")",
+                      root.where("grain"));
+    for (size_t f = 0; f < grain->size(); ++f) {
+      const Json& a = (*grain)[f];
+      if (!a.is_number() || !(a.get<double>() >= -90.0 && a.get<double>() <= 90.0))
+        throw SpecError("expected an angle in degrees within [-90, 90]", root.where("grain") + "/" + std::to_string(f));
+      g.material.grain_angles.push_back(a.get<double>() * kRadiansPerDegree);
+    }
+  }
   const SpecArray ext = root.array("extensions");
   for (size_t i = 0; i < ext.size(); ++i) {
     const SpecObject e = ext.object(i);

@@ -20,6 +20,10 @@
 
 namespace gp {
 
+// Grain angles are radians in memory and degrees in the files (the spec's
+// "grain", the garment file's "grain"): a tailor's unit.
+constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
+
 // Baraff-Witkin cloth parameters of the garment's fabric (common/fabric/README.md),
 // defaults from the paper (Wolff et al. 2023: the fabric "paper"). Stiffnesses
 // in N/m (membrane) and N m (bending), as cloth/cloth_model.h reads them.
@@ -39,17 +43,33 @@ struct Material {
   // small fraction of the load it stretches under (common/cloth/README.md,
   // "Compression"); 1 is the paper's symmetric stretch term.
   double compression_ratio = 0.1;
-  double thickness = 0.0;  // m, nominal (not used by the solver)
+  // m, nominal (common/fabric/README.md): the separation the body contact
+  // keeps (contact_thickness); 0: not given, the contact's default.
+  double thickness = 0.0;
   bool knit = false;       // may be cut with negative ease (a comfort offset below zero)
   // The wearer's stretch limits along warp and weft (stretch ratios, 1.1 = 10 %
   // longer); both 0: the fit's 1 + delta in every direction (the paper's rule).
   double stretch_limit_warp = 0.0;
   double stretch_limit_weft = 0.0;
 
+  // How the fabric is laid on each garment face (#F, radians, or empty: no
+  // face turned): the warp turned counter-clockwise about the face's normal
+  // from the body's vertical (cloth::ClothParameters::grain_angles; pi/4: a
+  // bias cut). Not part of to_json(Material): the garment file writes it as
+  // its own "grain" (degrees), and only where a face is turned.
+  std::vector<double> grain_angles;
+
   bool has_own_limits() const { return stretch_limit_warp > 0.0 && stretch_limit_weft > 0.0; }
+  bool turned_grain() const;  // some face's grain angle is not 0
   bool anisotropic() const { return k_stretch_weft != k_stretch; }
 };
 OrderedJson to_json(const Material& material);
+// The separation [m] the body contact keeps between cloth and body
+// (collision::ContinuousContactOptions::thickness, and a pinch's least
+// offset): the fabric's thickness, or kDefaultContactThickness where the
+// material gives none (the paper's, older garment files).
+constexpr double kDefaultContactThickness = 1e-3;
+double contact_thickness(const Material& material);
 // Reads the fields present in `obj` over the defaults (strict: unknown keys fail).
 Material read_material(const SpecObject& obj);
 // A spec's "fabric": a library name (SpecError at `where`, listing the known

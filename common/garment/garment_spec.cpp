@@ -15,6 +15,31 @@ SpecPoint read_point(const Json& j, const std::string& where) {
 
 OrderedJson point_json(const SpecPoint& p) { return to_json(p); }
 
+// The body region of a paint or grain entry: a geodesic disc ("disc") or a
+// set of body vertices ("vertices"), exactly one of them.
+void read_body_region(const SpecObject& p, PaintRegion& r) {
+  const bool disc = p.has("disc"), vertices = p.has("vertices");
+  if (disc == vertices) throw SpecError("give exactly one of 'disc' and 'vertices'", p.where());
+  if (disc) {
+    const SpecObject d = p.object("disc");
+    const Json* center = d.raw("center");
+    if (!center) throw SpecError("missing required field 'center'", d.where("center"));
+    r.center = read_point(*center, d.where("center"));
+    r.radius = d.required_number("radius", Range::positive());
+    d.finish();
+  } else {
+    r.is_disc = false;
+    const Json* ids = p.raw("vertices");
+    if (!ids->is_array() || ids->empty())
+      throw SpecError("expected a non-empty array of body vertex ids", p.where("vertices"));
+    for (size_t k = 0; k < ids->size(); ++k) {
+      if (!(*ids)[k].is_number_integer() || (*ids)[k].get<long long>() < 0)
+        throw SpecError("expected a body vertex id", p.where("vertices") + "/" + std::to_string(k));
+      r.vertex_ids.push_back((*ids)[k].get<long long>());
+    }
+  }
+}
+
 }  // namespace
 
 GarmentSpec parse_garment_spec(const Json& j, const std::string& file) {
@@ -68,28 +93,25 @@ GarmentSpec parse_garment_spec(const Json& j, const std::string& file) {
       r.where = p.where();
       r.name = p.string("name", "paint" + std::to_string(i));
       r.factor = p.required_number("factor", Range::between(0.01, 100.0));
-      const bool disc = p.has("disc"), vertices = p.has("vertices");
-      if (disc == vertices) throw SpecError("give exactly one of 'disc' and 'vertices'", p.where());
-      if (disc) {
-        const SpecObject d = p.object("disc");
-        const Json* center = d.raw("center");
-        if (!center) throw SpecError("missing required field 'center'", d.where("center"));
-        r.center = read_point(*center, d.where("center"));
-        r.radius = d.required_number("radius", Range::positive());
-        d.finish();
-      } else {
-        r.is_disc = false;
-        const Json* ids = p.raw("vertices");
-        if (!ids->is_array() || ids->empty())
-          throw SpecError("expected a non-empty array of body vertex ids", p.where("vertices"));
-        for (size_t k = 0; k < ids->size(); ++k) {
-          if (!(*ids)[k].is_number_integer() || (*ids)[k].get<long long>() < 0)
-            throw SpecError("expected a body vertex id", p.where("vertices") + "/" + std::to_string(k));
-          r.vertex_ids.push_back((*ids)[k].get<long long>());
-        }
-      }
+      read_body_region(p, r);
       p.finish();
       s.paint.push_back(r);
+    }
+  }
+  if (const auto grain = root.optional_array("grain")) {
+    for (size_t i = 0; i < grain->size(); ++i) {
+      const SpecObject g = grain->object(i);
+      GrainRegion r;
+      r.where = g.where();
+      r.name = g.string("name", "grain" + std::to_string(i));
+      // Degrees from the body's vertical: a turn beyond a quarter is the
+      // same grain laid the other way up (warp and weft are both axes).
+      r.angle = g.required_number("angle", Range::between(-90.0, 90.0)) * kRadiansPerDegree;
+      r.on.name = r.name;
+      r.on.where = r.where;
+      read_body_region(g, r.on);
+      g.finish();
+      s.grain.push_back(r);
     }
   }
   if (root.has("fabric") && root.has("material")) {
@@ -167,6 +189,18 @@ OrderedJson to_json(const GarmentSpec& s) {
     paint.push_back(p);
   }
   j["paint"] = paint;
+  if (!s.grain.empty()) {
+    OrderedJson grain = OrderedJson::array();
+    for (const auto& g : s.grain) {
+      OrderedJson r;
+      r["name"] = g.name;
+      r["angle"] = g.angle / kRadiansPerDegree;
+      if (g.on.is_disc) r["disc"] = {{"center", point_json(g.on.center)}, {"radius", g.on.radius}};
+      else r["vertices"] = g.on.vertex_ids;
+      grain.push_back(r);
+    }
+    j["grain"] = grain;
+  }
   j["ease"] = s.ease;
   j["material"] = to_json(s.material);
   j["smoothing"] = {{"iterations", s.smoothing.smoothing_iterations}, {"band_rings", s.smoothing.band_rings}};

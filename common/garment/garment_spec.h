@@ -23,6 +23,10 @@
 //                                         //   or in full with units: { "name": "my-twill",
 //                                         //   "areal_density": "210 g/m^2", "k_warp": "4000 N/m", ... }
 //     "material": { "k_stretch": 800, ... },  // optional instead of "fabric": raw cloth parameters
+//     "grain": [                          // optional: the warp turned per region (a bias cut), in
+//       { "name": "skirt", "angle": 45,   //   degrees within [-90, 90], counter-clockwise about the
+//         "disc": { "center": 4321, "radius": 0.3 } } ],  // outward normal from the body's vertical;
+//                                         //   regions as paint's ("disc" or "vertices"); the last wins
 //     "ease": -0.08,                      // optional, knits only: start 8 % smaller than the design
 //     "smoothing": { "iterations": 12, "band_rings": 5 },   // optional
 //     "remesh": { "iterations": 8, "relaxation_steps": 2 },  // optional
@@ -61,6 +65,17 @@ struct PaintRegion {
   std::string where;
 };
 
+// A region whose warp is turned (common/garment/README.md, "Grain"): the
+// faces over the body region `on` (its factor unused) lay the warp `angle`
+// radians counter-clockwise about their outward normal from the body's
+// vertical (pi/4: a bias cut).
+struct GrainRegion {
+  std::string name;
+  double angle = 0.0;  // radians; the spec gives degrees
+  PaintRegion on;
+  std::string where;
+};
+
 struct GarmentSpec {
   std::string file;
   std::string name;
@@ -76,6 +91,7 @@ struct GarmentSpec {
   // armpit). 0.02 suits garments of 1-1.5 cm edges (common/garment/README.md).
   double offset_fillet = 0.0;
   std::vector<PaintRegion> paint;
+  std::vector<GrainRegion> grain;  // in spec order; a face in several takes the last one's angle
   // Negative ease of a knit (common/garment/README.md, "Negative ease"): the
   // rest shape starts this fraction smaller than the design in every
   // direction (-0.08: 8 % smaller), at most as small as the knit's smaller

@@ -211,9 +211,9 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
     for (const auto& s : segments) loop.curve.push_back({s.face, s.bary_start});
   }
 
-  // T3: paint factors per garment triangle, from the body point under its centroid.
-  file.paint.assign(static_cast<size_t>(F.rows()), 1.0);
-  for (const auto& region : spec.paint) {
+  // T3: paint factors per garment triangle, from the body point under its
+  // centroid; the grain regions choose their faces the same way.
+  auto faces_in = [&](const PaintRegion& region) {
     std::vector<double> dist;
     std::set<long long> vertex_set;
     if (region.is_disc) {
@@ -229,6 +229,7 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
         vertex_set.insert(v);
       }
     }
+    std::vector<char> inside(static_cast<size_t>(F.rows()), 0);
     for (Eigen::Index f = 0; f < F.rows(); ++f) {
       const Eigen::Vector3d c = (V.row(F(f, 0)) + V.row(F(f, 1)) + V.row(F(f, 2))).transpose() / 3.0;
       const SurfacePoint at = body.closest(c).at;
@@ -242,7 +243,24 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
         at.bary.maxCoeff(&k);
         in = vertex_set.count(F_body(at.face, k)) > 0;
       }
-      if (in) file.paint[static_cast<size_t>(f)] *= region.factor;
+      inside[static_cast<size_t>(f)] = in ? 1 : 0;
+    }
+    return inside;
+  };
+  file.paint.assign(static_cast<size_t>(F.rows()), 1.0);
+  for (const auto& region : spec.paint) {
+    const std::vector<char> inside = faces_in(region);
+    for (Eigen::Index f = 0; f < F.rows(); ++f)
+      if (inside[static_cast<size_t>(f)]) file.paint[static_cast<size_t>(f)] *= region.factor;
+  }
+  // The grain per face (common/garment/README.md, "Grain"); none without
+  // grain regions, so that such a garment's file is what it was.
+  if (!spec.grain.empty()) {
+    file.material.grain_angles.assign(static_cast<size_t>(F.rows()), 0.0);
+    for (const auto& region : spec.grain) {
+      const std::vector<char> inside = faces_in(region.on);
+      for (Eigen::Index f = 0; f < F.rows(); ++f)
+        if (inside[static_cast<size_t>(f)]) file.material.grain_angles[static_cast<size_t>(f)] = region.angle;
     }
   }
   // A knit's negative ease: the rest shape starts smaller in every direction
@@ -285,7 +303,9 @@ MakeGarmentResult make_garment(const Eigen::MatrixXd& V_body, const Eigen::Matri
 
   file.target_edge_length = result.target_edge_length;
   file.offset = spec.offset;
+  std::vector<double> grain_angles = std::move(file.material.grain_angles);
   file.material = spec.material;
+  file.material.grain_angles = std::move(grain_angles);
   file.vertex_count = V.rows();
   file.face_count = F.rows();
   result.mesh.V = V;

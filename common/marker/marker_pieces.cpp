@@ -27,6 +27,7 @@ MarkerPieces read_marker_pieces(const std::filesystem::path& path) {
   MarkerPieces m;
   m.units = o.string("units", "m");
   m.fabric_width = o.number("fabric_width", 0.0, Range::non_negative());
+  m.fabric = o.string("fabric", "");
   const SpecArray pieces = o.array("pieces");
   if (pieces.empty()) throw SpecError("no pieces", file + ":/pieces");
   for (size_t i = 0; i < pieces.size(); ++i) {
@@ -69,6 +70,7 @@ OrderedJson marker_pieces_json(const MarkerPieces& m) {
   j["schema"] = schema_tag("marker-pieces", 1);
   j["units"] = m.units;
   if (m.fabric_width > 0.0) j["fabric_width"] = m.fabric_width;
+  if (!m.fabric.empty()) j["fabric"] = m.fabric;
   OrderedJson pieces = OrderedJson::array();
   for (const MarkerPiece& p : m.pieces) {
     OrderedJson outline = OrderedJson::array();

@@ -6,6 +6,7 @@
 //   { "schema": "marker-pieces/1",
 //     "units": "m",                 // "m" (metres), or any other word: unitless (benchmarks)
 //     "fabric_width": 1.5,          // optional: the width the marker is for, in the units
+//     "fabric": "denim-11oz",       // optional: the fabric the pieces are cut from (common/fabric)
 //     "pieces": [ { "name": "front",
 //                   "outline": [[x, y], ...],   // the cutting line, >= 3 points, any orientation
 //                   "quantity": 1,              // copies to cut (>= 1)
@@ -35,6 +36,7 @@ struct MarkerPiece {
 struct MarkerPieces {
   std::string units = "m";
   double fabric_width = 0.0;  // 0: not given
+  std::string fabric;         // empty: not given (export-rest names a fabric a garment spec chose)
   std::vector<MarkerPiece> pieces;
 };
 

@@ -126,6 +126,7 @@ OrderedJson marker_report(const MarkerPieces& pieces, const MarkerResult& m, con
   OrderedJson j;
   j["schema"] = schema_tag("make-marker-report", 1);
   j["units"] = pieces.units;
+  if (!pieces.fabric.empty()) j["fabric"] = pieces.fabric;
   j["options"] = {{"fabric_width", o.width},
                   {"resolution", m.resolution},
                   {"seed", o.seed},

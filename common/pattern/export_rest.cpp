@@ -242,7 +242,11 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
   for (const auto& [phase, s] : result.pattern.seconds) result.timing["cut_and_flatten_" + phase] = s;
   LayoutOptions layout = options.layout;
   layout.title = pattern_title(result);
-  result.layout = layout_pattern(result.pattern, layout);
+  // The grain per face of the garment (a bias-cut region), as the fit simulated it.
+  const std::vector<double> no_grain;
+  const std::vector<double>& grain =
+      result.have_garment && result.garment.material.turned_grain() ? result.garment.material.grain_angles : no_grain;
+  result.layout = layout_pattern(result.pattern, layout, grain);
   lap("layout");
   if (!result.pattern.meets_limit) {
     // Which piece, by how much and where: the rest-shape point of its
@@ -437,7 +441,10 @@ void write_export_rest(const ExportRestResult& result, const ExportRestOptions& 
     write_file_atomic(dir / ("pattern-" + paper.name + ".pdf"),
                       [&](std::ostream& s) { write_pdf(s, pattern, layout, cut, po, options.dxf.date); });
   }
-  write_json_file(dir / "marker_pieces.json", marker_pieces_json(marker_pieces(pattern, layout, cut)));
+  MarkerPieces for_marker = marker_pieces(pattern, layout, cut);
+  // The marker names a fabric the spec chose, as the labels do (the paper's default left as it was).
+  if (result.have_garment && result.garment.material.fabric != "paper") for_marker.fabric = result.garment.material.fabric;
+  write_json_file(dir / "marker_pieces.json", marker_pieces_json(for_marker));
   write_file_atomic(dir / "pieces.obj", [&](std::ostream& s) { write_pieces_obj(s, pattern, layout); }, false);
   write_file_atomic(dir / "seams.obj", [&](std::ostream& s) { write_seams_obj(s, pattern); }, false);
   write_mesh(dir / "pieces_flat.ply", flat_pieces_mesh(pattern, layout));

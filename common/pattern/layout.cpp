@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 
@@ -21,11 +22,16 @@ double segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, cons
   return (a + t * ab - p).norm();
 }
 
-// Direction of the body's vertical on the flat piece: the area-weighted
-// gradient, on the flat triangles, of the rest height y.
-Eigen::Vector2d grain_direction(const PatternPiece& p, bool& from_vertical) {
+// Direction of the warp on the flat piece: the area-weighted gradient, on the
+// flat triangles, of the rest height y (the body's vertical, the warp of a
+// face on the straight grain), turned by the face's grain angle where its
+// rest face has one (`grain_angles` per pattern-mesh face, empty: none), as
+// the cloth model turns it (cloth::warp_direction: counter-clockwise about
+// the face normal, which a flat triangle of positive area keeps).
+Eigen::Vector2d grain_direction(const PatternPiece& p, const std::vector<double>& grain_angles, bool& from_vertical,
+                                double& mean_turn) {
   Eigen::Vector2d g = Eigen::Vector2d::Zero();
-  double area = 0.0;
+  double area = 0.0, turn = 0.0;
   for (int f = 0; f < p.F.rows(); ++f) {
     const Eigen::Vector2d a = p.flat.UV.row(p.F(f, 0)), b = p.flat.UV.row(p.F(f, 1)), c = p.flat.UV.row(p.F(f, 2));
     Eigen::Matrix2d E;
@@ -34,9 +40,19 @@ Eigen::Vector2d grain_direction(const PatternPiece& p, bool& from_vertical) {
     const double det = E.determinant();
     if (!(det > 0.0)) continue;
     const Eigen::Vector2d dh(p.V(p.F(f, 1), 1) - p.V(p.F(f, 0), 1), p.V(p.F(f, 2), 1) - p.V(p.F(f, 0), 1));
-    g += 0.5 * det * E.transpose().inverse() * dh;
+    // Skipped at 0 so that a pattern on the straight grain is what it was, bit for bit.
+    const double angle = grain_angles.empty() ? 0.0 : grain_angles[static_cast<size_t>(p.face_ids[static_cast<size_t>(f)])];
+    if (angle == 0.0) {
+      g += 0.5 * det * E.transpose().inverse() * dh;
+    } else {
+      const Eigen::Vector2d gf = E.transpose().inverse() * dh;
+      const double cs = gp::math::cos(angle), sn = gp::math::sin(angle);
+      g += 0.5 * det * Eigen::Vector2d(cs * gf.x() - sn * gf.y(), sn * gf.x() + cs * gf.y());
+      turn += 0.5 * det * angle;
+    }
     area += 0.5 * det;
   }
+  mean_turn = area > 0.0 ? turn / area : 0.0;
   if (area > 0.0 && g.norm() > 0.3 * area) {
     from_vertical = true;
     return g.normalized();
@@ -100,7 +116,16 @@ PieceLabel piece_label(const LaidOutPiece& piece, const std::string& title, cons
                        const CutInstruction& cut) {
   PieceLabel l;
   l.line1 = title + " " + name;
-  l.line2 = cut.text() + ", grain " + (piece.grain_from_body_vertical ? "vertical" : "along the piece");
+  std::string grain = piece.grain_from_body_vertical ? "vertical" : "along the piece";
+  // A turned grain (a bias cut): the line drawn is the warp, at this angle to the body's vertical.
+  // (A piece holding only slivers of a turned region, where a seam smooths
+  // across its border, keeps "vertical": under half a degree.)
+  if (piece.grain_from_body_vertical && std::abs(piece.grain_turn) * 180.0 / 3.14159265358979323846 >= 0.5) {
+    char turned[64];
+    std::snprintf(turned, sizeof(turned), "at %.0f deg to the vertical", piece.grain_turn * 180.0 / 3.14159265358979323846);
+    grain = turned;
+  }
+  l.line2 = cut.text() + ", grain " + grain;
   const double room = 2.0 * 0.8 * piece.label_room;  // usable width across the disc
   const double w1 = 0.6 * static_cast<double>(l.line1.size()), w2 = 0.6 * static_cast<double>(l.line2.size());
   l.size1 = std::max(0.001, std::min({0.01, piece.label_room / 4.0, room / w1}));
@@ -122,15 +147,25 @@ Box2 seam_label_box(const Eigen::Vector2d& at, size_t characters) {
   return b;
 }
 
-Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options) {
+Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options, const std::vector<double>& rest_grain_angles) {
   Layout layout;
+  // The grain of every pattern-mesh face: its rest face's.
+  std::vector<double> grain_angles;
+  if (!rest_grain_angles.empty()) {
+    if (rest_grain_angles.size() != static_cast<size_t>(pattern.mesh.rest_F.rows()))
+      throw UsageError("grain angles must be one per rest face (" + std::to_string(rest_grain_angles.size()) + " for " +
+                       std::to_string(pattern.mesh.rest_F.rows()) + ")");
+    grain_angles.resize(pattern.mesh.rest_face.size());
+    for (size_t f = 0; f < grain_angles.size(); ++f)
+      grain_angles[f] = rest_grain_angles[static_cast<size_t>(pattern.mesh.rest_face[f])];
+  }
   const size_t count = pattern.pieces.size();
   layout.pieces.resize(count);
   std::vector<Eigen::Vector2d> lo(count), hi(count);
   for (size_t i = 0; i < count; ++i) {
     const PatternPiece& p = pattern.pieces[i];
     LaidOutPiece& out = layout.pieces[i];
-    const Eigen::Vector2d g = grain_direction(p, out.grain_from_body_vertical);
+    const Eigen::Vector2d g = grain_direction(p, grain_angles, out.grain_from_body_vertical, out.grain_turn);
     // Rotate g onto +y.
     out.rotation = gp::math::atan2(g.x(), g.y());
     Eigen::Matrix2d R;

@@ -1,7 +1,7 @@
 #pragma once
 // Layout of the flat pieces on one sheet: each piece turned so that its
-// grain line (the body's vertical, +y of the rest shape, as seen on the flat
-// piece) points up the sheet, then packed in shelves without overlap; and
+// grain line (the warp: the body's vertical, +y of the rest shape, as seen on
+// the flat piece, turned where the garment turns its grain) points up the sheet, then packed in shelves without overlap; and
 // everything a pattern sheet carries besides the outlines: seam allowance,
 // notches (every `notch_spacing` along each seam and at its ends, at the same
 // material points on both sides), labels.
@@ -87,6 +87,7 @@ struct LaidOutPiece {
   double label_room = 0.0;        // radius of a disc inside the piece around label_at
   Eigen::Vector2d grain_from = Eigen::Vector2d::Zero(), grain_to = Eigen::Vector2d::Zero();
   bool grain_from_body_vertical = true;  // false: the piece is horizontal, grain along its longest axis
+  double grain_turn = 0.0;  // radians: the area-weighted mean grain angle of its faces (0: straight grain)
 };
 
 struct Layout {
@@ -98,8 +99,13 @@ struct Layout {
 };
 
 // Lays the pieces out: mirrored pairs ("left X", "right X") side by side,
-// seam labels where they overlap no other label.
-Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options);
+// seam labels where they overlap no other label. rest_grain_angles (#F of
+// the rest shape, radians, or empty: every face on the straight grain) turn
+// each face's warp as the cloth model does (Material::grain_angles): a
+// piece's grain line is then the area-weighted mean of its faces' turned
+// warps. Throws UsageError for a count other than the rest shape's faces.
+Layout layout_pattern(const Pattern& pattern, const LayoutOptions& options,
+                      const std::vector<double>& rest_grain_angles = {});
 
 // Axis-aligned box on the sheet (metres).
 struct Box2 {

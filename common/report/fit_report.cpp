@@ -362,7 +362,8 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
                           : run.dir.filename().string();
   // The header names a fabric the spec chose (common/fabric); the paper's default is not named.
   const Json* fabric = lookup(run.garment, "/options/effective_spec/material/fabric");
-  if (fabric && fabric->is_string() && fabric->get<std::string>() != "paper") title += " in " + fabric->get<std::string>();
+  if (fabric && fabric->is_string()) result.fabric = fabric->get<std::string>();
+  if (!result.fabric.empty() && result.fabric != "paper") title += " in " + result.fabric;
   write_text(folder / "index.html", html_report(run, files, result.checks, title));
 
   for (const auto& entry : fs::recursive_directory_iterator(folder))

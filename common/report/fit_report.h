@@ -47,6 +47,7 @@ struct FitReportResult {
   double render_seconds = 0.0;           // all pictures
   double model_seconds = 0.0;            // glTF files
   double pattern_seconds = 0.0;          // pattern.png
+  std::string fabric;                    // the garment's fabric (common/fabric), empty when its report names none
 };
 
 // Writes the report into `folder` (which must exist; normally a staging

@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
     gp::OrderedJson report;
     report["schema"] = gp::schema_tag("fit-report", 1);
     report["input"] = {{"fit", fit_dir}, {"key_poses", run.keys.size()}, {"no_adapt_run", run.fit_no_adapt.has_value()}};
+    if (!result.fabric.empty()) report["input"]["fabric"] = result.fabric;
     // The colour scales are fixed (render/colour_scale.h); recorded so that a
     // reader of the pictures knows their ends without the page.
     const auto scale_json = [](const gp::render::ColourScale& scale) {

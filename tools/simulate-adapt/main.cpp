@@ -175,9 +175,12 @@ int main(int argc, char** argv) {
                  "their way and nothing passes through the other surface within a step (on; active when the "
                  "garment starts clear of the body) or cloth vertices against the body only (off)")
       ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
-  app.add_option("--contact-thickness", options.contact.thickness,
-                 "Separation kept between the cloth and body vertices and edges by the continuous contact [m]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+  auto* thickness_option =
+      app.add_option("--contact-thickness", options.contact.thickness,
+                     "Separation kept between the cloth and body vertices and edges by the continuous contact, and "
+                     "the least offset a pinch leaves; default: the garment fabric's thickness, 1 mm where it gives "
+                     "none [m]")
+          ->check(CLI::PositiveNumber);
   app.add_option("--pin-clearance", options.pin_clearance,
                  "Keep the pinned vertices' targets at least this fraction of the comfort offset from the body in "
                  "every frame, moving them out where another body part rises beside their bound point; 0: they "
@@ -228,6 +231,8 @@ int main(int argc, char** argv) {
       gp::check_pose_edge_ratios(poses, used, gp::kDefaultMaxEdgeRatio, poses_path);
     }
     const gp::GarmentFile garment = gp::read_garment_file(garment_path);
+    // The cloth's own thickness keeps it off the body (the report records it).
+    if (thickness_option->count() == 0) options.contact.thickness = gp::contact_thickness(garment.material);
     const fs::path mesh_path = fs::path(garment_path).parent_path() / garment.mesh_file;
     gp::MeshReadResult read = gp::read_mesh(mesh_path);
     for (const auto& w : read.warnings) tool.log().warning(w);
