@@ -379,21 +379,33 @@ AvatarResult make_avatar(const AvatarSpec& spec, const AvatarOptions& o) {
   res.poses.F = mesh.F;
   res.poses.reference = "apose";
   const auto neighbours = vertex_neighbors(mesh.F, static_cast<int>(mesh.V.rows()));
+  // Skins the rest mesh into a pose; returns the needle vertices smoothed.
+  auto skin = [&](const std::vector<RigidTransform>& bones, Eigen::MatrixXd& V) {
+    V = dual_quaternion_skinning(mesh.V, res.weights, bones);
+    Eigen::MatrixXd smoothed = V;
+    const int moved = smooth_needles(smoothed, mesh.F, neighbours, o.posed_min_angle);
+    // Keep the smoothing unless it makes the pose intersect itself (a
+    // needle in a tight fold); a needle is the lesser defect.
+    if (moved > 0 && (!o.check_self_intersection || !has_self_intersection(smoothed, mesh.F) ||
+                      has_self_intersection(V, mesh.F))) {
+      V = smoothed;
+      return moved;
+    }
+    return 0;
+  };
   for (const std::string& name : pose_names) {
-    const JointRotations rot = pose_rotations(spec, shape.skeleton, name);
-    const std::vector<RigidTransform> bones = forward_kinematics(shape.skeleton, rot);
+    JointRotations rot = pose_rotations(spec, shape.skeleton, name);
+    std::vector<RigidTransform> bones = forward_kinematics(shape.skeleton, rot);
     Eigen::MatrixXd V = mesh.V;
-    if (name != "apose") {
-      V = dual_quaternion_skinning(mesh.V, res.weights, bones);
-      Eigen::MatrixXd smoothed = V;
-      const int moved = smooth_needles(smoothed, mesh.F, neighbours, o.posed_min_angle);
-      // Keep the smoothing unless it makes the pose intersect itself (a
-      // needle in a tight fold); a needle is the lesser defect.
-      if (moved > 0 && (!o.check_self_intersection || !has_self_intersection(smoothed, mesh.F) ||
-                        has_self_intersection(V, mesh.F))) {
-        V = smoothed;
-        res.needle_vertices_smoothed += moved;
-      }
+    if (name != "apose") res.needle_vertices_smoothed += skin(bones, V);
+    // The hands rest beside the thighs, not in them: on wider hips the elbows
+    // bend less (skeleton.h: hands_on_thighs_pose).
+    for (double bend = kHandsOnThighsBend - 2.5;
+         name == "handsonthighs" && o.check_self_intersection && bend >= 20.0 && has_self_intersection(V, mesh.F);
+         bend -= 2.5) {
+      rot = hands_on_thighs_pose(shape.skeleton, bend);
+      bones = forward_kinematics(shape.skeleton, rot);
+      res.needle_vertices_smoothed += skin(bones, V);
     }
     Eigen::MatrixXd J = posed_joints(shape.skeleton, bones);
     const double floor = V.col(1).minCoeff();

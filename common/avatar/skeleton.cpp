@@ -1,5 +1,7 @@
 #include "avatar/skeleton.h"
 
+#include <tuple>
+
 #include <cmath>
 
 #include "core/error.h"
@@ -133,6 +135,22 @@ bool is_builtin_pose(const std::string& name) {
   return false;
 }
 
+JointRotations hands_on_thighs_pose(const Skeleton& s, double elbow_bend_degrees) {
+  // Upper arms 30 degrees out from the vertical, the forearms bent inwards
+  // from there: the hands rest beside the thighs, as the scanned customer
+  // stands (../shared/avatars: the A-pose's left hand 6.5 mm from the thigh).
+  PoseBuilder b(s);
+  for (const auto& [shoulder, elbow, wrist, side] : {std::tuple{kLShoulder, kLElbow, kLWrist, 1.0},
+                                                      std::tuple{kRShoulder, kRElbow, kRWrist, -1.0}}) {
+    const double fore = 30.0 - elbow_bend_degrees;  // the forearm's angle out from the vertical
+    const Eigen::Vector3d upper(side * gp::math::sin(30.0 * kDeg), -gp::math::cos(30.0 * kDeg), 0.0);
+    const Eigen::Vector3d forearm(side * gp::math::sin(fore * kDeg), -gp::math::cos(fore * kDeg), 0.0);
+    b.set_global(shoulder, swing(s, shoulder, elbow, upper));
+    b.set_global(elbow, swing(s, elbow, wrist, forearm));
+  }
+  return b.local();
+}
+
 JointRotations builtin_pose(const Skeleton& s, const std::string& name) {
   PoseBuilder b(s);
   const Eigen::Vector3d X = Eigen::Vector3d::UnitX(), Y = Eigen::Vector3d::UnitY();
@@ -186,19 +204,7 @@ JointRotations builtin_pose(const Skeleton& s, const std::string& name) {
       b.set_global(l.ankle, Eigen::Quaterniond::Identity());
     }
   } else if (name == "handsonthighs") {
-    // Upper arms 30 degrees out from the vertical, elbows bent 45 degrees
-    // inwards: the hands rest beside the thighs, as the scanned customer
-    // stands (../shared/avatars: the A-pose's left hand 6.5 mm from the thigh).
-    // On the default body the wrist comes within 5.7 mm of the hip
-    // (tools/make-avatar/README.md); 0.5 degree more bend makes it 2.3 mm, and
-    // one degree more makes the hand pass into the hip. A skirt has to pass
-    // through that gap.
-    for (const Arm& a : arms) {
-      const Eigen::Vector3d upper(a.side * gp::math::sin(30.0 * kDeg), -gp::math::cos(30.0 * kDeg), 0.0);
-      const Eigen::Vector3d fore(-a.side * gp::math::sin(15.0 * kDeg), -gp::math::cos(15.0 * kDeg), 0.0);
-      b.set_global(a.shoulder, swing(s, a.shoulder, a.elbow, upper));
-      b.set_global(a.elbow, swing(s, a.elbow, a.wrist, fore));
-    }
+    return hands_on_thighs_pose(s, kHandsOnThighsBend);
   } else {
     throw SpecError("unknown built-in pose '" + name + "'", "--poses");
   }

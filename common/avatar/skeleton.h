@@ -77,6 +77,16 @@ Eigen::Quaterniond rotation_from_degrees(const Eigen::Vector3d& angles);
 const std::vector<std::string>& builtin_pose_names();
 bool is_builtin_pose(const std::string& name);
 
+// handsonthighs: the upper arms 30 degrees out from the vertical and the
+// elbows bent inwards by `elbow_bend_degrees`. make_avatar bends them
+// kHandsOnThighsBend (the wrist 5.7 mm from the hip on the default body, as
+// the scanned customer's hand rests 6.5 mm from the thigh; 0.5 degree more
+// makes it 2.3 mm), less on a body whose hips that bend would pass the hands
+// into (MakeAvatar: the least bend back in steps of 2.5 degrees that leaves
+// the pose free of self-intersection).
+constexpr double kHandsOnThighsBend = 45.0;
+JointRotations hands_on_thighs_pose(const Skeleton& skeleton, double elbow_bend_degrees);
+
 // Local rotations of a built-in pose for this skeleton (the arm and leg rest
 // directions are read from the joints). Throws SpecError for an unknown name.
 JointRotations builtin_pose(const Skeleton& skeleton, const std::string& name);

@@ -72,7 +72,7 @@ TEST_CASE("very short adult (1.25 m): girths, closed, no self-intersection, volu
   const gp::AvatarSpec spec = example("short_125");
   REQUIRE(spec.measurements.height == 1.25);
   const gp::AvatarResult r = small_body(spec);
-  CHECK(r.poses.names.size() == 7);
+  CHECK(r.poses.names.size() == 8);
   check_body(r);
   CHECK(r.height == Approx(1.25).margin(0.01));
 }
@@ -80,8 +80,8 @@ TEST_CASE("very short adult (1.25 m): girths, closed, no self-intersection, volu
 TEST_CASE("very tall asymmetric body (2.0 m) with joint-angle poses", "[avatar][body]") {
   const gp::AvatarSpec spec = example("tall_200");
   const gp::AvatarResult r = small_body(spec);
-  CHECK(r.poses.names.size() == 9);
-  CHECK(r.poses.names[7] == "wave");
+  CHECK(r.poses.names.size() == 10);
+  CHECK(r.poses.names[8] == "wave");
   check_body(r);
   CHECK(r.height == Approx(2.0).margin(0.01));
   // The left arm is 12 mm longer than the right.
@@ -90,7 +90,7 @@ TEST_CASE("very tall asymmetric body (2.0 m) with joint-angle poses", "[avatar][
   const double right = (J.row(gp::kRWrist) - J.row(gp::kRShoulder)).norm();
   CHECK(left - right == Approx(0.012).margin(1e-9));
   // "wave" raises the left wrist above the head; the right arm stays.
-  const Eigen::MatrixXd& W = r.joints[7];
+  const Eigen::MatrixXd& W = r.joints[8];
   CHECK(W(gp::kLWrist, 1) > J(gp::kHead, 1));
   CHECK((W.row(gp::kRWrist) - J.row(gp::kRWrist)).norm() < 1e-9);
 }
