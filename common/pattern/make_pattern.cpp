@@ -8,7 +8,6 @@
 #include <functional>
 #include <limits>
 #include <optional>
-#include <queue>
 #include <set>
 
 #include <Eigen/Dense>
@@ -17,6 +16,7 @@
 
 #include "core/error.h"
 #include "core/stopwatch.h"
+#include "mesh/graph_paths.h"
 #include "mesh/heat_geodesics.h"
 #include "mesh/measures.h"
 #include "mesh/topology.h"
@@ -37,43 +37,6 @@ std::string metres(double x) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%.3f m", x);
   return buf;
-}
-
-// Multi-source Dijkstra over the edges with lengths `cost(v, w)`; ties
-// broken by vertex id through the (distance, id) order of the queue.
-void dijkstra(const std::vector<std::vector<int>>& neighbors, const std::vector<int>& sources,
-              const std::function<double(int, int)>& cost, std::vector<double>& dist, std::vector<int>& parent,
-              const std::function<bool(int)>& stop = {}) {
-  const size_t n = neighbors.size();
-  dist.assign(n, std::numeric_limits<double>::infinity());
-  parent.assign(n, -1);
-  using Entry = std::pair<double, int>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-  for (int s : sources) {
-    dist[static_cast<size_t>(s)] = 0.0;
-    queue.push({0.0, s});
-  }
-  while (!queue.empty()) {
-    const auto [d, v] = queue.top();
-    queue.pop();
-    if (d > dist[static_cast<size_t>(v)]) continue;
-    if (stop && stop(v)) return;
-    for (int w : neighbors[static_cast<size_t>(v)]) {
-      const double nd = d + cost(v, w);
-      if (nd < dist[static_cast<size_t>(w)]) {
-        dist[static_cast<size_t>(w)] = nd;
-        parent[static_cast<size_t>(w)] = v;
-        queue.push({nd, w});
-      }
-    }
-  }
-}
-
-std::vector<int> trace_parents(const std::vector<int>& parent, int to) {
-  std::vector<int> path;
-  for (int v = to; v != -1; v = parent[static_cast<size_t>(v)]) path.push_back(v);
-  std::reverse(path.begin(), path.end());
-  return path;
 }
 
 // The curve of a piece (local ids) on the pattern mesh.
@@ -568,8 +531,14 @@ void cut_to_disks(Pattern& pattern, const PatternOptions& options, const Pattern
         const double nz = std::isfinite(nm.z()) ? nm.z() : 0.0;
         return (p.V.row(a) - p.V.row(b)).norm() * (1.0 + options.front_back_cost * nz * nz);
       };
-      std::vector<double> dist;
-      std::vector<int> parent, path;
+      const double inf = std::numeric_limits<double>::infinity();
+      const auto search_from = [&](const std::vector<int>& sources, const std::function<bool(int)>& stop) {
+        GraphSearch<double> search = graph_search(static_cast<size_t>(n), inf, true);
+        dijkstra(neighbors, sources, cost, inf, stop, search);
+        return search;
+      };
+      const auto never = [](int) { return false; };
+      std::vector<int> path;
       std::string reason;
       auto loop_name = [&](const std::vector<int>& loop) {
         for (int v : loop) {
@@ -582,22 +551,22 @@ void cut_to_disks(Pattern& pattern, const PatternOptions& options, const Pattern
         return std::string("through pattern vertex ") + std::to_string(p.mesh_vertex_ids[loop.front()]);
       };
       if (loops.empty()) {
-        dijkstra(neighbors, {0}, cost, dist, parent);
+        const std::vector<double> dist = search_from({0}, never).dist;
         int far = 0;
         for (int v = 0; v < n; ++v)
           if (dist[static_cast<size_t>(v)] > dist[static_cast<size_t>(far)]) far = v;
-        dijkstra(neighbors, {far}, cost, dist, parent);
+        const GraphSearch<double> from_far = search_from({far}, never);
         int other = far;
         for (int v = 0; v < n; ++v)
-          if (dist[static_cast<size_t>(v)] > dist[static_cast<size_t>(other)]) other = v;
-        path = trace_parents(parent, other);
+          if (from_far.dist[static_cast<size_t>(v)] > from_far.dist[static_cast<size_t>(other)]) other = v;
+        path = trace_parents(from_far.parent, other);
         reason = "piece " + p.name + " is closed: opened between its two farthest points";
       } else {
         std::vector<int> loop_of(static_cast<size_t>(n), -1);
         for (size_t l = 0; l < loops.size(); ++l)
           for (int v : loops[l]) loop_of[static_cast<size_t>(v)] = static_cast<int>(l);
         int reached = -1;
-        dijkstra(neighbors, loops.front(), cost, dist, parent, [&](int v) {
+        const GraphSearch<double> search = search_from(loops.front(), [&](int v) {
           if (loop_of[static_cast<size_t>(v)] > 0) {
             reached = v;
             return true;
@@ -605,7 +574,7 @@ void cut_to_disks(Pattern& pattern, const PatternOptions& options, const Pattern
           return false;
         });
         if (reached < 0) throw GeometryError("piece " + p.name + " has boundary loops that no path joins");
-        path = trace_parents(parent, reached);
+        path = trace_parents(search.parent, reached);
         reason = "piece " + p.name + " has " + std::to_string(loops.size()) +
                  " boundary loops and must be a disk to be flattened: joins the boundary " + loop_name(loops.front()) +
                  " to the boundary " + loop_name(loops[static_cast<size_t>(loop_of[static_cast<size_t>(reached)])]) +
@@ -1159,8 +1128,7 @@ std::optional<SurfaceCurve> halving_cut(const PatternPiece& p, int from) {
     n.erase(std::unique(n.begin(), n.end()), n.end());
   }
   const double inf = std::numeric_limits<double>::infinity();
-  std::vector<double> dist;
-  std::vector<int> parent;
+  GraphSearch<double> search = graph_search(neighbors.size(), inf, true);
   dijkstra(
       neighbors, {from},
       [&](int v, int w) {
@@ -1173,10 +1141,10 @@ std::optional<SurfaceCurve> halving_cut(const PatternPiece& p, int from) {
         }
         return (p.V.row(v) - p.V.row(w)).norm();
       },
-      dist, parent, [&](int v) { return v == to; });
-  if (!std::isfinite(dist[static_cast<size_t>(to)])) return std::nullopt;
+      inf, [&](int v) { return v == to; }, search);
+  if (!std::isfinite(search.dist[static_cast<size_t>(to)])) return std::nullopt;
   SurfaceCurve cut;
-  for (int v : trace_parents(parent, to)) cut.push_back(CurvePoint::at_vertex(v));
+  for (int v : trace_parents(search.parent, to)) cut.push_back(CurvePoint::at_vertex(v));
   if (cut.size() < 2) return std::nullopt;
   return cut;
 }
