@@ -12,7 +12,7 @@
 #include "adapt/motion_progress.h"
 #include "cli/tool.h"
 #include "core/atomic_file.h"
-#include "pattern/export_rest.h"
+#include "export/export_rest.h"
 #include "pattern/svg_writer.h"
 
 int main(int argc, char** argv) {
