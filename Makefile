@@ -1,10 +1,11 @@
 # The user's entry point. `make demo` and `make test` install missing Debian
 # packages and build first, so both work on a fresh machine.
 #
-#   make            build everything (Release) into $(BUILD)
+#   make            build everything, tests included (Release) into $(BUILD)
 #   make deps       install missing Debian packages (says what it runs)
-#   make test       unit, command-line and script tests (CTest)
-#   make demo       fit a garment on a generated body (pipelines/customers/demo); prints the report's path
+#   make test       builds the tests too, then runs the unit, command-line and script tests (CTest)
+#   make demo       builds the stages only, then fits a garment on a generated body
+#                   (pipelines/customers/demo); prints the report's path
 #   make fit CUSTOMER=dir [OUT=dir]   one customer's fit (see pipelines/fit.mk)
 #   make -j2 fit-all CUSTOMERS="dir dir ..."   several customers in parallel
 #   make fit-all CUSTOMERS="..." ENGINE=slurm   one Slurm job array on a cluster, summary in fit-batch/
@@ -23,12 +24,12 @@ FUZZ_SECONDS ?= 600
 FUZZ_BUILD ?= build-fuzz
 FUZZ_TARGETS := read_mesh read_spec
 
-.PHONY: all build deps configure test demo fit fit-all fit-summary bench fuzz update-golden clean help
+.PHONY: all build stages deps configure test demo fit fit-all fit-summary bench fuzz update-golden clean help
 
 all: build
 
 help:
-	@sed -n '1,13p' Makefile
+	@sed -n '1,14p' Makefile
 
 deps:
 	@scripts/install-deps.sh
@@ -42,14 +43,21 @@ configure: deps
 build: configure
 	cmake --build $(BUILD) -j$(JOBS)
 
+# The stage executables alone (every tools/<stage>/), which is all that the
+# demo and the fits run: the test binaries take more than half of the build's
+# CPU time and are built by `make test` (README.md, "Building").
+STAGE_TOOLS := $(notdir $(patsubst %/CMakeLists.txt,%,$(sort $(wildcard tools/*/CMakeLists.txt))))
+stages: configure
+	cmake --build $(BUILD) -j$(JOBS) --target $(STAGE_TOOLS)
+
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
 
 DEMO_OUT ?= demo-out
-demo: build
+demo: stages
 	@$(MAKE) --no-print-directory -f pipelines/fit.mk CUSTOMER=pipelines/customers/demo OUT=$(DEMO_OUT) BIN=$(GP_BIN)
 
-fit: build
+fit: stages
 	@$(MAKE) --no-print-directory -f pipelines/fit.mk CUSTOMER=$(CUSTOMER) $(if $(OUT),OUT=$(OUT)) BIN=$(GP_BIN)
 
 # Several customers. ENGINE=local (the default): on this machine, in parallel
@@ -65,12 +73,12 @@ fit: build
 ENGINE ?= local
 BATCH  ?= fit-batch
 ifeq ($(ENGINE),slurm)
-fit-all: build
+fit-all: stages
 	$(PYTHON) scripts/fit_batch.py submit --batch $(BATCH) --bin $(GP_BIN) $(if $(WAIT),--wait) \
 	  $(if $(SBATCH_FLAGS),--sbatch-flags '$(SBATCH_FLAGS)') $(if $(OUT_ROOT),--out-root $(OUT_ROOT)) \
 	  $(if $(MAX_RUNNING),--max-running $(MAX_RUNNING)) $(CUSTOMERS)
 else ifeq ($(ENGINE),local)
-fit-all: build
+fit-all: stages
 	@$(MAKE) --no-print-directory $(addprefix fit-customer/,$(CUSTOMERS))
 else
 fit-all:
@@ -86,10 +94,8 @@ fit-customer/%:
 
 # Builds only the stages (in $(BUILD); e.g. make bench BUILD=build-bench), then
 # runs them; BENCH_FLAGS=--quick for a reduced run while developing.
-BENCH_TOOLS := register-check make-avatar interp-poses make-garment extend-boundary simulate-adapt export-rest
 BENCH_FLAGS ?=
-bench: configure
-	cmake --build $(BUILD) -j$(JOBS) --target $(BENCH_TOOLS)
+bench: stages
 	$(PYTHON) scripts/bench.py --bin $(GP_BIN) --out BENCHMARKS.md --plots benchmarks $(BENCH_FLAGS)
 
 update-golden: build

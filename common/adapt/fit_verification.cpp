@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "adapt/key_pose_report.h"
 #include "cloth/cloth_model.h"
 
 namespace gp::adapt {
@@ -15,26 +16,7 @@ bool FitVerification::passed() const {
 }
 
 OrderedJson to_json(const PoseCheck& check, const std::string& mesh) {
-  const KeyPoseResult& k = check.figures;
-  OrderedJson held_cloth = OrderedJson::array();
-  for (const HeldCloth& h : k.held_cloth) held_cloth.push_back(to_json(h));
-  return {{"key", k.key},
-          {"pose", k.pose},
-          {"mesh", mesh},
-          {"verdict", check.passed() ? "pass" : "fail"},
-          {"failures", check.failures},
-          {"max_stretch", k.max_stretch},
-          {"p99_stretch", k.p99_stretch},
-          {"mean_stretch", k.mean_stretch},
-          {"area_fraction_above_limit", k.area_fraction_above},
-          {"area_fraction_torn", check.area_fraction_torn},
-          {"deepest_penetration_m", k.deepest_penetration},
-          {"crossings", collision::to_json(k.crossings)},
-          {"steps", k.steps},
-          {"settle_steps", k.settle_steps},
-          {"settled", k.settled},
-          {"held_by_body", k.held},
-          {"held_cloth", held_cloth}};
+  return key_pose_json(check.figures, mesh, &check.failures, check.area_fraction_torn);
 }
 
 std::vector<cloth::TriangleRest> rest_triangles_of(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F) {

@@ -13,6 +13,7 @@
 #include "cloth/cloth_model.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
+#include "core/union_find.h"
 #include "mesh/measures.h"
 #include "mesh/point_triangle.h"
 
@@ -526,12 +527,7 @@ struct GarmentMotion::Impl {
       if (stretch(f) > options.held_stretch) over.push_back(f);
     }
     if (over.empty()) return {};
-    std::vector<int> parent(over.size());
-    for (size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int>(i);
-    const auto find = [&parent](int i) {
-      while (parent[i] != i) i = parent[i] = parent[parent[i]];
-      return i;
-    };
+    UnionFind sets(over.size());
     std::vector<int> owner(static_cast<size_t>(sim->positions().rows()), -1);
     for (size_t i = 0; i < over.size(); ++i) {
       for (int k = 0; k < 3; ++k) {
@@ -539,12 +535,12 @@ struct GarmentMotion::Impl {
         if (o < 0) {
           o = static_cast<int>(i);
         } else {
-          parent[find(o)] = find(static_cast<int>(i));
+          sets.unite(o, static_cast<int>(i));
         }
       }
     }
     std::vector<std::vector<int>> groups(over.size());
-    for (size_t i = 0; i < over.size(); ++i) groups[static_cast<size_t>(find(static_cast<int>(i)))].push_back(over[i]);
+    for (size_t i = 0; i < over.size(); ++i) groups[static_cast<size_t>(sets.find(static_cast<int>(i)))].push_back(over[i]);
     const Eigen::MatrixXd V_surface = surface.positions(V_body);
     std::vector<HeldCloth> patches;
     for (const std::vector<int>& g : groups) {

@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "core/math.h"
 #include "core/stopwatch.h"
+#include "mesh/barycentric.h"
 #include "mesh/point_triangle.h"
 #include "mesh/topology.h"
 
@@ -28,18 +29,6 @@ using Point = Kernel::Point_3;
 using Triangle = Kernel::Triangle_3;
 
 Point to_point(const Eigen::Vector3d& p) { return Point(p.x(), p.y(), p.z()); }
-
-Eigen::Vector3d barycentric(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                            const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  const Eigen::Vector3d v0 = b - a, v1 = c - a, v2 = p - a;
-  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1);
-  const double d20 = v2.dot(v0), d21 = v2.dot(v1);
-  const double denom = d00 * d11 - d01 * d01;
-  if (!(std::abs(denom) > 0.0)) return Eigen::Vector3d(1.0, 0.0, 0.0);
-  const double v = (d11 * d20 - d01 * d21) / denom;
-  const double w = (d00 * d21 - d01 * d20) / denom;
-  return Eigen::Vector3d(1.0 - v - w, v, w);
-}
 
 // Distance along the ray o + t d (d unit) to triangle (a, b, c), or infinity
 // (Moeller & Trumbore 1997, "Fast, minimum storage ray-triangle intersection").

@@ -28,25 +28,13 @@ constexpr double kRegionMargin = 0.02;
 // by the last), at most.
 constexpr int kFailSafePasses = 8;
 
-struct Box {
-  Vector3d lo, hi;
-  static Box empty() {
-    return {Vector3d::Constant(std::numeric_limits<double>::infinity()),
-            Vector3d::Constant(-std::numeric_limits<double>::infinity())};
-  }
-  void add(const Vector3d& p) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  void grow(double m) {
-    lo.array() -= m;
-    hi.array() += m;
-  }
-  bool overlaps(const Box& o) const {
-    return lo.x() <= o.hi.x() && o.lo.x() <= hi.x() && lo.y() <= o.hi.y() && o.lo.y() <= hi.y() &&
-           lo.z() <= o.hi.z() && o.lo.z() <= hi.z();
-  }
-};
+// Bounding boxes are Eigen's (empty when constructed); grown by a margin on
+// every side.
+using Box = Eigen::AlignedBox3d;
+void grow(Box& b, double m) {
+  b.min().array() -= m;
+  b.max().array() += m;
+}
 
 // A contact to answer: the cloth point sum_k weight[k] x[vertex[k]] must end
 // at least `thickness` from the body point along `direction` (unit, from the
@@ -129,14 +117,14 @@ struct ContinuousContact::Impl {
     int item;
     int cell_x;  // x index of the cell the entry is listed in
   };
-  Box grid_box = Box::empty();
+  Box grid_box = Box();
   double cell = 1.0, inverse_cell = 1.0;
   long n_cells[3] = {0, 0, 0};
   std::vector<int> cell_start[3];
   std::vector<Entry> cell_entries[3];
   long body_version = 0, grid_version = -1;  // body frames set / the grid's
   double grid_s0 = -1.0, grid_s1 = -1.0;
-  Box grid_region = Box::empty();  // the grid holds the body items meeting this box
+  Box grid_region = Box();  // the grid holds the body items meeting this box
   double mean_body_edge = 0.0;     // of the culled body in the first frame [m]
   std::vector<Entry> items[3];     // build scratch
   std::vector<int> fill;
@@ -148,13 +136,13 @@ struct ContinuousContact::Impl {
 
   long cell_of(double coordinate, int axis) const {
     // Truncation rounds towards zero, which the clamp makes the first cell.
-    return std::clamp(static_cast<long>((coordinate - grid_box.lo(axis)) * inverse_cell), 0L, n_cells[axis] - 1);
+    return std::clamp(static_cast<long>((coordinate - grid_box.min()(axis)) * inverse_cell), 0L, n_cells[axis] - 1);
   }
 
   // Cells of box [lo, hi], clamped to the grid; false when it misses the grid.
   bool cell_range(const double lo_corner[3], const double hi_corner[3], long lo[3], long hi[3]) const {
     for (int a = 0; a < 3; ++a) {
-      if (hi_corner[a] < grid_box.lo(a) || lo_corner[a] > grid_box.hi(a)) return false;
+      if (hi_corner[a] < grid_box.min()(a) || lo_corner[a] > grid_box.max()(a)) return false;
       lo[a] = cell_of(lo_corner[a], a);
       hi[a] = cell_of(hi_corner[a], a);
     }
@@ -197,28 +185,28 @@ struct ContinuousContact::Impl {
   // cloth stays inside the region it was built for, which is the cloth's box
   // grown by kRegionMargin.
   void build_body_grid(double s0, double s1, const Box& cloth) {
-    const bool inside = (cloth.lo.array() >= grid_region.lo.array()).all() &&
-                        (cloth.hi.array() <= grid_region.hi.array()).all();
+    const bool inside = (cloth.min().array() >= grid_region.min().array()).all() &&
+                        (cloth.max().array() <= grid_region.max().array()).all();
     if (grid_version == body_version && grid_s0 == s0 && grid_s1 == s1 && inside) return;
     grid_version = body_version;
     grid_s0 = s0;
     grid_s1 = s1;
     grid_region = cloth;
-    grid_region.grow(kRegionMargin);
+    grow(grid_region, kRegionMargin);
     // Single precision rounded outwards: the box grown by a relative 2^-22
     // (plus a floor) holds the double one after rounding to float.
     auto swept_entry = [&](std::initializer_list<int> rows, int item, Entry& e) {
-      Box b = Box::empty();
+      Box b = Box();
       for (int r : rows) {
-        b.add(x(Bs, r));
-        b.add(x(Be, r));
+        b.extend(x(Bs, r));
+        b.extend(x(Be, r));
       }
-      b.grow(options.thickness);
-      if (!b.overlaps(grid_region)) return false;
+      grow(b, options.thickness);
+      if (!b.intersects(grid_region)) return false;
       for (int a = 0; a < 3; ++a) {
-        const double slack = 2.4e-7 * std::max(std::abs(b.lo(a)), std::abs(b.hi(a))) + 1e-12;
-        e.lo[a] = static_cast<float>(b.lo(a) - slack);
-        e.hi[a] = static_cast<float>(b.hi(a) + slack);
+        const double slack = 2.4e-7 * std::max(std::abs(b.min()(a)), std::abs(b.max()(a))) + 1e-12;
+        e.lo[a] = static_cast<float>(b.min()(a) - slack);
+        e.hi[a] = static_cast<float>(b.max()(a) + slack);
       }
       e.item = item;
       return true;
@@ -235,18 +223,18 @@ struct ContinuousContact::Impl {
       const int f = body_faces[i];
       if (swept_entry({F_body(f, 0), F_body(f, 1), F_body(f, 2)}, static_cast<int>(i), made)) items[2].push_back(made);
     }
-    grid_box = Box::empty();
+    grid_box = Box();
     for (const Entry& item : items[2]) {
-      grid_box.add(Vector3d(item.lo[0], item.lo[1], item.lo[2]));
-      grid_box.add(Vector3d(item.hi[0], item.hi[1], item.hi[2]));
+      grid_box.extend(Vector3d(item.lo[0], item.lo[1], item.lo[2]));
+      grid_box.extend(Vector3d(item.hi[0], item.hi[1], item.hi[2]));
     }
-    grid_box.lo = grid_box.lo.cwiseMax(grid_region.lo);
-    grid_box.hi = grid_box.hi.cwiseMin(grid_region.hi);
-    if (!grid_box.lo.allFinite() || !grid_box.hi.allFinite() || !(grid_box.hi.array() >= grid_box.lo.array()).all()) {
+    grid_box.min() = grid_box.min().cwiseMax(grid_region.min());
+    grid_box.max() = grid_box.max().cwiseMin(grid_region.max());
+    if (!grid_box.min().allFinite() || !grid_box.max().allFinite() || !(grid_box.max().array() >= grid_box.min().array()).all()) {
       grid_box = grid_region;  // no body item near the cloth: one empty grid over the region
     }
     cell = std::max(1.5 * mean_body_edge, 1e-6);
-    const Vector3d size = grid_box.hi - grid_box.lo;
+    const Vector3d size = grid_box.max() - grid_box.min();
     auto dims = [&](double c) {
       for (int a = 0; a < 3; ++a) n_cells[a] = static_cast<long>(size(a) / c) + 1;
     };
@@ -287,7 +275,7 @@ struct ContinuousContact::Impl {
   // the two boxes' intersection, which both boxes cover.
   template <class Visit>
   void for_candidates(int kind, const Box& b, ContinuousContactStats& st, Visit visit) const {
-    const double lo_corner[3] = {b.lo.x(), b.lo.y(), b.lo.z()}, hi_corner[3] = {b.hi.x(), b.hi.y(), b.hi.z()};
+    const double lo_corner[3] = {b.min().x(), b.min().y(), b.min().z()}, hi_corner[3] = {b.max().x(), b.max().y(), b.max().z()};
     long lo[3], hi[3];
     if (!cell_range(lo_corner, hi_corner, lo, hi)) return;
     const std::vector<int>& start = cell_start[kind];
@@ -321,10 +309,10 @@ struct ContinuousContact::Impl {
   }
 
   Box swept(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, std::initializer_list<int> rows) const {
-    Box b = Box::empty();
+    Box b = Box();
     for (int r : rows) {
-      b.add(x(A, r));
-      b.add(x(B, r));
+      b.extend(x(A, r));
+      b.extend(x(B, r));
     }
     return b;
   }
@@ -527,12 +515,12 @@ struct ContinuousContact::Impl {
       Bs.row(v) = B_previous.row(v) + s0 * (B_current.row(v) - B_previous.row(v));
       Be.row(v) = B_previous.row(v) + s1 * (B_current.row(v) - B_previous.row(v));
     }
-    Box cloth = Box::empty();
+    Box cloth = Box();
     for (int v = 0; v < cloth_vertices; ++v) {
-      cloth.add(x(X0, v));
-      cloth.add(x(X1, v));
+      cloth.extend(x(X0, v));
+      cloth.extend(x(X1, v));
     }
-    cloth.grow(options.thickness);
+    grow(cloth, options.thickness);
     build_body_grid(s0, s1, cloth);
     // The first round answers every contact, passages and pairs nearer than
     // the thickness; later rounds only the passages that responses made, and

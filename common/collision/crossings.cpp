@@ -26,20 +26,15 @@ void check_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::s
   }
 }
 
-struct Box {
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector3d hi = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
-  void add(const Eigen::Vector3d& p) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  bool contains(const Eigen::Vector3d& p, double margin) const {
-    return (p.array() >= lo.array() - margin).all() && (p.array() <= hi.array() + margin).all();
-  }
-  bool overlaps(const Box& o, double margin) const {
-    return (o.hi.array() >= lo.array() - margin).all() && (o.lo.array() <= hi.array() + margin).all();
-  }
-};
+// Bounding boxes are Eigen's (empty when constructed); `margin` widens the
+// box on every side.
+using Box = Eigen::AlignedBox3d;
+bool contains(const Box& box, const Eigen::Vector3d& p, double margin) {
+  return (p.array() >= box.min().array() - margin).all() && (p.array() <= box.max().array() + margin).all();
+}
+bool overlaps(const Box& box, const Box& o, double margin) {
+  return (o.max().array() >= box.min().array() - margin).all() && (o.min().array() <= box.max().array() + margin).all();
+}
 
 // Every (edge of E over positions V, face of `tree`) pair that meets, in
 // (a, b, face) order.
@@ -49,9 +44,9 @@ std::vector<EdgeFaceHit> edge_hits(const Eigen::MatrixXd& V, const Eigen::Matrix
   for (Eigen::Index e = 0; e < E.rows(); ++e) {
     const Eigen::Vector3d a = V.row(E(e, 0)), b = V.row(E(e, 1));
     Box box;
-    box.add(a);
-    box.add(b);
-    if (!region.overlaps(box, 0.0)) continue;
+    box.extend(a);
+    box.extend(b);
+    if (!overlaps(region, box, 0.0)) continue;
     for (int f : tree.segment_faces(a, b)) hits.push_back({E(e, 0), E(e, 1), f});
   }
   return hits;
@@ -72,14 +67,14 @@ CrossingReport find_crossings(const Eigen::MatrixXd& V_body, const Eigen::Matrix
   const size_t max_examples = static_cast<size_t>(options.max_examples);
 
   Box cloth_box;
-  for (Eigen::Index v = 0; v < V_cloth.rows(); ++v) cloth_box.add(V_cloth.row(v).transpose());
+  for (Eigen::Index v = 0; v < V_cloth.rows(); ++v) cloth_box.extend(V_cloth.row(v).transpose());
   // Body faces that can meet the cloth: those whose box meets the cloth's.
   // The inward rays of body vertices reach depth_reach further.
   std::vector<int> near_faces;
   for (int f = 0; f < F_body.rows(); ++f) {
     Box box;
-    for (int k = 0; k < 3; ++k) box.add(V_body.row(F_body(f, k)).transpose());
-    if (cloth_box.overlaps(box, options.depth_reach)) near_faces.push_back(f);
+    for (int k = 0; k < 3; ++k) box.extend(V_body.row(F_body(f, k)).transpose());
+    if (overlaps(cloth_box, box, options.depth_reach)) near_faces.push_back(f);
   }
   report.body_faces_tested = static_cast<int>(near_faces.size());
   if (near_faces.empty()) return report;
@@ -91,7 +86,7 @@ CrossingReport find_crossings(const Eigen::MatrixXd& V_body, const Eigen::Matrix
   std::vector<EdgeFaceHit> body_hits = edge_hits(V_body, unique_edges(F_body), cloth_tree, cloth_box);
   Box body_near_box;
   for (int f : near_faces) {
-    for (int k = 0; k < 3; ++k) body_near_box.add(V_body.row(F_body(f, k)).transpose());
+    for (int k = 0; k < 3; ++k) body_near_box.extend(V_body.row(F_body(f, k)).transpose());
   }
   std::vector<EdgeFaceHit> cloth_hits = edge_hits(V_cloth, unique_edges(F_cloth), body_tree, body_near_box);
   report.body_edge_crossings = static_cast<long>(body_hits.size());
@@ -131,7 +126,7 @@ CrossingReport find_crossings(const Eigen::MatrixXd& V_body, const Eigen::Matrix
       if (!near_vertex[static_cast<size_t>(v)]) continue;
       const Eigen::Vector3d b = V_body.row(v).transpose();
       const Eigen::Vector3d n = N.row(v).transpose();
-      if (!cloth_box.contains(b, options.depth_reach) || !(n.norm() > 0.0)) continue;
+      if (!contains(cloth_box, b, options.depth_reach) || !(n.norm() > 0.0)) continue;
       const Eigen::Vector3d end = b - options.depth_reach * n;
       const std::vector<int> cloth_faces = cloth_tree.segment_faces(b, end);
       if (cloth_faces.empty()) continue;

@@ -12,8 +12,9 @@
 #include "collision/ccd.h"
 #include "collision/triangle_tree.h"
 #include "core/error.h"
+#include "core/union_find.h"
 #include "geometry/winding_number.h"
-#include "mesh/edge_distances.h"
+#include "mesh/graph_paths.h"
 #include "mesh/measures.h"
 #include "mesh/topology.h"
 
@@ -37,13 +38,6 @@ struct Sample {
   bool way = false;                    // there is an interval at all
 };
 
-int find_root(std::vector<int>& parent, int a) {
-  while (parent[static_cast<size_t>(a)] != a) {
-    parent[static_cast<size_t>(a)] = parent[static_cast<size_t>(parent[static_cast<size_t>(a)])];
-    a = parent[static_cast<size_t>(a)];
-  }
-  return a;
-}
 
 }  // namespace
 
@@ -254,12 +248,8 @@ BodyClearanceResult clear_body(Eigen::MatrixXd& V, const Eigen::MatrixXi& F, con
       anchored[static_cast<size_t>(s.anchor)] = 1;
     }
     std::sort(anchors.begin(), anchors.end());
-    std::vector<int> parent(static_cast<size_t>(nb));
-    std::iota(parent.begin(), parent.end(), 0);
-    auto join = [&parent](int a, int b) {
-      const int ra = find_root(parent, a), rb = find_root(parent, b);
-      if (ra != rb) parent[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
-    };
+    UnionFind sets(static_cast<size_t>(nb));
+    auto join = [&sets](int a, int b) { sets.unite(a, b); };
     std::vector<std::vector<int>> disc_of(anchors.size());
     std::vector<int> known_place(static_cast<size_t>(nb), -1);  // per root: an earlier place
     for (size_t i = 0; i < anchors.size(); ++i) {
@@ -271,7 +261,7 @@ BodyClearanceResult clear_body(Eigen::MatrixXd& V, const Eigen::MatrixXi& F, con
       disc_of[i] = reached;
     }
     for (size_t i = 0; i < anchors.size(); ++i) {
-      const int root = find_root(parent, anchors[i]);
+      const int root = sets.find(anchors[i]);
       for (int w : disc_of[i]) {
         const int place = body_place[static_cast<size_t>(w)];
         if (place >= 0 && (known_place[static_cast<size_t>(root)] < 0 || place < known_place[static_cast<size_t>(root)])) {
@@ -284,7 +274,7 @@ BodyClearanceResult clear_body(Eigen::MatrixXd& V, const Eigen::MatrixXi& F, con
     std::vector<std::vector<int>> voters(static_cast<size_t>(nb));
     std::fill(region.begin(), region.end(), -1);
     for (size_t i = 0; i < anchors.size(); ++i) {
-      const int root = find_root(parent, anchors[i]);
+      const int root = sets.find(anchors[i]);
       edge_distances(V_body, body_neighbors, {anchors[i]}, 2.0 * options.part_radius, body_dist, reached);
       for (int w : reached) {
         voters[static_cast<size_t>(root)].push_back(w);
@@ -303,7 +293,7 @@ BodyClearanceResult clear_body(Eigen::MatrixXd& V, const Eigen::MatrixXi& F, con
     std::vector<double> cost_plus(static_cast<size_t>(nb), 0.0), cost_minus(static_cast<size_t>(nb), 0.0);
     for (size_t i = 0; i < samples.size(); ++i) {
       const Sample& s = samples[i];
-      const int root = find_root(parent, s.anchor);
+      const int root = sets.find(s.anchor);
       Both& b = both[i];
       free_interval(s.point, s.normal, root, b.low[0], b.high[0], b.room[0], b.way[0]);
       free_interval(s.point, -s.normal, root, b.low[1], b.high[1], b.room[1], b.way[1]);
@@ -320,7 +310,7 @@ BodyClearanceResult clear_body(Eigen::MatrixXd& V, const Eigen::MatrixXi& F, con
     // undecided (between 0.35 and 0.65), the side of the smaller total cost.
     std::vector<int> place_of(static_cast<size_t>(nb), -1);
     for (int a : anchors) {
-      const int root = find_root(parent, a);
+      const int root = sets.find(a);
       if (place_of[static_cast<size_t>(root)] >= 0) continue;
       int place = known_place[static_cast<size_t>(root)];
       if (place < 0) {
@@ -345,7 +335,7 @@ BodyClearanceResult clear_body(Eigen::MatrixXd& V, const Eigen::MatrixXi& F, con
       place_of[static_cast<size_t>(root)] = place;
     }
     for (size_t i = 0; i < anchors.size(); ++i) {
-      const int place = place_of[static_cast<size_t>(find_root(parent, anchors[i]))];
+      const int place = place_of[static_cast<size_t>(sets.find(anchors[i]))];
       for (int w : disc_of[i]) {
         if (body_place[static_cast<size_t>(w)] < 0) body_place[static_cast<size_t>(w)] = place;
       }
@@ -356,14 +346,14 @@ BodyClearanceResult clear_body(Eigen::MatrixXd& V, const Eigen::MatrixXi& F, con
     met.resize(result.places.size(), 0);
     for (size_t i = 0; i < samples.size(); ++i) {
       Sample& s = samples[i];
-      ClearancePlace& place = result.places[static_cast<size_t>(place_of[static_cast<size_t>(find_root(parent, s.anchor))])];
+      ClearancePlace& place = result.places[static_cast<size_t>(place_of[static_cast<size_t>(sets.find(s.anchor))])];
       const int k = place.side > 0 ? 0 : 1;
       s.way = both[i].way[k];
       s.room = both[i].room[k];
       place.room = place.room && s.room;
       // A vertex with some clearance and no room here only stays as it is.
       const bool through = s.vertex[1] >= 0 || sd(s.vertex[0]) < options.min_clearance;
-      if (s.way || through) met[static_cast<size_t>(place_of[static_cast<size_t>(find_root(parent, s.anchor))])] = 1;
+      if (s.way || through) met[static_cast<size_t>(place_of[static_cast<size_t>(sets.find(s.anchor))])] = 1;
       if (!s.way) continue;  // no way out on this side: left for the report
       s.low = place.side > 0 ? both[i].low[0] : -both[i].high[1];
       s.high = place.side > 0 ? both[i].high[0] : -both[i].low[1];

@@ -11,7 +11,7 @@
 #include "core/stopwatch.h"
 #include "garment/surface_path.h"
 #include "garment/surface_point.h"
-#include "mesh/edge_distances.h"
+#include "mesh/graph_paths.h"
 #include "mesh/measures.h"
 #include "mesh/topology.h"
 

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "core/error.h"
+#include "core/union_find.h"
 #include "mesh/topology.h"
 
 namespace gp {
@@ -44,13 +45,6 @@ std::vector<char> flood_faces(const Eigen::MatrixXi& F, const Eigen::MatrixXi& T
   return reached;
 }
 
-int find_root(std::vector<int>& parent, int v) {
-  while (parent[v] != v) {
-    parent[v] = parent[parent[v]];
-    v = parent[v];
-  }
-  return v;
-}
 
 // A curve point: the zero of phi on body edge (u, v) at u + t (v - u).
 struct Crossing {
@@ -234,18 +228,14 @@ RegionCut cut_region(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     if (std::abs(phi[v]) < options.min_level) phi[v] = phi[v] < 0 ? -options.min_level : options.min_level;
 
   // The positive part holding most of the original region.
-  std::vector<int> parent(static_cast<size_t>(n_vertices));
-  std::iota(parent.begin(), parent.end(), 0);
+  UnionFind sets(static_cast<size_t>(n_vertices));
   for (int v = 0; v < n_vertices; ++v)
     if (phi[v] > 0)
       for (int w : neighbors[v])
-        if (phi[w] > 0) {
-          const int a = find_root(parent, v), b = find_root(parent, w);
-          if (a != b) parent[std::max(a, b)] = std::min(a, b);
-        }
+        if (phi[w] > 0) sets.unite(v, w);
   std::map<int, int> votes;
   for (int v = 0; v < n_vertices; ++v)
-    if (phi[v] > 0 && initially_inside[v]) ++votes[find_root(parent, v)];
+    if (phi[v] > 0 && initially_inside[v]) ++votes[sets.find(v)];
   if (votes.empty()) throw GeometryError("the region is empty after smoothing its loops", region_where);
   int component = votes.begin()->first, best = votes.begin()->second;
   for (const auto& [root, count] : votes)
@@ -254,7 +244,7 @@ RegionCut cut_region(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
       best = count;
     }
   std::vector<char> inside(static_cast<size_t>(n_vertices), 0);
-  for (int v = 0; v < n_vertices; ++v) inside[v] = phi[v] > 0 && find_root(parent, v) == component;
+  for (int v = 0; v < n_vertices; ++v) inside[v] = phi[v] > 0 && sets.find(v) == component;
 
   // Region mesh: inside vertices, then curve points in order of creation.
   std::vector<int> region_id(static_cast<size_t>(n_vertices), -1);

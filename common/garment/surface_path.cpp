@@ -1,50 +1,10 @@
 #include "garment/surface_path.h"
 
 #include <algorithm>
-#include <cmath>
-#include <functional>
-#include <limits>
-#include <queue>
 
 #include "core/error.h"
 
 namespace gp {
-
-std::vector<int> shortest_edge_path(const Eigen::MatrixXd& V,
-                                    const std::vector<std::vector<int>>& neighbors, int from,
-                                    int to) {
-  const int n = static_cast<int>(neighbors.size());
-  constexpr double kUnitsPerMetre = 1e9;
-  constexpr long long kUnreached = std::numeric_limits<long long>::max();
-  std::vector<long long> dist(static_cast<size_t>(n), kUnreached);
-  std::vector<int> parent(static_cast<size_t>(n), -1);
-  using Entry = std::pair<long long, int>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-  dist[from] = 0;
-  queue.push({0, from});
-  while (!queue.empty()) {
-    const auto [d, v] = queue.top();
-    queue.pop();
-    if (d > dist[v]) continue;
-    if (v == to) break;
-    for (int w : neighbors[v]) {
-      const double length = (V.row(v) - V.row(w)).norm();
-      if (!std::isfinite(length)) continue;
-      const long long nd = d + std::llround(length * kUnitsPerMetre);
-      // A tie goes to the smaller predecessor id.
-      if (nd < dist[w] || (nd == dist[w] && v < parent[w])) {
-        dist[w] = nd;
-        parent[w] = v;
-        queue.push({nd, w});
-      }
-    }
-  }
-  if (from != to && parent[to] < 0) return {};
-  std::vector<int> path;
-  for (int v = to; v != -1; v = (v == from ? -1 : parent[v])) path.push_back(v);
-  std::reverse(path.begin(), path.end());
-  return path;
-}
 
 std::vector<int> closed_edge_path(const Eigen::MatrixXd& V,
                                   const std::vector<std::vector<int>>& neighbors,

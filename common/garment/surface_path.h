@@ -1,19 +1,14 @@
 #pragma once
 // Tool T1, first half: clicked body vertices joined by shortest edge paths
-// (Dijkstra over the mesh edges, Euclidean edge lengths) into a closed loop.
+// (mesh/graph_paths.h: Dijkstra over the mesh edges, Euclidean edge lengths)
+// into a closed loop.
 #include <string>
 #include <vector>
 #include <Eigen/Core>
 
-namespace gp {
+#include "mesh/graph_paths.h"  // shortest_edge_path
 
-// Shortest edge path from `from` to `to` (both included) over `neighbors`
-// (one ring per vertex) with V's (#V by 3) edge lengths. Lengths sum as whole
-// nanometres and ties go to the lower vertex id, so mirror-symmetric paths
-// tie exactly and rounding of V changes no path. Empty when unreachable.
-std::vector<int> shortest_edge_path(const Eigen::MatrixXd& V,
-                                    const std::vector<std::vector<int>>& neighbors, int from,
-                                    int to);
+namespace gp {
 
 // Consecutive clicks (and the last to the first) joined into a closed path,
 // listed once around; `where` names the clicks' spec field. Throws SpecError

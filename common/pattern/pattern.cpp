@@ -5,24 +5,13 @@
 #include <Eigen/Dense>
 
 #include "core/error.h"
+#include "mesh/barycentric.h"
 #include "mesh/topology.h"
 #include "pattern/curve_insertion.h"
 #include "pattern/piece_names.h"
 
 namespace gp {
 namespace {
-
-// Barycentric coordinates of x (in the plane of the triangle a, b, c).
-Eigen::Vector3d barycentric(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                            const Eigen::Vector3d& x) {
-  const Eigen::Vector3d e1 = b - a, e2 = c - a, d = x - a;
-  const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2);
-  const double det = d11 * d22 - d12 * d12;
-  if (!(det > 0.0)) return Eigen::Vector3d(1.0, 0.0, 0.0);
-  const double u = (d22 * e1.dot(d) - d12 * e2.dot(d)) / det;
-  const double v = (d11 * e2.dot(d) - d12 * e1.dot(d)) / det;
-  return Eigen::Vector3d(1.0 - u - v, u, v);
-}
 
 std::vector<CutPath> cut_paths(const std::vector<PatternSeam>& seams) {
   std::vector<CutPath> paths;
@@ -200,7 +189,7 @@ void insert_cuts(Pattern& pattern, std::vector<PatternSeam> seams, const std::ve
     const int f = mesh.rest_face[static_cast<size_t>(r.origin[static_cast<size_t>(v)].face)];
     const Eigen::Vector3d a = mesh.rest_V.row(mesh.rest_F(f, 0)), b = mesh.rest_V.row(mesh.rest_F(f, 1)),
                           c = mesh.rest_V.row(mesh.rest_F(f, 2));
-    rest_point.push_back({f, barycentric(a, b, c, r.V.row(v).transpose())});
+    rest_point.push_back({f, barycentric(r.V.row(v).transpose(), a, b, c)});
   }
   mesh.V = r.V;
   mesh.F = r.F;

@@ -6,13 +6,13 @@
 // and report.json ("export-rest-report/1", last). With --fit, the garment
 // sewn from the pieces is simulated through the fit's key poses and judged
 // (sewn_<k>_<pose>.ply; exit 8 when a pose fails). The work is
-// gp::export_rest (common/pattern/export_rest.h).
+// gp::export_rest (common/export/export_rest.h).
 #include <chrono>
 
 #include "adapt/motion_progress.h"
 #include "cli/tool.h"
 #include "core/atomic_file.h"
-#include "pattern/export_rest.h"
+#include "export/export_rest.h"
 #include "pattern/svg_writer.h"
 
 int main(int argc, char** argv) {

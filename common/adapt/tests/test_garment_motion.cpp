@@ -93,7 +93,7 @@ TEST_CASE("the adaptation lag is cut to the adaptation interval and must not be 
 
 TEST_CASE("a rest shape that grows past the growth cap fails the run instead of running away", "[adapt][body]") {
   // A-pose to arms up grows the generated shirt's rest shape by a few percent
-  // (x1.03-1.11 measured); a cap of x1.001 must stop the run with a
+  // (x1.161 measured; x1.03-1.11 with earlier solvers); a cap of x1.001 must stop the run with a
   // NumericalError that names the growth, and a cap of x3 must not.
   const hc::Loaded l = hc::load(hc::default_scene());
   const gp::MotionSpec motion = hc::motion_of(l.poses, {"apose", "armsup"}, 12);
@@ -107,10 +107,14 @@ TEST_CASE("a rest shape that grows past the growth cap fails the run instead of 
     CHECK(e.message().find("the rest shape grew to x") != std::string::npos);
     CHECK(e.message().find("(at most x1.00)") != std::string::npos);
   }
+  // The default cap (x3) does not stop it. The run itself throws above its
+  // cap, so "below x3" could not fail: the growth is pinned near the measured
+  // x1.161 instead (a runaway or a stalled adaptation fails it).
   MotionRunOptions loose = hc::run_options(120);
+  REQUIRE(loose.max_area_growth == 3.0);
   const MotionRunResult r = hc::run(l, motion, l.mesh.V, loose);
-  CHECK(r.keys.back().rest_area_growth > 1.001);
-  CHECK(r.keys.back().rest_area_growth < 3.0);
+  CHECK(r.keys.back().rest_area_growth > 1.05);
+  CHECK(r.keys.back().rest_area_growth < 1.3);
   tight.max_area_growth = 1.0;
   CHECK_THROWS_AS(hc::run(l, motion, l.mesh.V, tight), gp::UsageError);
 }

@@ -180,41 +180,26 @@ TEST_CASE("a top starting partly inside the body is pushed out without tearing",
   CHECK(k.rest_area_growth < clean.keys[0].rest_area_growth + 0.01);
 }
 
-TEST_CASE("a pose change in one frame ends untorn or stops with NumericalError", "[adapt][hard][body]") {
+TEST_CASE("a pose change in one frame stops with NumericalError", "[adapt][hard][body]") {
   // A-pose to arms-up in a single frame: the arms sweep through the sleeves
-  // within one 2.5 ms step (body speeds of ~100 m/s). Expectation: either the
-  // run completes with a finite drape whose edges are stretched by less than
-  // 1.5 against the rest shape and that is outside the body, or it throws
-  // NumericalError (the step cannot be taken safely) and nothing is returned.
-  // Measured: NumericalError "cloth step failed after 4 halvings of the time
-  // step: vertex speed above 20 m/s".
+  // within one 2.5 ms step (body speeds of ~100 m/s). The step cannot be
+  // taken safely: the run throws NumericalError and returns nothing, rather
+  // than a torn or penetrating drape. Measured: "cloth step failed after 4
+  // halvings of the time step: vertex speed above 20 m/s". (The test used to
+  // accept a finished run as well, so it could not fail; a solver that does
+  // finish this jump untorn should change it to the finished outcome.)
   const hc::Scene& scene = hc::default_scene();
   const Loaded l = load(scene);
   const gp::MotionSpec motion = motion_of(l.poses, {"apose", "armsup"}, 1);
   const MotionRunOptions options = run_options(100);
-  bool threw = false;
-  std::string message;
-  MotionRunResult r;
   try {
-    r = run(l, motion, l.mesh.V, options);
+    run(l, motion, l.mesh.V, options);
+    FAIL("the run finished the one-frame jump");
   } catch (const gp::NumericalError& e) {
-    threw = true;
-    message = e.what();
-  }
-  if (threw) {
+    const std::string message = e.what();
     INFO("stopped: " << message);
-    CHECK(message.find("step") != std::string::npos);
-  } else {
-    REQUIRE(r.keys.size() == 2);
-    const KeyPoseResult& up = r.keys[1];
-    const double tear = max_edge_stretch(up.V_draped, r.V_rest, l.mesh.F);
-    INFO("completed: arms-up max stretch " << up.max_stretch << ", largest edge stretch " << tear << ", deepest "
-                                           << up.deepest_penetration << " m, rejected steps " << r.solver.rejected
-                                           << ", folds " << r.solver.accepted_flips);
-    CHECK(up.V_draped.allFinite());
-    CHECK(r.V_rest.allFinite());
-    CHECK(tear < 1.5);
-    CHECK(up.deepest_penetration < 0.002);
+    CHECK(message.find("cloth step failed after 4 halvings of the time step") != std::string::npos);
+    CHECK(message.find("vertex speed above 20") != std::string::npos);
   }
 }
 

@@ -268,8 +268,12 @@ TEST_CASE("a body part rising beside pinned cloth does not pass through it", "[a
     INFO(e.what());
     bound_crossings = -2;
   }
-  INFO("binding alone: " << (bound_crossings == -2 ? "the step failed" : "crossings at the shrug"));
-  CHECK((bound_crossings == -2 || bound_crossings > 0));
+  // Measured: the step fails (the pinned vertices, held on the shelf's
+  // surface, are pushed through by the rising part). The test used to accept
+  // crossings at the shrug as well, so it could not fail.
+  INFO("binding alone: " << (bound_crossings == -2 ? "the step failed" : "it finished") << ", crossings at the shrug "
+                         << bound_crossings);
+  CHECK(bound_crossings == -2);
   // A clearance is a fraction of the offset.
   CHECK_THROWS_AS(run_shrug(scene, 1.5), gp::UsageError);
   CHECK_THROWS_AS(run_shrug(scene, -0.1), gp::UsageError);

@@ -67,7 +67,7 @@ TEST_CASE("a tube through a hand beside the torso dents between them, the hand o
   CHECK(gp::testing::max_edge_stretch(V, V0, tube.F) < 1.5);
 }
 
-TEST_CASE("a tube deep inside the torso has no way out: reported, never made worse", "[garment][clearance]") {
+TEST_CASE("a tube deep inside the torso has no way out: reported, and left where it was", "[garment][clearance]") {
   const gp::Mesh body = gp::testing::make_icosphere(4, 0.15);
   gp::Mesh tube = gp::testing::make_open_cylinder(48, 20, 0.05, 0.4);
   tube.V.col(1).array() -= 0.2;
@@ -76,7 +76,14 @@ TEST_CASE("a tube deep inside the torso has no way out: reported, never made wor
   Eigen::MatrixXd V = tube.V;
   const gp::BodyClearanceResult r = gp::clear_body(V, tube.F, body.V, body.F, {}, options);
   CHECK_FALSE(r.clear());
-  CHECK(r.after.crossings() + r.after.cloth_vertices_inside <= r.before.crossings() + r.before.cloth_vertices_inside);
+  // Measured: 1036 crossings and vertices inside before and after. "Never
+  // worse" holds by construction (a round that makes it worse is undone),
+  // so the test pins what the clearance does where it finds no way out:
+  // it moves nothing, and the tube is as deep in as it was.
+  CHECK(r.before.crossings() + r.before.cloth_vertices_inside > 1000);
+  CHECK(r.after.crossings() == r.before.crossings());
+  CHECK(r.after.cloth_vertices_inside == r.before.cloth_vertices_inside);
+  CHECK(V == tube.V);
   REQUIRE_FALSE(r.places.empty());
   bool room = true;
   for (const gp::ClearancePlace& p : r.places) room = room && p.room;

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "mesh/edge_distances.h"
+#include "mesh/graph_paths.h"
 #include "mesh/topology.h"
 #include "testing/test_meshes.h"
 
@@ -32,4 +32,29 @@ TEST_CASE("edge distances on a grid: along edges, bounded, from several sources"
   gp::edge_distances(grid.V, neighbors, {id(0, 0), id(4, 0)}, 10.0, dist, reached);
   CHECK(dist[id(2, 0)] == Approx(2.0));
   CHECK(dist[id(3, 0)] == Approx(1.0));
+}
+
+TEST_CASE("dijkstra: parents, the stop rule, and ties by the lower parent id", "[mesh]") {
+  // A square 0-1-3, 0-2-3 of unit edges: two shortest paths from 0 to 3 of
+  // equal length, through 1 and through 2.
+  const std::vector<std::vector<int>> neighbors{{1, 2}, {0, 3}, {0, 3}, {1, 2}};
+  const auto unit = [](int, int) { return 1LL; };
+  const long long unreached = std::numeric_limits<long long>::max();
+  gp::GraphSearch<long long> s = gp::graph_search(neighbors.size(), unreached, true);
+  gp::dijkstra(neighbors, {0}, unit, unreached, [](int) { return false; }, s, true);
+  CHECK(s.dist == std::vector<long long>{0, 1, 1, 2});
+  CHECK(gp::trace_parents(s.parent, 3) == std::vector<int>{0, 1, 3});
+  CHECK(s.settled == std::vector<int>{0, 1, 2, 3});
+  // Stopped once vertex 1 is settled: 3 is not reached.
+  s = gp::graph_search(neighbors.size(), unreached, true);
+  gp::dijkstra(neighbors, {0}, unit, unreached, [](int v) { return v == 1; }, s);
+  CHECK(s.settled == std::vector<int>{0, 1});
+  CHECK(s.dist[3] == unreached);
+  // An edge of no length (the integer's largest value) is no edge.
+  s = gp::graph_search(neighbors.size(), unreached, true);
+  gp::dijkstra(
+      neighbors, {0}, [&](int v, int w) { return (v == 3 || w == 3) ? unreached : 1LL; }, unreached,
+      [](int) { return false; }, s);
+  CHECK(s.dist[3] == unreached);
+  CHECK(s.parent[3] == -1);
 }

@@ -1,4 +1,4 @@
-#include "pattern/fit_settings.h"
+#include "export/fit_settings.h"
 
 #include "adapt/garment_fit.h"
 #include "core/error.h"

@@ -1,4 +1,4 @@
-#include "pattern/sewn_fit.h"
+#include "export/sewn_fit.h"
 
 #include <algorithm>
 #include <cmath>

@@ -15,9 +15,9 @@
 #include "pattern/export_report.h"
 #include "pattern/layout.h"
 #include "pattern/make_pattern.h"
-#include "pattern/fit_settings.h"
+#include "export/fit_settings.h"
 #include "pattern/seam_spec.h"
-#include "pattern/sewn_fit.h"
+#include "export/sewn_fit.h"
 #include "spec/json_file.h"
 
 namespace gp {

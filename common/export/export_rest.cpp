@@ -1,4 +1,4 @@
-#include "pattern/export_rest.h"
+#include "export/export_rest.h"
 
 #include <cmath>
 #include <cstdio>

@@ -1,0 +1,115 @@
+#include "pattern/make_pattern.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <set>
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include "core/error.h"
+#include "core/stopwatch.h"
+#include "mesh/graph_paths.h"
+#include "mesh/heat_geodesics.h"
+#include "mesh/measures.h"
+#include "mesh/topology.h"
+#include "pattern/dart_placement.h"
+#include "pattern/piece_mirror.h"
+#include "pattern/piece_names.h"
+#include "pattern/cutter_helpers.h"
+
+namespace gp {
+
+bool meets_limit(const PatternPiece& piece, const PatternOptions& options) {
+  if (piece.flat.stats.flipped_triangles > 0 || piece.flat.boundary_overlaps) return false;
+  const DistortionStats& s = piece.stats;
+  if (options.symmetric) return s.p95_error <= options.p95_limit && s.max_error <= options.max_limit;
+  return s.worst1_compression <= options.compression_worst1 && s.worst5_ease <= options.ease_worst5;
+}
+
+namespace {
+
+// Every piece's distortion against the material and whether it, and the
+// pattern, meet the limit, from the pieces' current flattenings.
+void measure_pieces(Pattern& pattern, const PatternOptions& options) {
+  for (size_t c = 0; c < pattern.pieces.size(); ++c) {
+    PatternPiece& p = pattern.pieces[c];
+    p.stats = material_distortion(pattern, c);
+    p.meets_limit = meets_limit(p, options);
+  }
+  pattern.meets_limit = std::all_of(pattern.pieces.begin(), pattern.pieces.end(),
+                                    [](const PatternPiece& p) { return p.meets_limit; });
+}
+
+// The flattening options of the piece with `key`: its own seam weight where
+// match_seams raised it.
+FlattenOptions piece_flatten_options(const PatternOptions& options, const FlattenCache& cache,
+                                     const std::vector<int>& key) {
+  FlattenOptions flatten = options.flatten;
+  const auto w = cache.boundary_weight.find(key);
+  if (w != cache.boundary_weight.end()) flatten.boundary_weight = w->second;
+  return flatten;
+}
+
+}  // namespace
+
+void flatten_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache, bool injective) {
+  for (size_t c = 0; c < pattern.pieces.size(); ++c) {
+    PatternPiece& p = pattern.pieces[c];
+    p.boundary = boundary_loops(p.F).front();
+    const std::vector<int> key = piece_key(pattern, c);
+    auto it = cache.results.find(key);
+    // A plain flattening without flips is what the injective one returns too.
+    if (it == cache.results.end() || (injective && it->second.stats.flipped_triangles > 0)) {
+      FlattenOptions flatten = piece_flatten_options(options, cache, key);
+      flatten.injective_fallback = injective;
+      cache.results[key] = flatten_piece(p.V, p.F, flatten, &p.mesh_vertex_ids);
+      it = cache.results.find(key);
+      ++pattern.flattenings;
+    }
+    p.flat = it->second;
+  }
+  measure_pieces(pattern, options);
+}
+
+// The output pieces' flattenings iterated on to final_tolerance: the cutter's
+// decisions are made on flattenings stopped at `tolerance`, and the pieces
+// it hands out are their converged shapes.
+void polish_pieces(Pattern& pattern, const PatternOptions& options, const FlattenCache& cache) {
+  for (size_t c = 0; c < pattern.pieces.size(); ++c) {
+    PatternPiece& p = pattern.pieces[c];
+    polish_flattening(p.V, p.F, p.flat, piece_flatten_options(options, cache, piece_key(pattern, c)),
+                      &p.mesh_vertex_ids);
+  }
+  measure_pieces(pattern, options);
+}
+
+
+bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
+  std::set<int> within;
+  pattern.seams_within_tolerance = seam_sides_match(pattern, options, 1.0, nullptr);
+  // The boundary weight keeps most seam sides within the tolerance; a
+  // mismatch beyond match_margin times the tolerance gets its pieces
+  // flattened again, with 4 times the weight up to max_boundary_weight.
+  std::set<int> mismatched;
+  seam_sides_match(pattern, options, options.match_margin, &mismatched);
+  bool again = false;
+  for (int c : mismatched) {
+    const std::vector<int> key = piece_key(pattern, static_cast<size_t>(c));
+    auto w = cache.boundary_weight.emplace(key, options.flatten.boundary_weight).first;
+    if (w->second <= 0.0 || w->second * 4.0 > options.max_boundary_weight) continue;
+    w->second *= 4.0;
+    cache.results.erase(key);
+    again = true;
+  }
+  return again;
+}
+
+}  // namespace gp
