@@ -11,29 +11,16 @@
 #include "garment/garment_file.h"
 #include "garment/garment_spec.h"
 #include "io/mesh_io.h"
+#include "garment/tests/cap_spec.h"
 #include "testing/command.h"
 #include "testing/test_meshes.h"
 
 namespace fs = std::filesystem;
 using gp::Json;
+using gp::testing::cap_spec;
+using gp::testing::spec_error;
 
 namespace {
-
-// A cap of a sphere: one loop, as small as a garment spec gets.
-Json cap_spec() {
-  Json points = Json::array();
-  for (int j = 0; j < 8; ++j) {
-    const double phi = 2.0 * 3.14159265358979 * j / 8;
-    points.push_back({0.2 * 0.6 * std::cos(phi), 0.2 * 0.8, 0.2 * 0.6 * std::sin(phi)});
-  }
-  Json j;
-  j["schema"] = "garment-spec/1";
-  j["name"] = "cap";
-  j["loops"] = Json::array({{{"name", "rim"}, {"points", points}}});
-  j["region"] = {0.0, 0.2, 0.0};
-  j["resolution"] = {{"edge_length", 0.02}};
-  return j;
-}
 
 Json full_fabric() {
   return {{"name", "shop-twill"},     {"areal_density", "210 g/m^2"}, {"thickness", "0.4 mm"},
@@ -41,15 +28,6 @@ Json full_fabric() {
           {"k_bend", "0.5 gf cm^2/cm"}, {"limit_warp", 1.05},        {"limit_weft", 1.08}};
 }
 
-std::string spec_error(const Json& j) {
-  try {
-    gp::parse_garment_spec(j, "s.json");
-  } catch (const gp::SpecError& e) {
-    return e.message();
-  }
-  FAIL("no SpecError");
-  return "";
-}
 
 }  // namespace
 
