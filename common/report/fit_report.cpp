@@ -124,6 +124,51 @@ Eigen::AlignedBox3d box_of(const Eigen::MatrixXd& V) {
   return b;
 }
 
+// Where the body held the cloth: the drape where the run stopped, its held
+// faces in the mark colour and each holding place ringed in every view
+// (drawn over the render, so that a place under the cloth still shows).
+// Returns the sheet's path relative to `folder`.
+std::string write_held_sheet(const HeldPose& h, const render::ColourScale& stretch, const render::Font& font,
+                             const SheetOptions& sheet, const fs::path& folder) {
+  const render::Rgb mark{0.85f, 0.0f, 0.85f};
+  // The held run's own garment: make fit extends the design again on the
+  // opened body, so its triangles may differ from the fit's.
+  const Mesh held_rest = read_mesh(h.rest).mesh;
+  const Drape held_drape = read_drape(h.drape, held_rest.F, held_rest.V);
+  const Eigen::MatrixXi& held_F = held_rest.F;
+  Eigen::MatrixXf held_colours = face_colours(held_drape.stretch, stretch);
+  Eigen::AlignedBox3d box = box_of(held_drape.V);
+  for (const HeldPatch& p : h.patches) {
+    for (int f : p.faces)
+      if (f >= 0 && f < held_F.rows()) held_colours.row(f) << mark.r, mark.g, mark.b;
+    box.extend(Eigen::Vector3d(p.position[0], p.position[1], p.position[2]));
+  }
+  Mesh held_body;
+  SheetRow row;
+  row.label = h.folder == "fit" ? "where the run stopped" : "as captured, where the held run stopped (fit-held/)";
+  if (!h.body.empty()) {
+    held_body = read_mesh(h.body).mesh;
+    row.layers.push_back(render::MeshLayer{&held_body.V, &held_body.F, nullptr, nullptr, render::body_colour()});
+  }
+  row.layers.push_back(render::MeshLayer{&held_drape.V, &held_F, &held_colours, nullptr, {}});
+  const std::vector<render::OrthoCamera> cameras = frame_views(box, sheet);
+  std::vector<Views> views = render_views({row}, {cameras}, sheet);
+  const double ring = std::max(8.0, 0.025 * sheet.view_height);
+  for (size_t c = 0; c < cameras.size(); ++c)
+    for (const HeldPatch& p : h.patches) {
+      const Eigen::Vector2d at = render::project(cameras[c], Eigen::Vector3d(p.position[0], p.position[1], p.position[2]));
+      render::draw_ring(views[0][c], at.x(), at.y(), ring, std::max(2.0, 0.2 * ring), mark);
+    }
+  char id[160];
+  std::snprintf(id, sizeof(id), "%02d_%s", h.key, h.pose.c_str());
+  const std::string file = "renders/held_" + std::string(id) + ".png";
+  render::write_png(folder / file,
+                    compose_sheet("Where the body held the cloth: " + h.pose + " after " + std::to_string(h.settle_steps) +
+                                      " settling steps (held faces and places in magenta)",
+                                  {{row.label, &views[0]}}, stretch, font));
+  return file;
+}
+
 }  // namespace
 
 fs::path default_three_dir() { return GP_THREE_DIR; }
@@ -234,49 +279,7 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
     }
     files.poses.push_back(pf);
   }
-  // Where the body held the cloth: the drape where the run stopped, its held
-  // faces in the mark colour and each holding place ringed in every view
-  // (drawn over the render, so that a place under the cloth still shows).
-  if (run.held) {
-    const HeldPose& h = *run.held;
-    const render::Rgb mark{0.85f, 0.0f, 0.85f};
-    // The held run's own garment: make fit extends the design again on the
-    // opened body, so its triangles may differ from the fit's.
-    const Mesh held_rest = read_mesh(h.rest).mesh;
-    const Drape held_drape = read_drape(h.drape, held_rest.F, held_rest.V);
-    const Eigen::MatrixXi& held_F = held_rest.F;
-    Eigen::MatrixXf held_colours = face_colours(held_drape.stretch, stretch);
-    Eigen::AlignedBox3d box = box_of(held_drape.V);
-    for (const HeldPatch& p : h.patches) {
-      for (int f : p.faces)
-        if (f >= 0 && f < held_F.rows()) held_colours.row(f) << mark.r, mark.g, mark.b;
-      box.extend(Eigen::Vector3d(p.position[0], p.position[1], p.position[2]));
-    }
-    Mesh held_body;
-    SheetRow row;
-    row.label = h.folder == "fit" ? "where the run stopped" : "as captured, where the held run stopped (fit-held/)";
-    if (!h.body.empty()) {
-      held_body = read_mesh(h.body).mesh;
-      row.layers.push_back(render::MeshLayer{&held_body.V, &held_body.F, nullptr, nullptr, body_grey});
-    }
-    row.layers.push_back(render::MeshLayer{&held_drape.V, &held_F, &held_colours, nullptr, {}});
-    const std::vector<render::OrthoCamera> held_cameras = frame_views(box, options.sheet);
-    std::vector<Views> held_views = render_views({row}, {held_cameras}, options.sheet);
-    const double ring = std::max(8.0, 0.025 * options.sheet.view_height);
-    for (size_t c = 0; c < held_cameras.size(); ++c)
-      for (const HeldPatch& p : h.patches) {
-        const Eigen::Vector2d at =
-            render::project(held_cameras[c], Eigen::Vector3d(p.position[0], p.position[1], p.position[2]));
-        render::draw_ring(held_views[0][c], at.x(), at.y(), ring, std::max(2.0, 0.2 * ring), mark);
-      }
-    char id[160];
-    std::snprintf(id, sizeof(id), "%02d_%s", h.key, h.pose.c_str());
-    files.held_sheet = "renders/held_" + std::string(id) + ".png";
-    render::write_png(folder / files.held_sheet,
-                      compose_sheet("Where the body held the cloth: " + h.pose + " after " +
-                                        std::to_string(h.settle_steps) + " settling steps (held faces and places in magenta)",
-                                    {{row.label, &held_views[0]}}, stretch, font));
-  }
+  if (run.held) files.held_sheet = write_held_sheet(*run.held, stretch, font, options.sheet, folder);
   // The rest shape off the body, against the design, at their own frame.
   const render::ColourScale growth = render::growth_scale();
   const Eigen::VectorXd area_design = face_areas(design.V, F);
