@@ -194,7 +194,19 @@ struct GarmentMotion::Impl {
         options.contact_surface);
     result.contact_surface = surface;
     const Eigen::MatrixXd V_surface = surface.positions(V_body);
-    collider.emplace(surface.F, collision::reachable_body_faces(V_surface, surface.F, V_garment, options.reach));
+    // The faces the garment can reach in the first frame or in any key pose:
+    // a hand that hangs far from the skirt at the start comes down onto it
+    // later (culled by the first frame alone, it passed through the skirt:
+    // the demo-dress's hands on the thighs, 101 crossings).
+    std::vector<int> reachable = collision::reachable_body_faces(V_surface, surface.F, V_garment, options.reach);
+    for (const MotionKey& key : motion.keys) {
+      const std::vector<int> more = collision::reachable_body_faces(surface.positions(interpolator.pose(key.pose_index)),
+                                                                    surface.F, V_garment, options.reach);
+      reachable.insert(reachable.end(), more.begin(), more.end());
+    }
+    std::sort(reachable.begin(), reachable.end());
+    reachable.erase(std::unique(reachable.begin(), reachable.end()), reachable.end());
+    collider.emplace(surface.F, reachable);
     result.culled_body_faces = collider->face_ids().size();
     collider->set_threads(options.threads);
     if (options.facing_gaps) {

@@ -76,7 +76,7 @@ struct MotionRunOptions {
   double settle_damping = 1.0;
   int fixed_point_steps = 100;        // with adaptation: window of the fixed-point test [steps]
   double fixed_point_area_change = 1e-3;  // largest relative rest-area change over that window
-  double reach = 0.15;                // m: body faces farther from the garment are culled
+  double reach = 0.15;                // m: body faces farther from the garment (at the first frame and every key pose) are culled
   // Contact as velocity constraints inside the implicit solve (filtered CG)
   // for vertices within the comfort offset plus contact_band [m]; false: only
   // the position projection after each step.
