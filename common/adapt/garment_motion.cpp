@@ -583,53 +583,6 @@ struct GarmentMotion::Impl {
     return patches;
   }
 
-  // The body passed through the cloth at a settled key pose where two body
-  // parts nearly touch: the body vertex behind the cloth with the least room
-  // in front of it (BodyCollider::facing_distance), when that room is under
-  // twice the comfort offset, and the cloth faces the body's edges cross.
-  // Elsewhere a crossing is the contact's failure, not the body holding the
-  // cloth, and the verdict reports it as such.
-  std::optional<HeldCloth> held_by_crossing(const KeyPoseResult& key) const {
-    const collision::CrossingReport& c = key.crossings;
-    if (c.body_vertices_behind == 0 || c.body_edge_examples.empty()) return std::nullopt;
-    std::vector<int> behind = c.body_vertex_examples;
-    if (c.deepest_body_vertex_id >= 0) behind.push_back(c.deepest_body_vertex_id);
-    // The vertices behind the cloth are where the cloth ran through the body
-    // part (the back of a hand); the gap is beside them (its palm against the
-    // thigh): the least room over the body within kHeldGapRadius of them.
-    const Eigen::MatrixXd N = vertex_normals(V_body, interpolator.faces());
-    double room = std::numeric_limits<double>::infinity();
-    int at = -1;
-    for (int v = 0; v < V_body.rows(); ++v) {
-      bool near = false;
-      for (int b : behind) near = near || (V_body.row(v) - V_body.row(b)).norm() < kHeldGapRadius;
-      if (!near) continue;
-      const double d = collider->facing_distance(V_body.row(v).transpose(), N.row(v).transpose(), kHeldGapRadius);
-      if (d < room) {
-        room = d;
-        at = v;
-      }
-    }
-    if (at < 0 || !(room < 2.0 * garment.offset)) return std::nullopt;
-    HeldCloth h;
-    h.through = true;
-    const collision::Proximity q = collider->query(V_body.row(at).transpose());
-    const Eigen::MatrixXd V_surface = surface.positions(V_body);
-    h.position = q.closest;
-    h.surface_face = q.face;
-    h.barycentric = closest_point_on_triangle(q.closest, V_surface.row(surface.F(q.face, 0)).transpose(),
-                                              V_surface.row(surface.F(q.face, 1)).transpose(),
-                                              V_surface.row(surface.F(q.face, 2)).transpose())
-                        .bary;
-    h.gap = room;
-    h.region = region_of(V_surface, q.face, q.closest, h.body_vertex);
-    for (const collision::EdgeFaceHit& e : c.body_edge_examples) h.faces.push_back(e.face);
-    std::sort(h.faces.begin(), h.faces.end());
-    h.faces.erase(std::unique(h.faces.begin(), h.faces.end()), h.faces.end());
-    for (int f : h.faces) h.max_stretch = std::max(h.max_stretch, key.face_max_stretch(f));
-    return h;
-  }
-
   // A name for the contact surface's face f near point p (V_surface: the
   // surface's vertices in this frame): the hull it belongs to ("left hand":
   // the body faces +z, so its left is +x; feet are the hulls in the lowest
@@ -703,11 +656,6 @@ struct GarmentMotion::Impl {
       if (options.adapt && !key.held) adapt_now();
       result.all_settled = result.all_settled && key.settled;
       record(key);
-      if (!key.held && options.held_steps > 0)
-        if (std::optional<HeldCloth> through = held_by_crossing(key)) {
-          key.held = true;
-          key.held_cloth.insert(key.held_cloth.begin(), std::move(*through));
-        }
       if (progress) {
         char line[256];
         std::snprintf(line, sizeof(line),

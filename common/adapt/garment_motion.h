@@ -62,11 +62,7 @@ struct MotionRunOptions {
   // held_stretch and the largest stretch has not fallen by held_improvement
   // (relative) for held_steps settling steps, the settling stops and the pose
   // is reported held, with the patches and the body's room there
-  // (KeyPoseResult::held_cloth); the run stops after it. A settled key pose
-  // at which the body has passed through the cloth where two body parts are
-  // closer than twice the comfort offset (a hand come down onto a skirt over
-  // the thigh) is held there too: no settling undoes a crossing. 0: neither;
-  // settle to the cap.
+  // (KeyPoseResult::held_cloth); the run stops after it. 0: settle to the cap.
   int held_steps = 160;
   double held_stretch = 1.5;          // beyond this cloth tears (as FitCriteria::tear_stretch)
   double held_improvement = 0.01;

@@ -68,17 +68,11 @@ std::vector<std::string> check_pose(const KeyPoseResult& k, double delta, const 
     const HeldCloth& h = k.held_cloth.front();
     char gap[64] = "no other body part in front of it";
     if (std::isfinite(h.gap)) std::snprintf(gap, sizeof(gap), "a gap of %.1f mm", 1e3 * h.gap);
-    if (h.through)
-      std::snprintf(line, sizeof(line),
-                    "the body passed through the cloth where two body parts nearly touch, at %s (%.3f, %.3f, %.3f) m, "
-                    "%s: %zu faces crossed, which no settling undoes",
-                    h.region.c_str(), h.position.x(), h.position.y(), h.position.z(), gap, h.faces.size());
-    else
-      std::snprintf(line, sizeof(line),
-                    "the body holds the cloth at %s (%.3f, %.3f, %.3f) m, %s: %zu faces stretched up to %.2f, no "
-                    "better after %d settling steps",
-                    h.region.c_str(), h.position.x(), h.position.y(), h.position.z(), gap, h.faces.size(),
-                    h.max_stretch, k.settle_steps);
+    std::snprintf(line, sizeof(line),
+                  "the body holds the cloth at %s (%.3f, %.3f, %.3f) m, %s: %zu faces stretched up to %.2f, no "
+                  "better after %d settling steps",
+                  h.region.c_str(), h.position.x(), h.position.y(), h.position.z(), gap, h.faces.size(),
+                  h.max_stretch, k.settle_steps);
     failures.push_back(line);
   }
   if (criteria.require_settled && !k.settled) {
@@ -97,8 +91,7 @@ OrderedJson to_json(const HeldCloth& h) {
           {"gap_mm", std::isfinite(h.gap) ? OrderedJson(1e3 * h.gap) : OrderedJson(nullptr)},
           {"max_stretch", h.max_stretch},
           {"face_count", h.faces.size()},
-          {"faces", h.faces},
-          {"held_by", h.through ? "the body passing through" : "stretch"}};
+          {"faces", h.faces}};
 }
 
 }  // namespace gp::adapt

@@ -26,9 +26,6 @@ struct HeldCloth {
   Eigen::Vector3d barycentric = Eigen::Vector3d::Zero();
   double max_stretch = 0.0;
   std::vector<int> faces;             // the patch's cloth faces, ascending
-  // The body passed through the cloth here (in a gap narrower than twice the
-  // offset) rather than stretching it: `faces` are the cloth faces its edges cross.
-  bool through = false;
 };
 
 struct KeyPoseResult {

@@ -159,8 +159,6 @@ std::optional<HeldPose> read_held(const StageReport& stage, const fs::path& dir,
     const Json& gap = require(stage, p + "/gap_mm", "any");
     patch.gap_mm = gap.is_number() ? gap.get<double>() : -1.0;
     patch.max_stretch = require(stage, p + "/max_stretch", "number").get<double>();
-    if (const Json* by = lookup(stage, p + "/held_by"); by && by->is_string())
-      patch.through = by->get<std::string>() == "the body passing through";
     for (const Json& f : require(stage, p + "/faces", "array")) {
       if (!f.is_number_integer()) throw SpecError("expected face ids", stage.path.string() + ": " + p + "/faces");
       patch.faces.push_back(f.get<int>());

@@ -69,7 +69,6 @@ struct HeldPatch {
   double gap_mm = 0.0;                // room along the body's normal there
   double max_stretch = 0.0;
   std::vector<int> faces;             // the garment faces held
-  bool through = false;               // the body passed through them there ("held_by")
 };
 struct HeldPose {
   std::string folder;                 // "fit" (the run stopped there) or "fit-held" (make fit then opened it)

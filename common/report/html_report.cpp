@@ -136,8 +136,7 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
     const HeldPose& held = *run.held;
     h += "<div class=\"pose\" id=\"held\">\n<h3>Where the body held the cloth: " + escape_xml(held.pose) + "</h3>\n<p>";
     h += held.folder == "fit"
-             ? "The run stopped at this pose: the body held the cloth (stretched beyond what it settles from, or passed "
-               "through where two body parts nearly touch)."
+             ? "The run stopped at this pose: the cloth stopped improving while stretched beyond what it can settle from."
              : "As captured, this pose held the cloth, and the run stopped there (fit-held/); the fit above and below "
                "is for the pose opened a little.";
     h += " The held faces are magenta, and each place the body holds them is ringed:</p>\n<ul>\n";
@@ -145,7 +144,7 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
       h += "<li>" + escape_xml(p.region) + " at (" + format_fixed(p.position[0], 3) + ", " + format_fixed(p.position[1], 3) +
            ", " + format_fixed(p.position[2], 3) + ") m: " + std::to_string(p.faces.size()) +
            (p.faces.size() == 1 ? " face" : " faces") +
-           (p.through ? std::string(" that the body passed through") : " stretched up to " + format_fixed(p.max_stretch, 3)) +
+           " stretched up to " + format_fixed(p.max_stretch, 3) +
            (p.gap_mm >= 0.0 ? ", " + format_fixed(p.gap_mm, 1) + " mm of room along the body's normal" : std::string()) +
            "</li>\n";
     h += "</ul>\n<img class=\"sheet\" src=\"" + escape_xml(files.held_sheet) + "\" alt=\"" + escape_xml(held.pose) +
