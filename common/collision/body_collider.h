@@ -25,9 +25,10 @@
 namespace gp::collision {
 
 // Body faces within `reach` [m] of any garment vertex (conservatively: faces meeting the
-// axis-aligned cube of half-size `reach` around a garment vertex), ascending ids. Because pinned
-// garments follow the body, this set computed in the first frame of a motion stays valid for the
-// whole motion.
+// axis-aligned cube of half-size `reach` around a garment vertex), ascending ids. Pinned garments
+// follow the body, but other body parts come to them: a hand 29 cm from a skirt in the first frame
+// rests on it at a later key pose, so the fit keeps the union of this set over the first frame and
+// every key pose (adapt/garment_motion.cpp).
 std::vector<int> reachable_body_faces(const Eigen::MatrixXd& V_body, const Eigen::MatrixXi& F_body,
                                       const Eigen::MatrixXd& V_garment, double reach);
 
