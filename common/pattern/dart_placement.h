@@ -1,10 +1,9 @@
 #pragma once
 // Darts, else a panel seam, for a piece over the limit (make_pattern.h
 // phase 5). Dart tips sit at the modes (mean shift) of a kernel density of
-// positive curvature: angle defects, or the log conformal factor u of the
-// boundary-length-keeping flattening (L u = -K, u = 0 on the boundary;
-// Sawhney and Crane 2017). Darts run straight in the conformal chart; panel
-// seams along the grain. Curves are in piece-local ids (surface_curve.h).
+// positive curvature: angle defects, or the log conformal factor u
+// (L u = -K, u = 0 on the boundary; Sawhney and Crane 2017). Curves are in
+// piece-local ids (surface_curve.h).
 #include <optional>
 #include <string>
 #include <vector>
@@ -43,24 +42,21 @@ bool polylines_cross(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 std::optional<DartTip> dart_tip_near(const Pattern& pattern, size_t c, const Eigen::Vector3d& x,
                                      double min_curvature, const PatternOptions& options);
 
-// Where piece p's panel seam runs through: the centroid of the one-sided
-// energy of its boundary-length-keeping conformal flattening (metres, not
-// necessarily on the piece); nullopt for a piece with no such energy.
+// Where piece p's panel seam runs through: the centroid of its conformal
+// flattening's one-sided energy (metres, maybe off the piece); nullopt
+// without such energy.
 std::optional<Eigen::Vector3d> panel_centre(const PatternPiece& p, const PatternOptions& options);
 
-// The point of piece p on the plane x = plane_x (where its edges cross it)
-// nearest to the piece's point nearest to `from`: where a centre seam runs
-// through; `from` itself where no edge crosses the plane.
+// Where a centre seam runs through: the point of piece p on the plane
+// x = plane_x nearest to the piece's point nearest to `from` (`from` itself
+// where no edge crosses the plane).
 Eigen::Vector3d centre_seam_point(const PatternPiece& p, double plane_x, const Eigen::Vector3d& from);
 
 // A centre seam in piece p: the section of the piece by the plane x =
 // plane_x (the body's middle), the open chain of it (outline to outline)
 // passing nearest to `near`, leaving no part under min_piece_area; nullopt
 // when no chain fits (none, or one ending on a dart's leg). A tailor's
-// centre front or back follows the body's middle, so the two halves are
-// mirror images; a straight line along the grain in the conformal chart
-// drifted off the middle at the neck, where the chart bends most, and left
-// the slim-shirt's right front a tab across the centre (issue 49).
+// centre front or back follows the body's middle (README.md, "Centre seams").
 std::optional<SurfaceCurve> centre_seam_curve(const Pattern& pattern, size_t c, double plane_x,
                                               const Eigen::Vector3d& near, const PatternOptions& options);
 

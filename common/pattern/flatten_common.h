@@ -1,8 +1,5 @@
 #pragma once
-// What the flattening methods share (flatten.h; flatten_initial.cpp,
-// flatten_arap.cpp, flatten_injective.cpp): triangles in their own frames,
-// Jacobians, the Dirichlet system with fixed vertices, flip counting and
-// repair. Internal to pattern/.
+// What the flattening methods (flatten.h) share. Internal to pattern/.
 #include <utility>
 #include <vector>
 
@@ -17,8 +14,7 @@ namespace gp::flatten_detail {
 using Triplet = Eigen::Triplet<double>;
 
 // Simplicial: it calls no BLAS, so a flattening is bitwise the same whichever
-// kernels OpenBLAS picks for the CPU, and for these 2D Laplacians of single
-// pieces it is also the faster method (see common/pattern/README.md).
+// kernels OpenBLAS picks for the CPU (and faster here: README.md).
 inline const CholmodOptions kFlattenSolver{CholmodOptions::Method::simplicial};
 
 // A triangle in an orthonormal frame of its own plane: corner 0 at the origin,
@@ -86,12 +82,10 @@ int count_flips(const Eigen::MatrixXd& UV, const Eigen::MatrixXi& F);
 double max_flip_free_step(const Eigen::MatrixXd& UV, const Eigen::MatrixXd& dUV,
                           const Eigen::MatrixXi& F, double t_cap);
 
-// Untangles the few flipped triangles a plain flattening can leave (at a
-// sharp concave corner of the outline, or thin triangles along a cut): the
-// vertices within `rings` rings of a flipped triangle are smoothed towards
-// the mean of their neighbours (Jacobi, a few passes; outline vertices
-// towards the mean of their two outline neighbours), the region growing by
-// a ring when that does not suffice. Whether no flip is left.
+// Untangles the few flipped triangles a plain flattening can leave (sharp
+// concave corners, thin triangles along a cut) by Jacobi smoothing of the
+// rings around them (outline vertices along the outline), growing the region
+// while flips remain. Whether no flip is left.
 bool repair_flips(const Eigen::MatrixXi& F, const std::vector<std::vector<int>>& neighbors,
                   const std::vector<int>& loop, Eigen::MatrixXd& UV);
 

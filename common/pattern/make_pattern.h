@@ -1,14 +1,8 @@
 #pragma once
 // From a rest shape and the user's seams to the pieces of a sewing pattern,
-// in phases, one function each (README.md has the method and its figures):
-// 1. user seams smoothed into curves through the triangles and cut; 2. cuts
-// to disks along cheap side and underarm paths; 3. flatten with a one-sided
-// target (flatten.h); 4. match seam sides; 5. a dart at a curvature
-// concentration (Sawhney and Crane 2017), at most `max_darts` per piece,
-// else a panel seam; 6. merge away cuts that leave small pieces. Phases 3-5
-// repeat until every piece meets the limit. Decisions use smooth quantities
-// with ties broken by ids, so a small change of the rest shape changes no
-// count.
+// in phases, one function each (README.md has the method); phases 3-5 repeat
+// until every piece meets the limit. Decisions use smooth quantities with
+// ties broken by ids, so a small change of the rest shape changes no count.
 #include <map>
 #include <set>
 #include <string>
@@ -26,8 +20,7 @@ namespace gp {
 // No flipped triangle, no overlapping outline, distortion within the limit.
 bool meets_limit(const PatternPiece& piece, const PatternOptions& options);
 
-// Names of the boundary loops (for reasons); the rest shape is in the body's
-// frame (+y up, +z front, +x the body's left).
+// The rest shape is in the body's frame (+y up, +z front, +x the body's left).
 struct PatternContext {
   std::map<int, std::string> boundary_names;  // rest vertex -> loop name
 };
@@ -88,9 +81,9 @@ struct PanelLedger {
 // so a piece and its two halves compare.
 double panel_excess(const std::vector<MaterialFace>& faces, const PatternOptions& options);
 
-// Phase 5: one dart or panel seam in every piece over the limit that can
-// take one (no panel seam in a piece `ledger` refused); returns how many
-// cuts were added and puts the panel seams on trial in `ledger`.
+// Phase 5: one dart (Sawhney and Crane 2017) or panel seam in every piece
+// over the limit that can take one (none in a piece `ledger` refused);
+// returns how many cuts were added, the panel seams on trial in `ledger`.
 int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, PanelLedger* ledger = nullptr);
 
 // Phase 5b: a panel seam on trial that relieved less than min_panel_relief

@@ -22,12 +22,10 @@ Mesh make_torus(int nu, int nv, double ring_radius = 1.0, double tube_radius = 0
 // Open cylinder along +y from y=0 to y=height: `nu` around, `nv` rows of split quads; two loops.
 Mesh make_open_cylinder(int nu, int nv, double radius = 1.0, double height = 2.0);
 
-// A closed tube of radius `radius` bent like an arm from a torso: the centreline climbs along +y
-// from (0, -leg, 0) to the origin (the torso), turns towards +x by `turn` radians on an arc of
-// radius `bend_radius` centred at (bend_radius, 0, 0) in the xy-plane, and runs straight for `leg`
-// metres (the arm). With bend_radius a little above radius the inner side is a pinch like an A-pose
-// armpit: a saddle whose sides meet in a wedge at pi - turn. `nu` vertices per ring, rings as far
-// apart as on the outer side; the ends closed by flat fans.
+// A closed tube bent like an arm from a torso: up +y from (0, -leg, 0) to the origin, an arc of
+// `turn` radians towards +x about (bend_radius, 0, 0), then `leg` metres straight; with
+// bend_radius a little above radius its inner side is a saddle like an A-pose armpit. `nu`
+// vertices per ring; flat fans close the ends.
 Mesh make_bent_tube(int nu, double radius, double leg, double bend_radius, double turn);
 
 // A box-shaped grid patch in the xz-plane (open, one boundary loop),
