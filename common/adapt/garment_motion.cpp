@@ -199,8 +199,10 @@ struct GarmentMotion::Impl {
     // later (culled by the first frame alone, it passed through the skirt:
     // the demo-dress's hands on the thighs, 101 crossings).
     std::vector<int> reachable = collision::reachable_body_faces(V_surface, surface.F, V_garment, options.reach);
-    for (const MotionKey& key : motion.keys) {
-      const std::vector<int> more = collision::reachable_body_faces(surface.positions(interpolator.pose(key.pose_index)),
+    std::set<int> key_poses;  // a pose the motion returns to is searched once
+    for (const MotionKey& key : motion.keys) key_poses.insert(key.pose_index);
+    for (int pose : key_poses) {
+      const std::vector<int> more = collision::reachable_body_faces(surface.positions(interpolator.pose(pose)),
                                                                     surface.F, V_garment, options.reach);
       reachable.insert(reachable.end(), more.begin(), more.end());
     }
