@@ -56,7 +56,7 @@ Eigen::Vector3d centre_seam_point(const PatternPiece& p, double plane_x, const E
 // plane_x (the body's middle), the open chain of it (outline to outline)
 // passing nearest to `near`, leaving no part under min_piece_area; nullopt
 // when no chain fits (none, or one ending on a dart's leg). A tailor's
-// centre front or back follows the body's middle (README.md, "Centre seams").
+// centre front or back follows the body's middle (common/export/README.md, "Centre seams").
 std::optional<SurfaceCurve> centre_seam_curve(const Pattern& pattern, size_t c, double plane_x,
                                               const Eigen::Vector3d& near, const PatternOptions& options);
 
