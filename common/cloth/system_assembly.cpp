@@ -83,6 +83,13 @@ void SystemAssembly::build(const Eigen::MatrixXi& F, const Eigen::SparseMatrix<d
   }
   mass_positions_.resize(n);
   for (int i = 0; i < n; ++i) mass_positions_[i] = entry_index(A_, i, i);
+  vertex_block_positions_.resize(6 * static_cast<size_t>(n_free_));
+  for (int fi = 0; fi < n_free_; ++fi) {
+    int k = 0;
+    for (int c = 0; c < 3; ++c) {
+      for (int a = c; a < 3; ++a) vertex_block_positions_[6 * static_cast<size_t>(fi) + k++] = entry_index(A_, 3 * fi + a, 3 * fi + c);
+    }
+  }
   bend_entries_.clear();
   bend_couplings_.clear();
   for (int k = 0; k < Q.outerSize(); ++k) {
@@ -174,6 +181,20 @@ double SystemAssembly::assemble(const Eigen::MatrixXd& X, const Eigen::MatrixXd&
     b_.segment<3>(3 * fi) += m * Vel.row(v).transpose() + h * (m * params.gravity - G_.row(v).transpose());
   }
   return energy;
+}
+
+void SystemAssembly::add_vertex_terms(int v, const Eigen::Matrix3d& K, const Eigen::Vector3d& r) {
+  const int fi = free_id_(v);
+  if (fi < 0) return;
+  double* vals = A_.valuePtr();
+  int k = 0;
+  for (int c = 0; c < 3; ++c) {
+    for (int a = c; a < 3; ++a) {
+      const int q = vertex_block_positions_[6 * static_cast<size_t>(fi) + k++];
+      if (q >= 0) vals[q] += K(a, c);
+    }
+  }
+  b_.segment<3>(3 * fi) += r;
 }
 
 double membrane_energy(const Eigen::MatrixXd& X, const Eigen::MatrixXi& F, const ClothRestState& rest,

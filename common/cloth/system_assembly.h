@@ -36,6 +36,10 @@ class SystemAssembly {
                   const Eigen::MatrixXi& F, const ClothRestState& rest, const ClothParameters& params,
                   double damping_scale, double h);
 
+  // After assemble(): adds K (3x3, symmetric) to the diagonal block of vertex v (free) in A and r to
+  // its rows of b, for terms of one vertex alone (the static solve's contact barrier).
+  void add_vertex_terms(int v, const Eigen::Matrix3d& K, const Eigen::Vector3d& r);
+
   const Eigen::SparseMatrix<double>& matrix() const { return A_; }  // A (lower triangle)
   const Eigen::VectorXd& rhs() const { return b_; }                 // b (3 #free)
   const Eigen::VectorXi& free_ids() const { return free_id_; }      // #V: free index, -1 if pinned
@@ -57,6 +61,7 @@ class SystemAssembly {
   Eigen::MatrixXd G_;                    // gradient of the elastic energy (#V by 3), work buffer
   std::vector<int> triangle_positions_;  // 54 per face: value index or -1
   std::vector<int> mass_positions_;      // one per free dof
+  std::vector<int> vertex_block_positions_;  // 6 per free vertex: (0,0) (1,0) (2,0) (1,1) (2,1) (2,2), or -1
   struct BendEntry {
     int q_index;  // index into Q's values
     int pos[3];
