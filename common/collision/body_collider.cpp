@@ -1,11 +1,11 @@
 #include "collision/body_collider.h"
 
-#include <optional>
 #include <algorithm>
 #include <cmath>
 #include <future>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <tuple>
 
@@ -744,6 +744,29 @@ double BodyCollider::facing_distance(const Eigen::Vector3d& p, const Eigen::Vect
   if (!impl_->built) throw UsageError("BodyCollider::facing_distance before set_body");
   if (!p.allFinite() || !n.allFinite()) throw NumericalError("facing_distance of a non-finite point or normal");
   return impl_->facing_distance_of(p, n, radius);
+}
+
+std::vector<BodyCollider::NearFeature> BodyCollider::closest_features_within(const Eigen::Vector3d& p,
+                                                                            double radius) const {
+  if (!impl_->built) throw UsageError("BodyCollider::closest_features_within before set_body");
+  if (!p.allFinite()) throw NumericalError("closest_features_within of a non-finite point");
+  std::vector<NearFeature> features;
+  for (int f : impl_->faces_within(p, radius)) {
+    const TriangleClosestPoint q =
+        closest_point_on_triangle(p, impl_->corner(f, 0), impl_->corner(f, 1), impl_->corner(f, 2));
+    if (!((q.point - p).norm() <= radius)) continue;
+    NearFeature n;
+    n.point = q.point;
+    const int k = feature_index(q.feature);
+    if (is_corner(q.feature)) {
+      n.kind = 2;
+    } else if (is_edge(q.feature)) {
+      n.kind = 1;
+      n.edge = (impl_->corner(f, (k + 1) % 3) - impl_->corner(f, k)).normalized();
+    }
+    features.push_back(n);
+  }
+  return features;
 }
 
 void BodyCollider::set_facing_gaps(bool on) { impl_->facing_gaps = on; }

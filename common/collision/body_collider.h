@@ -111,6 +111,18 @@ class BodyCollider {
   // when no such face is within the radius.
   double facing_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& n, double radius) const;
 
+  // For every culled face whose closest point to p (finite) lies within `radius` [m], in ascending
+  // face order, the feature it lies on (the face's interior, an edge or a corner): the body as a set
+  // of triangles, each an obstacle of its own. The static solve's barrier sums over them, which is
+  // smooth where the closest face changes (a feature shared by several faces counts once per face;
+  // counted once, the sum would jump where a face's closest point moves off the shared feature).
+  struct NearFeature {
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();  // the feature's closest point to p
+    int kind = 0;                                     // 0 the face's interior, 1 an edge, 2 a corner
+    Eigen::Vector3d edge = Eigen::Vector3d::Zero();   // an edge's unit direction
+  };
+  std::vector<NearFeature> closest_features_within(const Eigen::Vector3d& p, double radius) const;
+
   // Collision response for cloth positions X and velocities Vel (#V by 3; row i is cloth vertex i
   // across calls, for warm starts). offset [m] >= 0; in a pinch at most half the gap (see above).
   // Vertices at non-finite positions (a diverged solve, rejected by the step's own checks) are left
