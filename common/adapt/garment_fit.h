@@ -63,6 +63,14 @@ struct FitOptionFields {
     f.number("arap_tolerance", a.arap.tolerance, Range::positive());
     f.number("arap_stretch_tolerance", a.arap.stretch_tolerance, Range::non_negative());
     f.integer("arap_max_iterations", a.arap.max_iterations, Range::between(1, 1e9));
+    f.choice("equilibrium", m.equilibrium, equilibrium_names());
+    f.number("static_tolerance", m.statics.tolerance, Range::positive());
+    f.integer("static_max_iterations", m.statics.max_iterations, Range::between(1, 1e7));
+    f.number("static_adapt_displacement_m", m.statics.adapt_displacement, Range::positive());
+    f.integer("static_held_iterations", m.statics.held_iterations, Range::between(1, 1e7));
+    f.number("barrier_pressure_pa", m.statics.barrier_pressure, Range::positive());
+    f.number("barrier_band_m", m.statics.barrier_band, Range::positive());
+    f.number("static_max_displacement_m", m.statics.max_displacement, Range::positive());
     f.number("settle_speed_m_per_s", m.settle_speed, Range::positive());
     f.number("settle_stretch_change", m.settle_stretch_change, Range::non_negative());
     f.integer("settle_max_steps", m.settle_max_steps, Range::between(0, 1e7));

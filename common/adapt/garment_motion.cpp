@@ -90,6 +90,12 @@ struct Adaptation {
 
 }  // namespace
 
+const std::vector<std::pair<Equilibrium, const char*>>& equilibrium_names() {
+  static const std::vector<std::pair<Equilibrium, const char*>> names = {{Equilibrium::static_solve, "static"},
+                                                                         {Equilibrium::dynamic, "dynamic"}};
+  return names;
+}
+
 int applied_adaptation_lag(const MotionRunOptions& options) {
   return std::max(0, std::min(options.adaptation_lag, options.adapt_every - 1));
 }
@@ -114,6 +120,7 @@ struct GarmentMotion::Impl {
   std::optional<collision::BodyCollider> collider;
   std::optional<collision::ContinuousContact> contact;
   std::optional<cloth::ClothSimulator> sim;
+  std::optional<cloth::StaticSolver> static_solver;  // Equilibrium::static_solve
   // Per-vertex comfort offsets [m]: a vertex that starts closer to the body
   // than the garment's offset starts at its own distance and grows to the
   // offset at initial_push_speed (a push of centimetres in one step tears the
@@ -531,6 +538,102 @@ struct GarmentMotion::Impl {
     key.max_speed = sim->max_speed();
   }
 
+  // The body stops at a key pose: its static equilibrium solved directly
+  // (cloth/static_solve.h) and, with adaptation, the rest shape adapted there
+  // and the equilibrium solved again until the rest area is a fixed point.
+  // Cloth stretched beyond held_stretch at an equilibrium that the last
+  // adaptation did not relieve by held_improvement is held by the body.
+  void settle_static(KeyPoseResult& key, size_t frame_index, const ProgressCallback& progress) {
+    if (!static_solver) static_solver.emplace(options.statics);
+    key.solved_static = true;
+    // The offsets are the garment's from here on: the barrier pushes a vertex
+    // that is still inside its offset out gradually (its wall rises with it).
+    offsets.setConstant(garment.offset);
+    ramp_done = true;
+    std::vector<int> hints(static_cast<size_t>(sim->positions().rows()), -1);
+    const double room_within = 3.0 * garment.offset + options.statics.barrier_band;
+    cloth::StaticBody body;
+    body.features = [this](const Eigen::Vector3d& p, double radius, std::vector<cloth::BodyFeature>& out) {
+      for (const collision::BodyCollider::NearFeature& f : collider->closest_features_within(p, radius)) {
+        out.push_back({f.point, f.kind, f.edge});
+      }
+    };
+    body.distance = [this, &hints, room_within](int v, const Eigen::Vector3d& p, bool with_room) {
+      const collision::Proximity q = collider->query(p, hints[static_cast<size_t>(v)]);
+      hints[static_cast<size_t>(v)] = q.face;
+      cloth::BodyDistance d;
+      d.signed_distance = q.signed_distance;
+      d.outward = q.outward;
+      if (with_room && q.signed_distance < room_within) d.room = collider->gap(q);
+      return d;
+    };
+    // The equilibrium is sought in parts of adapt_every iterations; between
+    // them, once the cloth moves less than adapt_displacement, the rest shape
+    // is adapted to the cloth there (as the dynamic settling adapts every
+    // adapt_every steps once the cloth is slow). Settled: converged, with the
+    // last adaptation below fixed_point_area_change.
+    static_solver->restart();
+    const int cap = options.statics.max_iterations;
+    double best_stretch = std::numeric_limits<double>::infinity();
+    int best_at = 0;
+    double last_change = std::numeric_limits<double>::infinity();
+    double previous_stretch = largest_stretches().maxCoeff();
+    while (true) {
+      Eigen::MatrixXd X = sim->positions();
+      for (size_t k = 0; k < pin_ids.size(); ++k) X.row(pin_ids[k]) = targets.row(static_cast<Eigen::Index>(k));
+      const int part = options.adapt ? std::min(options.adapt_every, cap - key.newton_iterations) : cap;
+      const Eigen::MatrixXd X_before = X;
+      const cloth::StaticSolveReport r = static_solver->resume(*sim, body, offsets, X, part);
+      result.newton_iterations += r.iterations;
+      result.line_search_trials += r.line_search_trials;
+      sim->set_positions(X);
+      sim->set_velocities(Eigen::MatrixXd::Zero(X.rows(), 3));
+      key.newton_iterations += r.iterations;
+      key.settle_steps = key.newton_iterations;
+      key.force_residual = r.residual;
+      // The residual at each iterate; a part's first is the last one's end.
+      key.force_residuals.insert(key.force_residuals.end(), r.residuals.begin() + (key.force_residuals.empty() ? 0 : 1),
+                                 r.residuals.end());
+      const double stretch = largest_stretches().maxCoeff();
+      if (progress) {
+        char line[256];
+        std::snprintf(line, sizeof(line),
+                      "solving %s: %d Newton iterations, force residual %.3g (tolerance %.3g), max stretch %.4f, "
+                      "last rest area change %.3f%%",
+                      key.pose.c_str(), key.newton_iterations, r.residual, options.statics.tolerance, stretch,
+                      std::isfinite(last_change) ? 100.0 * last_change : 100.0);
+        report(progress, line, key.key, frame_index, key.settle_steps, false, stretch);
+      }
+      if (stretch < (1.0 - options.held_improvement) * best_stretch) {
+        best_stretch = stretch;
+        best_at = key.newton_iterations;
+      }
+      if (options.held_steps > 0 && stretch > options.held_stretch &&
+          key.newton_iterations - best_at >= options.statics.held_iterations) {
+        key.held = true;
+        break;
+      }
+      const double moved = (X - X_before).rowwise().norm().maxCoeff();
+      // Slow, or its largest stretch steady (a sleeve may still swing into
+      // place while the cloth the body stretches stays as it is).
+      const bool steady = std::abs(stretch - previous_stretch) < options.settle_stretch_change;
+      previous_stretch = stretch;
+      if (options.adapt && (moved < options.statics.adapt_displacement || steady || r.converged)) {
+        const double area_before = mesh_area(V_rest, F);
+        adapt_now();
+        last_change = std::abs(mesh_area(V_rest, F) - area_before) / area_before;
+        key.rest_area_change = last_change;
+      }
+      if (r.converged && (!options.adapt || last_change < options.fixed_point_area_change)) {
+        key.settled = true;
+        break;
+      }
+      if (key.newton_iterations >= cap) break;
+    }
+    key.max_speed = 0.0;
+    key.max_net_speed = 0.0;
+  }
+
   // Where the body holds the cloth: the patches of faces (joined by shared
   // vertices) stretched beyond held_stretch, most stretched first, each with
   // the body point nearest to its most stretched face and the room in front
@@ -652,10 +755,14 @@ struct GarmentMotion::Impl {
       KeyPoseResult key;
       key.key = frame.key;
       key.pose = motion.keys[static_cast<size_t>(frame.key)].pose;
-      settle(key, i, progress);
-      // And at the end of each pose, unless the body holds the cloth: its
-      // figures are then those it was found held with.
-      if (options.adapt && !key.held) adapt_now();
+      if (options.equilibrium == Equilibrium::static_solve) {
+        settle_static(key, i, progress);
+      } else {
+        settle(key, i, progress);
+        // And at the end of each pose, unless the body holds the cloth: its
+        // figures are then those it was found held with.
+        if (options.adapt && !key.held) adapt_now();
+      }
       result.all_settled = result.all_settled && key.settled;
       record(key);
       if (progress) {
@@ -689,6 +796,17 @@ struct GarmentMotion::Impl {
     result.times.solve = pt.solve;
     result.times.collisions = pt.collisions + collider->stats().rebuild_seconds;
     result.solver = sim->counters();
+    if (static_solver) {
+      // The static solves' work beside the steps'.
+      const cloth::PhaseTimes& st = static_solver->times();
+      result.times.forces_assembly += st.forces_assembly + st.checks;
+      result.times.factorization += st.factorization;
+      result.times.solve += st.solve;
+      result.times.collisions += st.collisions;
+      result.static_seconds = st.total();
+      result.solver.factorizations += static_solver->counters().factorizations;
+      result.solver.cg_iterations += static_solver->counters().cg_iterations;
+    }
     result.collisions = collider->stats();
     result.contact = contact->stats();
     result.times.total = seconds_since(start);

@@ -14,6 +14,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -22,6 +23,7 @@
 #include "adapt/pin_targets.h"
 #include "adapt/rest_adapter.h"
 #include "cloth/cloth_simulator.h"
+#include "cloth/static_solve.h"
 #include "collision/body_collider.h"
 #include "collision/contact_surface.h"
 #include "collision/continuous_contact.h"
@@ -32,9 +34,39 @@
 
 namespace gp::adapt {
 
+// How a key pose reaches its rest state (adapt/README.md, "The static solve").
+//  - static_solve: the equilibrium solved directly (cloth/static_solve.h); with adaptation, the rest
+//    shape is adapted at each equilibrium and the equilibrium solved again until the rest area is a
+//    fixed point (fixed_point_area_change).
+//  - dynamic: damped implicit Euler steps until the cloth is slow (the settle_* options), the way
+//    before the static solve, kept for comparison and for the dynamic benchmark.
+// The transitions between key poses are stepped dynamically either way.
+enum class Equilibrium { static_solve, dynamic };
+// Each way with its name in reports and options ("static", "dynamic").
+const std::vector<std::pair<Equilibrium, const char*>>& equilibrium_names();
+
+// The static solve at a key pose (Equilibrium::static_solve): the solver's options, max_iterations
+// the cap on all its Newton iterations at one key pose, adaptations included.
+struct StaticSettleOptions : cloth::StaticSolveOptions {
+  StaticSettleOptions() { max_iterations = 600; }
+  // With adaptation: the rest shape is adapted every adapt_every iterations once no vertex moved more
+  // than this over the last of them [m] (the dynamic settling's adapt_speed), or the largest stretch
+  // changed by less than settle_stretch_change over them: the stretch of cloth still on its way is
+  // transient. The force residual is no gate: a few vertices pressed into a crease hold it high
+  // until the adaptation relieves them.
+  double adapt_displacement = 0.002;
+  // Held cloth: stretched beyond held_stretch without the largest stretch falling by
+  // held_improvement (relative) for this many iterations (the dynamic settling's held_steps).
+  int held_iterations = 64;
+};
+
 // Options of a motion run. Defaults are the project's; the measurements
 // behind them are in common/adapt/README.md.
 struct MotionRunOptions {
+  // Dynamic by default until the static solve is faster through a whole fit (adapt/README.md, "The
+  // static solve": today it needs as many adaptations, and so as much work).
+  Equilibrium equilibrium = Equilibrium::dynamic;
+  StaticSettleOptions statics;        // the static solve at a key pose
   int substeps = 1;                   // simulation steps per interpolation frame (paper: one)
   bool adapt = true;                  // false: evaluate the fixed rest shape (--no-adapt)
   // Adapt only while the cloth settles at a key pose (the body still), not
@@ -159,6 +191,11 @@ struct MotionRunResult {
   bool all_settled = true;
   size_t culled_body_faces = 0;       // body faces kept for collisions
   double initial_min_distance = 0.0;  // m, smallest signed distance of the design garment to the body
+  // The static solves at key poses (Equilibrium::static_solve): Newton iterations and line-search
+  // trials, and their time [s] (also counted in `times` by phase).
+  long newton_iterations = 0;
+  long line_search_trials = 0;
+  double static_seconds = 0.0;
   cloth::SolverCounters solver;       // steps, rejections, folds, factorizations, CG, contact constraints
   collision::CollisionStats collisions;  // body queries, projections, pinches, creases
   collision::CrossingReport initial_crossings;  // the design garment against the contact surface in the first frame

@@ -32,6 +32,11 @@ OrderedJson key_pose_json(const KeyPoseResult& k, const std::string& mesh, const
   j["steps"] = k.steps;
   j["settle_steps"] = k.settle_steps;
   j["settled"] = k.settled;
+  if (k.solved_static) {
+    j["newton_iterations"] = k.newton_iterations;
+    j["force_residual"] = k.force_residual;
+    j["force_residuals"] = k.force_residuals;
+  }
   if (!checked) {
     j["max_speed_m_per_s"] = k.max_speed;
     j["max_net_speed_m_per_s"] = k.max_net_speed;

@@ -221,6 +221,9 @@ OrderedJson simulate_timing(const FitResult& fit, int threads, int workers, doub
                           {"non_finite", rc.non_finite},
                           {"solve_failed", rc.solve_failed},
                           {"most_inverted_faces", faces}};
+  timing["static_solve"] = {{"newton_iterations", result.newton_iterations},
+                            {"line_search_trials", result.line_search_trials},
+                            {"seconds", result.static_seconds}};
   timing["verification_s"] = fit.verification ? fit.verification->seconds : 0.0;
   timing["threads"] = threads;
   timing["workers"] = workers;

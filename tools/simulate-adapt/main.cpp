@@ -4,10 +4,10 @@
 // Writes rest.ply, draped_<k>_<pose>.ply (face field max_stretch), timing.json
 // and report.json (written last) into --out (adapt/simulate_report.h).
 #include <chrono>
-#include <thread>
 
 #include "adapt/fit_inputs.h"
 #include "adapt/garment_fit.h"
+#include "adapt/motion_cli.h"
 #include "adapt/motion_progress.h"
 #include "adapt/simulate_report.h"
 #include "cli/tool.h"
@@ -16,8 +16,7 @@
 
 int main(int argc, char** argv) {
   gp::Tool tool("simulate-adapt", "Simulate a garment on the moving body and adapt its rest shape");
-  std::string poses_path, motion_path, garment_path, solver = "refactor";
-  std::string contact = "velocity", pinch_gaps = "ray", continuous = "on", hand_hulls = "on";
+  std::string poses_path, motion_path, garment_path;
   gp::adapt::FitOptions fit_options;
   gp::adapt::MotionRunOptions& options = fit_options.motion;
   gp::adapt::FitCriteria& criteria = fit_options.criteria;
@@ -102,41 +101,8 @@ int main(int argc, char** argv) {
   gp::adapt::OpeningOptions opening_options;
   option("--open-clearance", opening_options.clearance, CLI::PositiveNumber, "A proposed opening of a held pose "
          "leaves at least this many comfort offsets of room where the cloth was held [1]");
-  option("--reach", options.reach, CLI::NonNegativeNumber, "Body faces farther than this from the garment are culled "
-         "[m]");
-  option("--solver", solver, CLI::IsMember({"pcg", "refactor"}), "Linear solver: refactor (a CHOLMOD factor every "
-         "step, CG with it) or pcg (CG with a reused, rotated factor)");
-  option("--cg-tolerance", options.solver.cg_tolerance, CLI::PositiveNumber, "Relative residual of the "
-         "conjugate-gradient solve [1]");
-  option("--contact", contact, CLI::IsMember({"velocity", "projection"}), "Body contact: velocity (constraints inside "
-         "the implicit solve, then projection) or projection (position projection after the step only)");
-  option("--pinch-gaps", pinch_gaps, CLI::IsMember({"facing", "ray"}), "Where two body parts are closer than twice "
-         "the offset, the cloth keeps half the gap from each: the gap along the contact's normal (ray) or to the "
-         "nearest body surface facing it in any direction, never less than the contact thickness (facing)");
-  option("--continuous-contact", continuous, CLI::IsMember({"on", "off"}), "Intersection-free contact in both "
-         "directions: body vertices and edges push the cloth out of their way and nothing passes through the other "
-         "surface within a step (on; active when the garment starts clear of the body) or cloth vertices against the "
-         "body only (off)");
-  auto* thickness_option = app.add_option("--contact-thickness", options.contact.thickness, "Separation kept between "
-         "the cloth and body vertices and edges by the continuous contact, and the least offset a pinch leaves; "
-         "default: the garment fabric's thickness, 1 mm where it gives none [m]")->check(CLI::PositiveNumber);
-  option("--pin-clearance", options.pin_clearance, CLI::Range(0.0, 1.0), "Keep the pinned vertices' targets at least "
-         "this fraction of the comfort offset from the body in every frame, moving them out where another body part "
-         "rises beside their bound point; 0: they follow their binding alone [fraction]");
-  option("--hand-hulls", hand_hulls, CLI::IsMember({"on", "off"}), "Collide the cloth also with the convex hull of "
-         "each hand (each thin body part at least --hull-min-extent long), so that fingers push the cloth and never "
-         "hook it (on), or with the body's own surface only (off)");
-  option("--hull-thin", options.contact_surface.thin, CLI::PositiveNumber, "A body vertex is in a thin part when the "
-         "body along its inward normal is thinner than this [m]");
-  option("--hull-min-extent", options.contact_surface.min_extent, CLI::NonNegativeNumber, "Thin parts with a shorter "
-         "bounding-box diagonal (ears, the nose) keep their own shape [m]");
-  // A second thread prepares body frames and adaptations, where the machine
-  // has a second core.
-  options.threads = std::thread::hardware_concurrency() >= 2 ? 2 : 1;
-  option("--workers", options.threads, CLI::Range(1, 256), "Worker threads of the run: 2 or more prepare the body "
-         "frames and the lagging adaptations and query half the body contacts on a second thread while the cloth "
-         "steps; 1 runs everything in turn. The outputs are the same for any count. Default: 2 where the machine has "
-         "two cores [count]");
+  gp::adapt::MotionChoices choices;
+  gp::adapt::add_solver_and_contact_options(app, options, choices);
 
   tool.add_common_options();
 
@@ -146,16 +112,11 @@ int main(int argc, char** argv) {
     options.adaptation_lag = gp::adapt::applied_adaptation_lag(options);  // recorded as run
     fit_options.verify = !no_verify;
     criteria.require_settled = !allow_unsettled;
-    options.velocity_contacts = contact == "velocity";
-    options.continuous_contact = continuous == "on";
-    options.facing_gaps = pinch_gaps == "facing";
-    options.contact_surface.hulls = hand_hulls == "on";
-    options.solver.strategy = solver == "pcg" ? gp::cloth::SolverStrategy::pcg_reused_factor
-                                              : gp::cloth::SolverStrategy::refactor_every_step;
+    gp::adapt::apply_choices(choices, options);
     const auto in = gp::adapt::read_fit_inputs(poses_path, motion_path, garment_path, fit_options.other_body);
     for (const std::string& w : in.warnings) tool.log().warning(w);
     // The cloth's own thickness keeps it off the body (the report records it).
-    if (thickness_option->count() == 0) options.contact.thickness = gp::contact_thickness(in.garment.material);
+    if (!choices.thickness_given()) options.contact.thickness = gp::contact_thickness(in.garment.material);
     gp::PoseInterpolator interpolator(in.poses, {gp::InterpolationMethod::nonlinear, in.motion.anchor});
 
     // Progress: a live line on a terminal, plain lines in a log; each key

@@ -46,10 +46,12 @@ inline gp::MotionSpec motion_of(const gp::PoseSet& poses, const std::vector<std:
   return gp::parse_motion_spec(j, "motion.json", poses);
 }
 
-// simulate-adapt's defaults with a settling cap.
+// simulate-adapt's defaults with a cap on the work at each key pose: the
+// settling steps, and as many Newton iterations of the static solve.
 inline MotionRunOptions run_options(int settle_max_steps) {
   MotionRunOptions o;
   o.settle_max_steps = settle_max_steps;
+  o.statics.max_iterations = std::max(settle_max_steps, 1);
   return o;
 }
 
