@@ -43,6 +43,14 @@ std::string sewn_drape_name(const adapt::KeyPoseResult& k) {
   return name;
 }
 
+// "rest_02_armsup.ply": the rest shape's own drape at key pose 2, where
+// export-rest simulated it as the reference (the fit has no verified drapes).
+std::string rest_drape_name(const adapt::KeyPoseResult& k) {
+  char name[256];
+  std::snprintf(name, sizeof(name), "rest_%02d_%s.ply", k.key, k.pose.c_str());
+  return name;
+}
+
 OrderedJson vector_json(const Eigen::Vector3d& x) { return OrderedJson::array({x.x(), x.y(), x.z()}); }
 
 // The sewn drapes against the verified ones, over all key poses, and how
@@ -56,6 +64,9 @@ OrderedJson drape_summary(const SewnFitResult& sewn) {
                    {"measured", !sewn.drape.empty()},
                    {"why_not", sewn.drape.empty() ? OrderedJson(sewn.drape_not_measured) : OrderedJson(nullptr)},
                    {"verdict", sewn.drape.empty() ? "not measured" : sewn.drape_passed() ? "pass" : "fail"},
+                   {"reference", sewn.drape.empty()               ? OrderedJson(nullptr)
+                                 : sewn.reference_is_rest_shape ? "the rest shape simulated by export-rest"
+                                                                : "the fit's verified drapes"},
                    {"rest_area_m2", sewn.rest_area},
                    {"sewn_rest_area_m2", sewn.sewn_rest_area},
                    {"pattern_ease", ease}};
@@ -114,6 +125,7 @@ OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOpti
           {"verdict", d.passed() ? "pass" : "fail"},
           {"failures", d.failures},
           {"verified_mesh", d.verified_mesh},
+          {"verified_mesh_in", sewn.reference_is_rest_shape ? "pattern" : "fit"},
           {"mean_m", d.mean},
           {"p95_m", d.p95},
           {"max_m", d.max},
@@ -125,6 +137,9 @@ OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOpti
           {"verified_drape_area_m2", d.verified_area},
           {"drape_area_ratio", d.verified_area > 0.0 ? d.sewn_area / d.verified_area : 0.0}};
     }
+    // The sewn garment's stretch against its reference's at this pose.
+    if (sewn.reference_is_rest_shape && i < sewn.reference.poses.size())
+      pose["reference"] = adapt::to_json(sewn.reference.poses[i], rest_drape_name(sewn.reference.poses[i].figures));
     poses.push_back(pose);
   }
   const bool failed = result.sewn_fit_failed();
@@ -337,6 +352,7 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
     } catch (const NumericalError& e) {
       result.sewn_fit_error = std::string("the simulation of the sewn garment failed: ") + e.what();
       result.sewn_fit.delta = result.fit.delta();
+      result.sewn_fit.drape_not_measured = "the simulation of the sewn garment failed";
     }
     result.sewn_fit_done = true;
     if (result.sewn_fit_error.empty()) {
@@ -344,7 +360,23 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
       SewnFitResult& sewn = result.sewn_fit;
       sewn.drape_criteria = options.drape;
       if (result.fit.verified.empty()) {
-        sewn.drape_not_measured = "the fit's report has no verified drapes (a fit run without verification)";
+        // A fit run without verification names no drape of its rest shape:
+        // the rest shape is simulated here, as the sewn garment was.
+        try {
+          sewn.reference = rest_shape_drapes(interpolator, motion, design.V, rest.V, rest.F, result.garment,
+                                             result.fit.run, result.fit.criteria, options.progress);
+          sewn.reference_is_rest_shape = true;
+        } catch (const NumericalError& e) {
+          sewn.drape_not_measured = std::string("the fit has no verified drapes, and the rest shape's own simulation "
+                                                "failed: ") + e.what();
+        }
+        std::vector<Eigen::MatrixXd> reference;
+        std::vector<std::string> names;
+        for (const adapt::PoseCheck& check : sewn.reference.poses) {
+          reference.push_back(check.figures.V_draped);
+          names.push_back(rest_drape_name(check.figures));
+        }
+        if (sewn.reference_is_rest_shape) compare_with_verified(sewn, reference, names, rest.F, options.drape);
       } else {
         std::vector<Eigen::MatrixXd> verified;
         std::vector<std::string> names;
@@ -427,6 +459,13 @@ void write_export_rest(const ExportRestResult& result, const ExportRestOptions& 
         drape.vertex_fields.push_back({"distance_to_verified", d.vertex_distance});
     write_mesh(dir / sewn_drape_name(check.figures), drape);
   }
+  for (const adapt::PoseCheck& check : result.sewn_fit.reference.poses) {
+    Mesh drape;
+    drape.F = result.rest.F;
+    drape.V = check.figures.V_draped;
+    drape.face_fields.push_back({"max_stretch", check.figures.face_max_stretch});
+    write_mesh(dir / rest_drape_name(check.figures), drape);
+  }
   const Pattern& pattern = result.pattern;
   const Layout& layout = result.layout;
   write_file_atomic(dir / "pattern.svg", [&](std::ostream& s) { write_svg(s, pattern, layout, {pattern_title(result)}); }, false);
@@ -457,6 +496,8 @@ void write_export_rest(const ExportRestResult& result, const ExportRestOptions& 
   }
   if (result.sewn_fit_done) {
     timing["sewn_fit_simulation_s"] = result.sewn_fit.verification.seconds;
+    if (result.sewn_fit.reference_is_rest_shape)
+      timing["sewn_fit_reference_simulation_s"] = result.sewn_fit.reference.seconds;
     timing["sewn_fit_steps"] = result.sewn_fit.verification.steps;
   }
   if (result.timing.contains("total")) timing["total_s"] = result.timing["total"];

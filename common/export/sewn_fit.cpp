@@ -212,6 +212,18 @@ SewnFitResult sewn_fit_check(PoseInterpolator& interpolator, const MotionSpec& m
   return result;
 }
 
+adapt::FitVerification rest_shape_drapes(PoseInterpolator& interpolator, const MotionSpec& motion,
+                                         const Eigen::MatrixXd& V_start, const Eigen::MatrixXd& V_rest,
+                                         const Eigen::MatrixXi& F, const GarmentFile& garment,
+                                         const adapt::MotionRunOptions& options, const adapt::FitCriteria& criteria,
+                                         const adapt::ProgressCallback& progress) {
+  if (V_rest.rows() != V_start.rows() || V_rest.cols() != 3)
+    throw GeometryError("the rest shape has " + std::to_string(V_rest.rows()) + " vertices, the design " +
+                        std::to_string(V_start.rows()));
+  return adapt::verify_fit(interpolator, motion, V_start, F, garment, adapt::rest_triangles_of(V_rest, F), options,
+                           criteria, progress);
+}
+
 DrapeDistance drape_distance(const Eigen::MatrixXd& V_sewn, const Eigen::MatrixXd& V_verified,
                              const Eigen::MatrixXi& F, const DrapeCriteria& criteria) {
   if (V_sewn.rows() != V_verified.rows() || V_sewn.cols() != 3 || V_verified.cols() != 3)

@@ -98,7 +98,8 @@ struct DrapeCriteriaFields {
 struct DrapeDistance {
   int key = -1;
   std::string pose;
-  std::string verified_mesh;            // the fit's drape compared with (file name in the fit's folder)
+  std::string verified_mesh;            // the drape compared with: a file name in the fit's folder, or
+                                        // (reference_is_rest_shape) in export-rest's own output folder
   double mean = 0.0;                    // metres
   double p95 = 0.0;                     // metres
   double max = 0.0;                     // metres
@@ -126,7 +127,12 @@ struct SewnFitResult {
   double rest_area = 0.0;                // the rest shape's area, m^2
   DrapeCriteria drape_criteria;
   std::vector<DrapeDistance> drape;      // one per key pose; empty when not measured
-  std::string drape_not_measured;        // why `drape` is empty (the fit has no verified drapes, ...)
+  std::string drape_not_measured;        // why `drape` is empty (the simulation failed, ...)
+  // Where the fit's report names no verified drapes (a fit run with
+  // --no-verify), the reference is the rest shape's own drape, simulated
+  // here as the sewn garment is (rest_shape_drapes); its checks are kept.
+  bool reference_is_rest_shape = false;
+  adapt::FitVerification reference;      // the rest shape's own run (empty unless reference_is_rest_shape)
   bool drape_passed() const {
     return std::all_of(drape.begin(), drape.end(), [](const DrapeDistance& d) { return d.passed(); });
   }
@@ -156,6 +162,17 @@ SewnFitResult sewn_fit_check(PoseInterpolator& interpolator, const MotionSpec& m
 void compare_with_verified(SewnFitResult& result, const std::vector<Eigen::MatrixXd>& verified,
                            const std::vector<std::string>& verified_meshes, const Eigen::MatrixXi& F,
                            const DrapeCriteria& criteria);
+
+// The reference drapes where the fit has no verified ones: the rest shape
+// (V_rest, #V by 3, faces F) simulated through the motion exactly as the
+// sewn garment is (adapt::verify_fit from V_start with the same options, the
+// rest shape's own triangles, adapt::rest_triangles_of), so that an
+// undistorted pattern drapes at distance 0 from it. Throws as verify_fit.
+adapt::FitVerification rest_shape_drapes(PoseInterpolator& interpolator, const MotionSpec& motion,
+                                         const Eigen::MatrixXd& V_start, const Eigen::MatrixXd& V_rest,
+                                         const Eigen::MatrixXi& F, const GarmentFile& garment,
+                                         const adapt::MotionRunOptions& options, const adapt::FitCriteria& criteria,
+                                         const adapt::ProgressCallback& progress = {});
 
 // One line naming the first failing key pose, what fails and where
 // ("key pose 2 (armsup): p99 stretch 1.1534 above 1.1200; worst in left
