@@ -64,6 +64,9 @@ OrderedJson drape_summary(const SewnFitResult& sewn) {
                    {"measured", !sewn.drape.empty()},
                    {"why_not", sewn.drape.empty() ? OrderedJson(sewn.drape_not_measured) : OrderedJson(nullptr)},
                    {"verdict", sewn.drape.empty() ? "not measured" : sewn.drape_passed() ? "pass" : "fail"},
+                   {"judged", sewn.drape.empty()     ? OrderedJson(nullptr)
+                              : sewn.settled.empty() ? "the drape after the whole motion"
+                                                     : "the sewn garment settled at each key pose alone from the reference drape"},
                    {"reference", sewn.drape.empty()               ? OrderedJson(nullptr)
                                  : sewn.reference_is_rest_shape ? "the rest shape simulated by export-rest"
                                                                 : "the fit's verified drapes"},
@@ -79,6 +82,17 @@ OrderedJson drape_summary(const SewnFitResult& sewn) {
     area_ratio += d.verified_area > 0.0 ? d.sewn_area / d.verified_area : 0.0;
   }
   area_ratio /= static_cast<double>(sewn.drape.size());
+  if (!sewn.settled.empty()) {
+    double s_mean = 0.0, s_p95 = 0.0, s_max = 0.0;
+    for (const DrapeDistance& d : sewn.settled) {
+      s_mean = std::max(s_mean, d.mean);
+      s_p95 = std::max(s_p95, d.p95);
+      s_max = std::max(s_max, d.max);
+    }
+    j["settled_worst_mean_m"] = s_mean;
+    j["settled_worst_p95_m"] = s_p95;
+    j["settled_max_m"] = s_max;
+  }
   j["worst_mean_m"] = mean;
   j["worst_p95_m"] = p95;
   j["max_m"] = max;
@@ -136,6 +150,15 @@ OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOpti
           {"sewn_drape_area_m2", d.sewn_area},
           {"verified_drape_area_m2", d.verified_area},
           {"drape_area_ratio", d.verified_area > 0.0 ? d.sewn_area / d.verified_area : 0.0}};
+    }
+    if (i < sewn.settled.size()) {
+      auto figures = [](const DrapeDistance& d) {
+        return OrderedJson{{"mean_m", d.mean}, {"p95_m", d.p95}, {"max_m", d.max}};
+      };
+      pose["settled_from_reference"] = {{"verdict", sewn.settled[i].passed() ? "pass" : "fail"},
+                                        {"failures", sewn.settled[i].failures},
+                                        {"sewn", figures(sewn.settled[i])},
+                                        {"rest_shape", figures(sewn.settled_floor[i])}};
     }
     // The sewn garment's stretch against its reference's at this pose.
     if (sewn.reference_is_rest_shape && i < sewn.reference.poses.size())
@@ -358,7 +381,9 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
     if (result.sewn_fit_error.empty()) {
       // The sewn drapes against the fit's verified drapes of this rest shape.
       SewnFitResult& sewn = result.sewn_fit;
-      sewn.drape_criteria = options.drape;
+      // With --drape-settled the bounds judge the settled distances, and the
+      // distance after the whole motion is reported unbounded.
+      const DrapeCriteria motion_bounds = options.drape_settled ? DrapeCriteria{} : options.drape;
       if (result.fit.verified.empty()) {
         // A fit run without verification names no drape of its rest shape:
         // the rest shape is simulated here, as the sewn garment was.
@@ -376,7 +401,7 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
           reference.push_back(check.figures.V_draped);
           names.push_back(rest_drape_name(check.figures));
         }
-        if (sewn.reference_is_rest_shape) compare_with_verified(sewn, reference, names, rest.F, options.drape);
+        if (sewn.reference_is_rest_shape) compare_with_verified(sewn, reference, names, rest.F, motion_bounds);
       } else {
         std::vector<Eigen::MatrixXd> verified;
         std::vector<std::string> names;
@@ -390,7 +415,28 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
           verified.push_back(m.V);
           names.push_back(d.mesh);
         }
-        compare_with_verified(sewn, verified, names, rest.F, options.drape);
+        compare_with_verified(sewn, verified, names, rest.F, motion_bounds);
+      }
+      sewn.drape_criteria = options.drape;
+      if (options.drape_settled && !sewn.drape.empty()) {
+        std::vector<Eigen::MatrixXd> reference;
+        if (sewn.reference_is_rest_shape)
+          for (const adapt::PoseCheck& c : sewn.reference.poses) reference.push_back(c.figures.V_draped);
+        else
+          for (const FitSettings::VerifiedDrape& d : result.fit.verified) reference.push_back(read_mesh(d.path).mesh.V);
+        const auto triangles = sewn_rest_triangles(result.pattern, result.layout, static_cast<int>(rest.F.rows()));
+        const auto settled = settle_from_reference(interpolator, motion, reference, rest.F, result.garment, triangles,
+                                                   result.fit.run, result.fit.criteria);
+        const auto floor = settle_from_reference(interpolator, motion, reference, rest.F, result.garment,
+                                                 adapt::rest_triangles_of(rest.V, rest.F), result.fit.run,
+                                                 result.fit.criteria);
+        for (size_t i = 0; i < reference.size(); ++i) {
+          sewn.settled.push_back(drape_distance(settled[i], reference[i], rest.F, options.drape));
+          sewn.settled.back().key = sewn.drape[i].key;
+          sewn.settled.back().pose = sewn.drape[i].pose;
+          sewn.settled.back().verified_mesh = sewn.drape[i].verified_mesh;
+          sewn.settled_floor.push_back(drape_distance(floor[i], reference[i], rest.F, DrapeCriteria{}));
+        }
       }
     }
     lap("sewn_fit");

@@ -129,6 +129,8 @@ int main(int argc, char** argv) {
   app.add_option("--drape-p95-limit", o.drape.max_p95,
                  "Sewn-fit check: ... or farther than this on 5 % of the area (0: not bounded) [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
+  app.add_flag("--drape-settled", o.drape_settled, "Sewn-fit check: also settle the sewn garment (and the rest shape) "
+               "at each key pose alone from the reference drape and measure the distance");
   app.add_option("--seam-allowance", o.layout.seam_allowance, "Seam allowance around every piece [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.2));
   app.add_option("--notch-spacing", o.layout.notch_spacing, "Distance between notches along a seam [m]")

@@ -339,6 +339,48 @@ TEST_CASE("the sewn drape against the rest shape's own drape: close when the pat
   }
 }
 
+TEST_CASE("settled at each key pose from the verified drape: the pattern as cut stays, one eased by 10 % sags",
+          "[sewn_fit][cli]") {
+  const CapScene s = write_cap_scene("sewn-fit-settled");
+  const fs::path fit = write_fit_report(s);
+  const std::string base = testing::tool_path("export-rest") + " --garment " + (s.dir / "garment.json").string() +
+                           " -q --fit " + fit.string() + " --drape-settled --drape-mean-limit 0.005 --drape-p95-limit 0.015 ";
+  const auto good = testing::run_command(base + (s.dir / "garment.ply").string() + " --out " + (s.dir / "good").string());
+  INFO(good.err);
+  REQUIRE(good.exit_code == 0);
+  const Json sewn = read_json_file(s.dir / "good" / "report.json")["sewn_fit"];
+  CHECK(sewn["drape"]["judged"] == "the sewn garment settled at each key pose alone from the reference drape");
+  CHECK(sewn["drape"]["settled_worst_mean_m"].get<double>() < 0.001);
+  for (const Json& k : sewn["key_poses"]) {
+    const Json& d = k["settled_from_reference"];
+    INFO("pose " << k["pose"] << " sewn " << d["sewn"] << " rest shape " << d["rest_shape"]);
+    CHECK(d["verdict"] == "pass");
+    CHECK(d["sewn"]["mean_m"].get<double>() < 0.001);
+    CHECK(d["sewn"]["p95_m"].get<double>() < 0.002);
+    // The verified drape settled again with the rest shape's own triangles
+    // stays where it was: the floor of the figure.
+    CHECK(d["rest_shape"]["mean_m"].get<double>() < 0.0005);
+    // The distance after the motion is reported, not bounded.
+    CHECK(k["distance_to_verified"]["failures"].empty());
+  }
+  Mesh eased = s.cap;
+  const Eigen::RowVector3d centre = eased.V.colwise().mean();
+  eased.V = ((eased.V.rowwise() - centre) * 1.10).rowwise() + centre;
+  write_mesh(s.dir / "eased.ply", eased);
+  const auto bad = testing::run_command(base + (s.dir / "eased.ply").string() + " --out " + (s.dir / "eased").string());
+  INFO(bad.err);
+  CHECK(bad.exit_code == 8);
+  CHECK(bad.err.find("settled at this pose alone from the verified drape, mean distance") != std::string::npos);
+  const Json failed = read_json_file(s.dir / "eased" / "report.json")["sewn_fit"];
+  CHECK(failed["drape"]["verdict"] == "fail");
+  for (const Json& k : failed["key_poses"]) {
+    const Json& d = k["settled_from_reference"];
+    INFO("pose " << k["pose"] << " sewn " << d["sewn"]);
+    CHECK(d["verdict"] == "fail");
+    CHECK(d["sewn"]["mean_m"].get<double>() > 0.005);
+  }
+}
+
 TEST_CASE("a pattern eased by 10 % drapes away from its rest shape's own drape", "[sewn_fit]") {
   const CapScene s = write_cap_scene("sewn-fit-eased");
   const fs::path fit = write_fit_report(s, " --no-verify");
