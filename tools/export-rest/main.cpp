@@ -125,12 +125,12 @@ int main(int argc, char** argv) {
                  "exits 8 (needs --garment); none: no sewn-fit check");
   app.add_option("--drape-mean-limit", o.drape.max_mean,
                  "Sewn-fit check: a key pose fails when the sewn drape lies farther than this from the fit's "
-                 "verified drape on average (0: not bounded) [m]")->capture_default_str()->check(CLI::Range(0.0, 10.0));
+                 "verified drape (else the rest shape's own) on average (0: not bounded; the goal is 0.005) [m]")->capture_default_str()->check(CLI::Range(0.0, 10.0));
   app.add_option("--drape-p95-limit", o.drape.max_p95,
-                 "Sewn-fit check: ... or farther than this on 5 % of the area (0: not bounded) [m]")
+                 "Sewn-fit check: ... or farther than this on 5 % of the area (0: not bounded; the goal is 0.015) [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
-  app.add_flag("--drape-settled", o.drape_settled, "Sewn-fit check: also settle the sewn garment (and the rest shape) "
-               "at each key pose alone from the reference drape and measure the distance");
+  app.add_flag("--drape-settled", o.drape_settled, "Sewn-fit check: settle the sewn garment (and the rest shape) at "
+               "each key pose alone from the reference drape; the drape limits then judge that distance");
   app.add_option("--seam-allowance", o.layout.seam_allowance, "Seam allowance around every piece [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.2));
   app.add_option("--notch-spacing", o.layout.notch_spacing, "Distance between notches along a seam [m]")
