@@ -51,6 +51,14 @@ std::string rest_drape_name(const adapt::KeyPoseResult& k) {
   return name;
 }
 
+// "settled_02_armsup.ply": the sewn garment settled at key pose 2 alone from
+// the reference drape (--drape-settled).
+std::string settled_drape_name(const adapt::KeyPoseResult& k) {
+  char name[256];
+  std::snprintf(name, sizeof(name), "settled_%02d_%s.ply", k.key, k.pose.c_str());
+  return name;
+}
+
 OrderedJson vector_json(const Eigen::Vector3d& x) { return OrderedJson::array({x.x(), x.y(), x.z()}); }
 
 // The sewn drapes against the verified ones, over all key poses, and how
@@ -156,6 +164,7 @@ OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOpti
         return OrderedJson{{"mean_m", d.mean}, {"p95_m", d.p95}, {"max_m", d.max}};
       };
       pose["settled_from_reference"] = {{"verdict", sewn.settled[i].passed() ? "pass" : "fail"},
+                                        {"mesh", settled_drape_name(k)},
                                         {"failures", sewn.settled[i].failures},
                                         {"sewn", figures(sewn.settled[i])},
                                         {"rest_shape", figures(sewn.settled_floor[i])}};
@@ -430,6 +439,7 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
         const auto floor = settle_from_reference(interpolator, motion, reference, rest.F, result.garment,
                                                  adapt::rest_triangles_of(rest.V, rest.F), result.fit.run,
                                                  result.fit.criteria);
+        sewn.settled_drapes = settled;
         for (size_t i = 0; i < reference.size(); ++i) {
           sewn.settled.push_back(drape_distance(settled[i], reference[i], rest.F, options.drape));
           sewn.settled.back().key = sewn.drape[i].key;
@@ -504,6 +514,14 @@ void write_export_rest(const ExportRestResult& result, const ExportRestOptions& 
       if (d.key == check.figures.key && d.pose == check.figures.pose)
         drape.vertex_fields.push_back({"distance_to_verified", d.vertex_distance});
     write_mesh(dir / sewn_drape_name(check.figures), drape);
+  }
+  const auto& poses = result.sewn_fit.verification.poses;
+  for (size_t i = 0; i < result.sewn_fit.settled_drapes.size() && i < poses.size(); ++i) {
+    Mesh drape;
+    drape.F = result.rest.F;
+    drape.V = result.sewn_fit.settled_drapes[i];
+    drape.vertex_fields.push_back({"distance_to_verified", result.sewn_fit.settled[i].vertex_distance});
+    write_mesh(dir / settled_drape_name(poses[i].figures), drape);
   }
   for (const adapt::PoseCheck& check : result.sewn_fit.reference.poses) {
     Mesh drape;

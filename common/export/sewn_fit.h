@@ -140,6 +140,7 @@ struct SewnFitResult {
   // against the reference; and the rest shape settled so (the floor: how far
   // the reference itself moves when settled again).
   std::vector<DrapeDistance> settled, settled_floor;
+  std::vector<Eigen::MatrixXd> settled_drapes;  // the sewn garment settled so, one per key pose
   bool reference_is_rest_shape = false;
   adapt::FitVerification reference;      // the rest shape's own run (empty unless reference_is_rest_shape)
   // The bounds judge the settled distances where they were measured (the

@@ -165,9 +165,13 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
       std::string q;
       for (size_t j = 0; sewn_keys && j < sewn_keys->size(); ++j)
         if ((*sewn_keys)[j].value("key", -1) == run.keys[i].key) q = "/sewn_fit/key_poses/" + std::to_string(j);
-      const std::string d = q + "/distance_to_verified";
-      h += "<p>Sewn from the flat pattern: " + figure(run.pattern, d + "/verdict", "text") + "; distance from the "
-           "designed drape: mean " + figure(run.pattern, d + "/mean_m", "mm2") + ", p95 " +
+      // The settled distance where export-rest measured it (--drape-settled), as the sheet shows.
+      const Json* settled = q.empty() ? nullptr : lookup(run.pattern, q + "/settled_from_reference/sewn");
+      const std::string d = settled ? q + "/settled_from_reference/sewn" : q + "/distance_to_verified";
+      h += "<p>Sewn from the flat pattern: " +
+           figure(run.pattern, (settled ? q + "/settled_from_reference" : d) + "/verdict", "text") +
+           (settled ? "; settled at this pose alone from the designed drape, distance from it: mean "
+                    : "; distance from the designed drape after the motion: mean ") + figure(run.pattern, d + "/mean_m", "mm2") + ", p95 " +
            figure(run.pattern, d + "/p95_m", "mm2") + ", max " + figure(run.pattern, d + "/max_m", "mm2") +
            "; p99 stretch " + figure(run.pattern, q + "/p99_stretch", "fixed3") + ", area above " + limit + ": " +
            figure(run.pattern, q + "/area_fraction_above_limit", "percent2") + ".</p>\n";

@@ -71,10 +71,18 @@ std::vector<std::string> write_sewn_sheets(const FitRun& run, const PoseSet& pos
     for (const Json& k : *keys)
       if (k.contains("key") && k["key"].is_number_integer() && k["key"].get<int>() == run.keys[i].key) entry = &k;
     if (!entry || !entry->contains("distance_to_verified") || !(*entry)["distance_to_verified"].is_object()) continue;
-    const Json& d = (*entry)["distance_to_verified"];
-    const std::string in = d.value("verified_mesh_in", std::string("fit"));
-    const fs::path reference_path = (in == "pattern" ? pattern_dir : run.dir / "fit") / d["verified_mesh"].get<std::string>();
-    const fs::path sewn_path = pattern_dir / (*entry)["mesh"].get<std::string>();
+    // Settled at the pose alone from the reference (export-rest --drape-settled)
+    // where measured: the pattern's figure; else the drape after the motion.
+    const bool settled = entry->contains("settled_from_reference") &&
+                         (*entry)["settled_from_reference"].is_object() &&
+                         (*entry)["settled_from_reference"].contains("mesh");
+    const Json& motion = (*entry)["distance_to_verified"];
+    const std::string in = motion.value("verified_mesh_in", std::string("fit"));
+    const fs::path reference_path =
+        (in == "pattern" ? pattern_dir : run.dir / "fit") / motion["verified_mesh"].get<std::string>();
+    const Json& d = settled ? (*entry)["settled_from_reference"]["sewn"] : motion;
+    const fs::path sewn_path =
+        pattern_dir / (settled ? (*entry)["settled_from_reference"]["mesh"] : (*entry)["mesh"]).get<std::string>();
     const Mesh reference = read_garment_drape(reference_path, F);
     const Mesh sewn = read_garment_drape(sewn_path, F);
     const ScalarField* distance = find_field(sewn.vertex_fields, "distance_to_verified");
@@ -97,7 +105,8 @@ std::vector<std::string> write_sewn_sheets(const FitRun& run, const PoseSet& pos
     const std::vector<SheetRow> rows = {
         row(rest_reference ? "the rest shape's own drape (simulated by export-rest)" : "verified (the rest shape simulated afresh)",
             reference),
-        row("sewn from the flat pattern", sewn)};
+        row(settled ? "sewn from the flat pattern, settled at this pose from the drape above" : "sewn from the flat pattern",
+            sewn)};
     const std::vector<Views> views = render_views(rows, {cameras, cameras}, sheet);
     char id[160];
     std::snprintf(id, sizeof(id), "%02d_%s", run.keys[i].key, run.keys[i].pose.c_str());

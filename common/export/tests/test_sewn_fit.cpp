@@ -362,6 +362,12 @@ TEST_CASE("settled at each key pose from the verified drape: the pattern as cut 
     CHECK(d["rest_shape"]["mean_m"].get<double>() < 0.0005);
     // The distance after the motion is reported, not bounded.
     CHECK(k["distance_to_verified"]["failures"].empty());
+    // The settled drape is written with its distance per vertex.
+    const fs::path mesh = s.dir / "good" / d["mesh"].get<std::string>();
+    REQUIRE(fs::exists(mesh));
+    const ScalarField* dist = find_field(read_mesh(mesh).mesh.vertex_fields, "distance_to_verified");
+    REQUIRE(dist != nullptr);
+    CHECK(dist->values.maxCoeff() == Approx(d["sewn"]["max_m"].get<double>()));
   }
   Mesh eased = s.cap;
   const Eigen::RowVector3d centre = eased.V.colwise().mean();
