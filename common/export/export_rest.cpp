@@ -43,6 +43,22 @@ std::string sewn_drape_name(const adapt::KeyPoseResult& k) {
   return name;
 }
 
+// "rest_02_armsup.ply": the rest shape's own drape at key pose 2, where
+// export-rest simulated it as the reference (the fit has no verified drapes).
+std::string rest_drape_name(const adapt::KeyPoseResult& k) {
+  char name[256];
+  std::snprintf(name, sizeof(name), "rest_%02d_%s.ply", k.key, k.pose.c_str());
+  return name;
+}
+
+// "settled_02_armsup.ply": the sewn garment settled at key pose 2 alone from
+// the reference drape (--drape-settled).
+std::string settled_drape_name(const adapt::KeyPoseResult& k) {
+  char name[256];
+  std::snprintf(name, sizeof(name), "settled_%02d_%s.ply", k.key, k.pose.c_str());
+  return name;
+}
+
 OrderedJson vector_json(const Eigen::Vector3d& x) { return OrderedJson::array({x.x(), x.y(), x.z()}); }
 
 // The sewn drapes against the verified ones, over all key poses, and how
@@ -56,6 +72,12 @@ OrderedJson drape_summary(const SewnFitResult& sewn) {
                    {"measured", !sewn.drape.empty()},
                    {"why_not", sewn.drape.empty() ? OrderedJson(sewn.drape_not_measured) : OrderedJson(nullptr)},
                    {"verdict", sewn.drape.empty() ? "not measured" : sewn.drape_passed() ? "pass" : "fail"},
+                   {"judged", sewn.drape.empty()     ? OrderedJson(nullptr)
+                              : sewn.settled.empty() ? "the drape after the whole motion"
+                                                     : "the sewn garment settled at each key pose alone from the reference drape"},
+                   {"reference", sewn.drape.empty()               ? OrderedJson(nullptr)
+                                 : sewn.reference_is_rest_shape ? "the rest shape simulated by export-rest"
+                                                                : "the fit's verified drapes"},
                    {"rest_area_m2", sewn.rest_area},
                    {"sewn_rest_area_m2", sewn.sewn_rest_area},
                    {"pattern_ease", ease}};
@@ -68,6 +90,17 @@ OrderedJson drape_summary(const SewnFitResult& sewn) {
     area_ratio += d.verified_area > 0.0 ? d.sewn_area / d.verified_area : 0.0;
   }
   area_ratio /= static_cast<double>(sewn.drape.size());
+  if (!sewn.settled.empty()) {
+    double s_mean = 0.0, s_p95 = 0.0, s_max = 0.0;
+    for (const DrapeDistance& d : sewn.settled) {
+      s_mean = std::max(s_mean, d.mean);
+      s_p95 = std::max(s_p95, d.p95);
+      s_max = std::max(s_max, d.max);
+    }
+    j["settled_worst_mean_m"] = s_mean;
+    j["settled_worst_p95_m"] = s_p95;
+    j["settled_max_m"] = s_max;
+  }
   j["worst_mean_m"] = mean;
   j["worst_p95_m"] = p95;
   j["max_m"] = max;
@@ -114,6 +147,7 @@ OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOpti
           {"verdict", d.passed() ? "pass" : "fail"},
           {"failures", d.failures},
           {"verified_mesh", d.verified_mesh},
+          {"verified_mesh_in", sewn.reference_is_rest_shape ? "pattern" : "fit"},
           {"mean_m", d.mean},
           {"p95_m", d.p95},
           {"max_m", d.max},
@@ -125,6 +159,19 @@ OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOpti
           {"verified_drape_area_m2", d.verified_area},
           {"drape_area_ratio", d.verified_area > 0.0 ? d.sewn_area / d.verified_area : 0.0}};
     }
+    if (i < sewn.settled.size()) {
+      auto figures = [](const DrapeDistance& d) {
+        return OrderedJson{{"mean_m", d.mean}, {"p95_m", d.p95}, {"max_m", d.max}};
+      };
+      pose["settled_from_reference"] = {{"verdict", sewn.settled[i].passed() ? "pass" : "fail"},
+                                        {"mesh", settled_drape_name(k)},
+                                        {"failures", sewn.settled[i].failures},
+                                        {"sewn", figures(sewn.settled[i])},
+                                        {"rest_shape", figures(sewn.settled_floor[i])}};
+    }
+    // The sewn garment's stretch against its reference's at this pose.
+    if (sewn.reference_is_rest_shape && i < sewn.reference.poses.size())
+      pose["reference"] = adapt::to_json(sewn.reference.poses[i], rest_drape_name(sewn.reference.poses[i].figures));
     poses.push_back(pose);
   }
   const bool failed = result.sewn_fit_failed();
@@ -337,14 +384,33 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
     } catch (const NumericalError& e) {
       result.sewn_fit_error = std::string("the simulation of the sewn garment failed: ") + e.what();
       result.sewn_fit.delta = result.fit.delta();
+      result.sewn_fit.drape_not_measured = "the simulation of the sewn garment failed";
     }
     result.sewn_fit_done = true;
     if (result.sewn_fit_error.empty()) {
       // The sewn drapes against the fit's verified drapes of this rest shape.
       SewnFitResult& sewn = result.sewn_fit;
-      sewn.drape_criteria = options.drape;
+      // With --drape-settled the bounds judge the settled distances, and the
+      // distance after the whole motion is reported unbounded.
+      const DrapeCriteria motion_bounds = options.drape_settled ? DrapeCriteria{} : options.drape;
       if (result.fit.verified.empty()) {
-        sewn.drape_not_measured = "the fit's report has no verified drapes (a fit run without verification)";
+        // A fit run without verification names no drape of its rest shape:
+        // the rest shape is simulated here, as the sewn garment was.
+        try {
+          sewn.reference = rest_shape_drapes(interpolator, motion, design.V, rest.V, rest.F, result.garment,
+                                             result.fit.run, result.fit.criteria, options.progress);
+          sewn.reference_is_rest_shape = true;
+        } catch (const NumericalError& e) {
+          sewn.drape_not_measured = std::string("the fit has no verified drapes, and the rest shape's own simulation "
+                                                "failed: ") + e.what();
+        }
+        std::vector<Eigen::MatrixXd> reference;
+        std::vector<std::string> names;
+        for (const adapt::PoseCheck& check : sewn.reference.poses) {
+          reference.push_back(check.figures.V_draped);
+          names.push_back(rest_drape_name(check.figures));
+        }
+        if (sewn.reference_is_rest_shape) compare_with_verified(sewn, reference, names, rest.F, motion_bounds);
       } else {
         std::vector<Eigen::MatrixXd> verified;
         std::vector<std::string> names;
@@ -358,7 +424,29 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
           verified.push_back(m.V);
           names.push_back(d.mesh);
         }
-        compare_with_verified(sewn, verified, names, rest.F, options.drape);
+        compare_with_verified(sewn, verified, names, rest.F, motion_bounds);
+      }
+      sewn.drape_criteria = options.drape;
+      if (options.drape_settled && !sewn.drape.empty()) {
+        std::vector<Eigen::MatrixXd> reference;
+        if (sewn.reference_is_rest_shape)
+          for (const adapt::PoseCheck& c : sewn.reference.poses) reference.push_back(c.figures.V_draped);
+        else
+          for (const FitSettings::VerifiedDrape& d : result.fit.verified) reference.push_back(read_mesh(d.path).mesh.V);
+        const auto triangles = sewn_rest_triangles(result.pattern, result.layout, static_cast<int>(rest.F.rows()));
+        const auto settled = settle_from_reference(interpolator, motion, reference, rest.F, result.garment, triangles,
+                                                   result.fit.run, result.fit.criteria);
+        const auto floor = settle_from_reference(interpolator, motion, reference, rest.F, result.garment,
+                                                 adapt::rest_triangles_of(rest.V, rest.F), result.fit.run,
+                                                 result.fit.criteria);
+        sewn.settled_drapes = settled;
+        for (size_t i = 0; i < reference.size(); ++i) {
+          sewn.settled.push_back(drape_distance(settled[i], reference[i], rest.F, options.drape));
+          sewn.settled.back().key = sewn.drape[i].key;
+          sewn.settled.back().pose = sewn.drape[i].pose;
+          sewn.settled.back().verified_mesh = sewn.drape[i].verified_mesh;
+          sewn.settled_floor.push_back(drape_distance(floor[i], reference[i], rest.F, DrapeCriteria{}));
+        }
       }
     }
     lap("sewn_fit");
@@ -427,6 +515,21 @@ void write_export_rest(const ExportRestResult& result, const ExportRestOptions& 
         drape.vertex_fields.push_back({"distance_to_verified", d.vertex_distance});
     write_mesh(dir / sewn_drape_name(check.figures), drape);
   }
+  const auto& poses = result.sewn_fit.verification.poses;
+  for (size_t i = 0; i < result.sewn_fit.settled_drapes.size() && i < poses.size(); ++i) {
+    Mesh drape;
+    drape.F = result.rest.F;
+    drape.V = result.sewn_fit.settled_drapes[i];
+    drape.vertex_fields.push_back({"distance_to_verified", result.sewn_fit.settled[i].vertex_distance});
+    write_mesh(dir / settled_drape_name(poses[i].figures), drape);
+  }
+  for (const adapt::PoseCheck& check : result.sewn_fit.reference.poses) {
+    Mesh drape;
+    drape.F = result.rest.F;
+    drape.V = check.figures.V_draped;
+    drape.face_fields.push_back({"max_stretch", check.figures.face_max_stretch});
+    write_mesh(dir / rest_drape_name(check.figures), drape);
+  }
   const Pattern& pattern = result.pattern;
   const Layout& layout = result.layout;
   write_file_atomic(dir / "pattern.svg", [&](std::ostream& s) { write_svg(s, pattern, layout, {pattern_title(result)}); }, false);
@@ -457,6 +560,8 @@ void write_export_rest(const ExportRestResult& result, const ExportRestOptions& 
   }
   if (result.sewn_fit_done) {
     timing["sewn_fit_simulation_s"] = result.sewn_fit.verification.seconds;
+    if (result.sewn_fit.reference_is_rest_shape)
+      timing["sewn_fit_reference_simulation_s"] = result.sewn_fit.reference.seconds;
     timing["sewn_fit_steps"] = result.sewn_fit.verification.steps;
   }
   if (result.timing.contains("total")) timing["total_s"] = result.timing["total"];

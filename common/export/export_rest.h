@@ -36,6 +36,7 @@ struct ExportRestOptions {
   DxfOptions dxf;
   SeamTolerance tolerance;
   DrapeCriteria drape;     // the sewn drape against the fit's verified drape (sewn_fit.h)
+  bool drape_settled = false;  // also settle the sewn garment at each key pose from the reference drape (sewn_fit.h)
   int threads = 1;
   adapt::ProgressCallback progress;  // the sewn-fit simulation's progress (lines prefixed "verification: ")
 };

@@ -212,6 +212,39 @@ SewnFitResult sewn_fit_check(PoseInterpolator& interpolator, const MotionSpec& m
   return result;
 }
 
+adapt::FitVerification rest_shape_drapes(PoseInterpolator& interpolator, const MotionSpec& motion,
+                                         const Eigen::MatrixXd& V_start, const Eigen::MatrixXd& V_rest,
+                                         const Eigen::MatrixXi& F, const GarmentFile& garment,
+                                         const adapt::MotionRunOptions& options, const adapt::FitCriteria& criteria,
+                                         const adapt::ProgressCallback& progress) {
+  if (V_rest.rows() != V_start.rows() || V_rest.cols() != 3)
+    throw GeometryError("the rest shape has " + std::to_string(V_rest.rows()) + " vertices, the design " +
+                        std::to_string(V_start.rows()));
+  return adapt::verify_fit(interpolator, motion, V_start, F, garment, adapt::rest_triangles_of(V_rest, F), options,
+                           criteria, progress);
+}
+
+std::vector<Eigen::MatrixXd> settle_from_reference(PoseInterpolator& interpolator, const MotionSpec& motion,
+                                                   const std::vector<Eigen::MatrixXd>& reference,
+                                                   const Eigen::MatrixXi& F, const GarmentFile& garment,
+                                                   const std::vector<cloth::TriangleRest>& rest_triangles,
+                                                   const adapt::MotionRunOptions& options,
+                                                   const adapt::FitCriteria& criteria) {
+  if (reference.size() != motion.keys.size())
+    throw GeometryError("the motion has " + std::to_string(motion.keys.size()) + " key poses, the reference " +
+                        std::to_string(reference.size()) + " drapes");
+  std::vector<Eigen::MatrixXd> out;
+  for (size_t i = 0; i < motion.keys.size(); ++i) {
+    MotionSpec one = motion;
+    one.keys = {motion.keys[i]};
+    one.keys[0].steps = 0;
+    const adapt::FitVerification v =
+        adapt::verify_fit(interpolator, one, reference[i], F, garment, rest_triangles, options, criteria);
+    out.push_back(v.poses.front().figures.V_draped);
+  }
+  return out;
+}
+
 DrapeDistance drape_distance(const Eigen::MatrixXd& V_sewn, const Eigen::MatrixXd& V_verified,
                              const Eigen::MatrixXi& F, const DrapeCriteria& criteria) {
   if (V_sewn.rows() != V_verified.rows() || V_sewn.cols() != 3 || V_verified.cols() != 3)
@@ -291,9 +324,10 @@ std::string sewn_fit_failure(const SewnFitResult& result, const Pattern& pattern
   // A pose that fits but drapes away from the verified drape: the sewn
   // garment is not the designed one (stretch failures are named first).
   if (result.verification.passed())
-    for (const DrapeDistance& d : result.drape) {
+    for (const DrapeDistance& d : result.judged()) {
       if (d.passed()) continue;
       std::string line = "key pose " + std::to_string(d.key) + " (" + d.pose + "): ";
+      if (!result.settled.empty()) line += "settled at this pose alone from the verified drape, ";
       for (size_t j = 0; j < d.failures.size(); ++j) line += (j ? "; " : "") + d.failures[j];
       const std::vector<int> vertex_piece = piece_of_rest_vertex(pattern);
       if (d.max_vertex >= 0 && static_cast<size_t>(d.max_vertex) < vertex_piece.size() &&

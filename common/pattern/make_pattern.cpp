@@ -99,6 +99,10 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
     ++pattern.rounds;
     flatten_pieces(pattern, options, cache, true);
     while (match_seams(pattern, options, cache)) flatten_pieces(pattern, options, cache, true);
+    // A piece over one bound and within the other trades them before it
+    // gets a dart or a panel seam.
+    if (balance_ease(pattern, options, cache))
+      while (match_seams(pattern, options, cache)) flatten_pieces(pattern, options, cache, true);
     lap("flatten");
     if (review_panels(pattern, options, cache, ledger) > 0)
       while (match_seams(pattern, options, cache)) flatten_pieces(pattern, options, cache, true);
@@ -117,6 +121,8 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   // The output has no flipped triangle: pieces left with flips are
   // flattened injectively.
   flatten_pieces(pattern, options, cache, true);
+  if (balance_ease(pattern, options, cache))
+    while (match_seams(pattern, options, cache)) flatten_pieces(pattern, options, cache, true);
   lap("merge");
   polish_pieces(pattern, options, cache);
   pattern.seams_within_tolerance = seam_sides_match(pattern, options, 1.0, nullptr);

@@ -46,6 +46,7 @@ void cut_to_disks(Pattern& pattern, const PatternOptions& options, const Pattern
 struct FlattenCache {
   std::map<std::vector<int>, FlattenResult> results;
   std::map<std::vector<int>, double> boundary_weight;  // raised where seam sides differ
+  std::map<std::vector<int>, double> ease_weight;      // set where balance_ease moved it
 };
 
 // Phase 3: flattens every piece (or reuses an unchanged one) and sets
@@ -54,6 +55,16 @@ void flatten_pieces(Pattern& pattern, const PatternOptions& options, FlattenCach
 
 // Phase 4: whether the pieces on mismatched seams were flattened again.
 bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
+
+// Phase 4b (the one-sided limit only): a piece over one bound of the limit
+// and within the other is flattened again with ease priced lower (over
+// compression) or higher (over ease), so that it trades the one for the
+// other as a tailor eases a piece where it would otherwise be tight: ease
+// weights options.flatten.ease_weight times ease_balance_factor^k, k = 1 ..
+// ease_balance_steps, within [min_ease_weight, 1], keeping the first that
+// meets the limit, else the piece as it was (it then gets darts or a panel
+// seam). Whether any piece changed.
+bool balance_ease(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
 
 // Last: the output pieces' flattenings iterated on to final_tolerance: the
 // cutter's decisions are made on flattenings stopped at `tolerance`, and the

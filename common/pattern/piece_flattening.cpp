@@ -55,7 +55,20 @@ FlattenOptions piece_flatten_options(const PatternOptions& options, const Flatte
   FlattenOptions flatten = options.flatten;
   const auto w = cache.boundary_weight.find(key);
   if (w != cache.boundary_weight.end()) flatten.boundary_weight = w->second;
+  const auto e = cache.ease_weight.find(key);
+  if (e != cache.ease_weight.end()) flatten.ease_weight = e->second;
   return flatten;
+}
+
+// How far a piece is from the one-sided limit: the larger of its two bounds'
+// ratios (at most 1: within), infinite with flips or an overlapping outline.
+double limit_ratio(const PatternPiece& p, const PatternOptions& options) {
+  if (p.flat.stats.flipped_triangles > 0 || p.flat.boundary_overlaps) return std::numeric_limits<double>::infinity();
+  auto ratio = [](double value, double bound) {
+    return bound > 0.0 ? value / bound : (value > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+  };
+  return std::max(ratio(p.stats.worst1_compression, options.compression_worst1),
+                  ratio(p.stats.worst5_ease, options.ease_worst5));
 }
 
 }  // namespace
@@ -91,6 +104,58 @@ void polish_pieces(Pattern& pattern, const PatternOptions& options, const Flatte
   measure_pieces(pattern, options);
 }
 
+
+bool balance_ease(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
+  if (options.symmetric || options.ease_balance_steps <= 0 || options.ease_balance_factor <= 1.0) return false;
+  bool changed = false;
+  for (size_t c = 0; c < pattern.pieces.size(); ++c) {
+    PatternPiece& p = pattern.pieces[c];
+    if (p.meets_limit || p.flat.stats.flipped_triangles > 0 || p.flat.boundary_overlaps) continue;
+    const bool tight = p.stats.worst1_compression > options.compression_worst1;
+    const bool loose = p.stats.worst5_ease > options.ease_worst5;
+    if (tight == loose) continue;  // over both bounds (or neither): no trade helps
+    const std::vector<int> key = piece_key(pattern, c);
+    const FlattenOptions base = piece_flatten_options(options, cache, key);
+    // Over compression: ease made cheaper, so that the piece grows where it
+    // was tight; over ease: dearer.
+    const double factor = tight ? 1.0 / options.ease_balance_factor : options.ease_balance_factor;
+    const FlattenResult before = p.flat;
+    const DistortionStats stats_before = p.stats;
+    double best_ratio = limit_ratio(p, options), best_weight = base.ease_weight;
+    FlattenResult best = before;
+    double w = base.ease_weight;
+    for (int k = 0; k < options.ease_balance_steps; ++k) {
+      const double next = std::clamp(w * factor, std::max(options.min_ease_weight, 1e-6), 1.0);
+      if (next == w) break;
+      w = next;
+      FlattenOptions flatten = base;
+      flatten.ease_weight = w;
+      flatten.injective_fallback = true;
+      p.flat = flatten_piece(p.V, p.F, flatten, &p.mesh_vertex_ids);
+      ++pattern.flattenings;
+      p.stats = material_distortion(pattern, c);
+      const double r = limit_ratio(p, options);
+      if (r < best_ratio) {
+        best_ratio = r;
+        best_weight = w;
+        best = p.flat;
+      }
+      if (r <= 1.0) break;
+    }
+    p.flat = best;
+    p.stats = stats_before;
+    // Only a trade that brings the piece within the limit is kept: one that
+    // only brings it nearer moves its outline for nothing a dart or a panel
+    // seam would not then redo.
+    if (best_weight != base.ease_weight && best_ratio <= 1.0) {
+      cache.ease_weight[key] = best_weight;
+      cache.results[key] = best;
+      changed = true;
+    }
+  }
+  measure_pieces(pattern, options);
+  return changed;
+}
 
 bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
   std::set<int> within;

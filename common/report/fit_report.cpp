@@ -20,6 +20,7 @@
 #include "render/rasterizer.h"
 #include "report/html_report.h"
 #include "report/report_assets.h"
+#include "report/sewn_sheet.h"
 #include "report/svg_to_png.h"
 
 namespace fs = std::filesystem;
@@ -280,6 +281,8 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
     files.poses.push_back(pf);
   }
   if (run.held) files.held_sheet = write_held_sheet(*run.held, stretch, font, options.sheet, folder);
+  const std::vector<std::string> sewn_sheets = write_sewn_sheets(run, poses, F, font, options.sheet, folder);
+  for (size_t i = 0; i < n; ++i) files.poses[i].sewn_sheet = sewn_sheets[i];
   // The rest shape off the body, against the design, at their own frame.
   const render::ColourScale growth = render::growth_scale();
   const Eigen::VectorXd area_design = face_areas(design.V, F);

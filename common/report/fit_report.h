@@ -5,6 +5,7 @@
 //   renders/pose_<kk>_<pose>.png          front, side, back, coloured by stretch
 //   renders/before_after_<kk>_<pose>.png  the design and the adapted garment (with fit-noadapt/)
 //   renders/rest_vs_design.png            the design and the rest shape coloured by area growth
+//   renders/sewn_<kk>_<pose>.png          the sewn drape against its reference, coloured by distance (sewn_sheet.h)
 //   models/pose_<kk>_<pose>.glb (+ .glb.js, the same bytes in base64 for the page)
 //   models/rest_shape.glb, models/design.glb
 //   pattern.svg, pattern.png

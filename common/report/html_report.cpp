@@ -159,6 +159,25 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
          ", area above " + limit + ": " + figure(fit, p + "/area_fraction_above_limit", "percent2") + ".</p>\n";
     h += "<img class=\"sheet\" src=\"" + escape_xml(f.sheet) + "\" alt=\"" + escape_xml(run.keys[i].pose) +
          ": front, side and back, coloured by stretch\">\n";
+    if (!f.sewn_sheet.empty()) {
+      // The garment sewn from the pattern against the designed drape (export-rest's sewn-fit check).
+      const Json* sewn_keys = lookup(run.pattern, "/sewn_fit/key_poses");
+      std::string q;
+      for (size_t j = 0; sewn_keys && j < sewn_keys->size(); ++j)
+        if ((*sewn_keys)[j].value("key", -1) == run.keys[i].key) q = "/sewn_fit/key_poses/" + std::to_string(j);
+      // The settled distance where export-rest measured it (--drape-settled), as the sheet shows.
+      const Json* settled = q.empty() ? nullptr : lookup(run.pattern, q + "/settled_from_reference/sewn");
+      const std::string d = settled ? q + "/settled_from_reference/sewn" : q + "/distance_to_verified";
+      h += "<p>Sewn from the flat pattern: " +
+           figure(run.pattern, (settled ? q + "/settled_from_reference" : d) + "/verdict", "text") +
+           (settled ? "; settled at this pose alone from the designed drape, distance from it: mean "
+                    : "; distance from the designed drape after the motion: mean ") + figure(run.pattern, d + "/mean_m", "mm2") + ", p95 " +
+           figure(run.pattern, d + "/p95_m", "mm2") + ", max " + figure(run.pattern, d + "/max_m", "mm2") +
+           "; p99 stretch " + figure(run.pattern, q + "/p99_stretch", "fixed3") + ", area above " + limit + ": " +
+           figure(run.pattern, q + "/area_fraction_above_limit", "percent2") + ".</p>\n";
+      h += "<img class=\"sheet\" src=\"" + escape_xml(f.sewn_sheet) + "\" alt=\"" + escape_xml(run.keys[i].pose) +
+           ": the sewn garment against the designed drape, coloured by their distance\">\n";
+    }
     h += "<div class=\"viewer\" data-model=\"" + escape_xml(f.model_id) + "\" data-front=\"" + escape_xml(files.front) +
          "\"><canvas width=\"640\" height=\"480\"></canvas>"
          "<label><input type=\"checkbox\" class=\"show-body\" checked> show the body</label> "

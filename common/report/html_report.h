@@ -23,6 +23,7 @@ struct ReportFiles {
   struct Pose {
     std::string sheet;          // renders/..png: front, side, back with stretch colours
     std::string before_after;   // renders/..png, or empty without a no-adapt run
+    std::string sewn_sheet;     // renders/sewn_..png (sewn_sheet.h), or empty where the sewn drape was not measured
     std::string model_id;       // key of the embedded model (models/<id>.glb.js)
     std::string glb;            // models/<id>.glb
   };

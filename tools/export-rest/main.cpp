@@ -1,12 +1,7 @@
-// export-rest: cuts the garment's rest shape along the user's seams (seam
-// spec, tool T6), opens every piece into a disk, adds darts and panel seams
-// where the flattening would distort too much, flattens the pieces and writes
-// sewing patterns: pattern.svg (1:1, mm), pattern.dxf (R12, mm), pieces.obj
-// (3D + flat texture coordinates), pieces_flat.ply (2D pieces), timing.json
-// and report.json ("export-rest-report/1", last). With --fit, the garment
-// sewn from the pieces is simulated through the fit's key poses and judged
-// (sewn_<k>_<pose>.ply; exit 8 when a pose fails). The work is
-// gp::export_rest (common/export/export_rest.h).
+// export-rest: cuts the rest shape along the user's seams, adds darts and
+// panel seams where the flattening would distort too much, flattens the pieces
+// and writes the pattern; with --fit, the sewn garment is simulated through the
+// fit's key poses and judged (exit 8). The work is gp::export_rest (export_rest.h).
 #include <chrono>
 
 #include "adapt/motion_progress.h"
@@ -66,22 +61,24 @@ int main(int argc, char** argv) {
   app.add_option("--max-overlap-splits", po.max_overlap_splits,
                  "Rounds of splitting a piece whose outline overlaps itself through the crossing; one still "
                  "overlapping fails the stage [count]")->capture_default_str()->check(CLI::Range(0, 100));
+  app.add_option("--ease-balance-steps", po.ease_balance_steps, "A piece over one bound of the one-sided limit and "
+                 "within the other is flattened again with ease up to this many times cheaper or dearer (0: off) [count]")
+      ->capture_default_str()->check(CLI::Range(0, 100));
+  app.add_option("--ease-balance-factor", po.ease_balance_factor, "... each time by this factor [ratio]")
+      ->capture_default_str()->check(CLI::Range(1.0, 100.0));
   app.add_option("--min-piece-area", po.min_piece_area, "Added cuts leave no piece smaller than this [m^2]")
       ->capture_default_str()->check(CLI::Range(0.0, 100.0));
   app.add_option("--tip-margin", po.tip_margin, "A dart's tip lies at least this far inside its piece [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 1.0));
-  bool no_tip_inward = false;
+  bool no_tip_inward = false, no_mirror = false, no_armholes = false, edge_cuts = false;
   app.add_flag("--no-tip-inward", no_tip_inward,
                "A dart's curvature mode within the tip margin of the outline is skipped, not pointed at from inside");
-  bool no_mirror = false;
   app.add_flag("--no-mirror", no_mirror,
                "Cut each piece on its own (default: a piece's mirror image across the body gets the mirror image of its darts and panel seams)");
   app.add_option("--mirror-overlap", po.mirror_overlap,
                  "Two pieces are mirror images where their mirrored areas share this much of each [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 1.0));
-  bool no_armholes = false;
   app.add_flag("--no-armholes", no_armholes, "No seam around a sleeve where it meets the body");
-  bool edge_cuts = false;
   app.add_flag("--edge-cuts", edge_cuts, "Cut along the rest shape's edges instead of smooth curves through its triangles");
   app.add_option("--smoothing-wavelength", po.smoothing.wavelength, "Seam wiggles shorter than this are smoothed away [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
@@ -128,10 +125,12 @@ int main(int argc, char** argv) {
                  "exits 8 (needs --garment); none: no sewn-fit check");
   app.add_option("--drape-mean-limit", o.drape.max_mean,
                  "Sewn-fit check: a key pose fails when the sewn drape lies farther than this from the fit's "
-                 "verified drape on average (0: not bounded) [m]")->capture_default_str()->check(CLI::Range(0.0, 10.0));
+                 "verified drape (else the rest shape's own) on average (0: not bounded; the goal is 0.005) [m]")->capture_default_str()->check(CLI::Range(0.0, 10.0));
   app.add_option("--drape-p95-limit", o.drape.max_p95,
-                 "Sewn-fit check: ... or farther than this on 5 % of the area (0: not bounded) [m]")
+                 "Sewn-fit check: ... or farther than this on 5 % of the area (0: not bounded; the goal is 0.015) [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
+  app.add_flag("--drape-settled", o.drape_settled, "Sewn-fit check: settle the sewn garment (and the rest shape) at "
+               "each key pose alone from the reference drape; the drape limits then judge that distance");
   app.add_option("--seam-allowance", o.layout.seam_allowance, "Seam allowance around every piece [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.2));
   app.add_option("--notch-spacing", o.layout.notch_spacing, "Distance between notches along a seam [m]")

@@ -20,6 +20,8 @@
 #include "pattern/layout.h"
 #include "pattern/make_pattern.h"
 #include "export/sewn_fit.h"
+#include "interp/motion_spec.h"
+#include "interp/pose_interpolator.h"
 #include "pose/pose_set.h"
 #include "spec/json_file.h"
 #include "spec/option_fields.h"
@@ -112,14 +114,15 @@ CapScene write_cap_scene(const std::string& name) {
 // The fit of the cap through a -> b without adaptation (its rest shape is the
 // design), with a stretch limit of 1.04: simulate-adapt's report, which the
 // sewn-fit check takes its settings from.
-fs::path write_fit_report(const CapScene& s) {
+// flags: more of simulate-adapt's (" --no-verify"); folder: its output's name.
+fs::path write_fit_report(const CapScene& s, const std::string& flags = "", const std::string& folder = "fit") {
   const auto run = testing::run_command(
       testing::tool_path("simulate-adapt") + " --no-adapt --delta 0.04 --workers 1 -q --poses " +
       (s.dir / "poses.json").string() + " --motion " + (s.dir / "motion.json").string() + " --garment " +
-      (s.dir / "garment.json").string() + " --out " + (s.dir / "fit").string());
+      (s.dir / "garment.json").string() + flags + " --out " + (s.dir / folder).string());
   INFO(run.err);
   REQUIRE((run.exit_code == 0 || run.exit_code == 8));
-  return s.dir / "fit" / "report.json";
+  return s.dir / folder / "report.json";
 }
 
 }  // namespace
@@ -269,6 +272,172 @@ TEST_CASE("the sewn-fit check passes a good pattern and fails one shrunk by 5 %"
                                                " --out " + (s.dir / "x").string());
   CHECK(no_garment.exit_code == 2);
   CHECK(no_garment.err.find("--fit") != std::string::npos);
+}
+
+TEST_CASE("the sewn drape against the rest shape's own drape: close when the pattern is true, far when eased 10 %",
+          "[sewn_fit][cli]") {
+  const CapScene s = write_cap_scene("sewn-fit-reference");
+  // A fit without verification names no drape of its rest shape: export-rest
+  // simulates the rest shape itself, with the fit's settings, as the reference.
+  const fs::path fit = write_fit_report(s, " --no-verify");
+  REQUIRE(read_fit_settings(fit).verified.empty());
+  const std::string base = testing::tool_path("export-rest") + " --garment " + (s.dir / "garment.json").string() +
+                           " -q --fit " + fit.string() + " --drape-mean-limit 0.005 --drape-p95-limit 0.015 ";
+
+  const auto good = testing::run_command(base + (s.dir / "garment.ply").string() + " --out " + (s.dir / "good").string());
+  INFO(good.err);
+  REQUIRE(good.exit_code == 0);
+  const Json sewn = read_json_file(s.dir / "good" / "report.json")["sewn_fit"];
+  REQUIRE(sewn["drape"]["measured"] == true);
+  CHECK(sewn["drape"]["reference"] == "the rest shape simulated by export-rest");
+  CHECK(sewn["drape"]["verdict"] == "pass");
+  CHECK(sewn["drape"]["criteria"]["max_mean_m"] == 0.005);
+  for (const Json& k : sewn["key_poses"]) {
+    const Json& d = k["distance_to_verified"];
+    INFO("pose " << k["pose"] << " mean " << d["mean_m"] << " p95 " << d["p95_m"] << " max " << d["max_m"]);
+    CHECK(d["verified_mesh_in"] == "pattern");
+    CHECK(fs::exists(s.dir / "good" / d["verified_mesh"].get<std::string>()));
+    // The cap's pattern (darts on a sphere) is within its limit: its drape
+    // lies within a millimetre of the rest shape's.
+    CHECK(d["mean_m"].get<double>() < 0.001);
+    CHECK(d["p95_m"].get<double>() < 0.002);
+    // The sewn garment's own stretch figures beside its reference's: the
+    // flattening's distortion (about 1 %) shows in the p99.
+    CHECK(k["reference"]["p99_stretch"].get<double>() == Approx(k["p99_stretch"].get<double>()).margin(0.02));
+    CHECK(k["area_fraction_above_limit"].is_number());
+  }
+
+  // The eased pattern of the next test, through the stage: the rest shape
+  // eased by 10 % about its centroid (every piece 10 % too large) against
+  // the drapes of a fit of the design with verification. It passes the
+  // stretch bounds (it is loose, not tight) but hangs away from the designed
+  // drape: exit 8, the drape named.
+  Mesh eased = s.cap;
+  const Eigen::RowVector3d centre = eased.V.colwise().mean();
+  eased.V = ((eased.V.rowwise() - centre) * 1.10).rowwise() + centre;
+  write_mesh(s.dir / "eased.ply", eased);
+  const fs::path verified = write_fit_report(s, "", "fit-verified");
+  const auto bad = testing::run_command(testing::tool_path("export-rest") + " --garment " +
+                                        (s.dir / "garment.json").string() + " -q --fit " + verified.string() +
+                                        " --drape-mean-limit 0.005 --drape-p95-limit 0.015 " +
+                                        (s.dir / "eased.ply").string() + " --out " + (s.dir / "eased").string());
+  INFO(bad.err);
+  CHECK(bad.exit_code == 8);
+  CHECK(bad.err.find("mean distance to the verified drape") != std::string::npos);
+  const Json failed = read_json_file(s.dir / "eased" / "report.json")["sewn_fit"];
+  CHECK(failed["verdict"] == "fail");
+  CHECK(failed["drape"]["reference"] == "the fit's verified drapes");
+  CHECK(failed["drape"]["verdict"] == "fail");
+  for (const Json& k : failed["key_poses"]) {
+    const Json& d = k["distance_to_verified"];
+    INFO("pose " << k["pose"] << " mean " << d["mean_m"] << " p95 " << d["p95_m"] << " p99 " << k["p99_stretch"]);
+    CHECK(d["verified_mesh_in"] == "fit");
+    CHECK(!k.contains("reference"));
+    CHECK(k["verdict"] == "pass");  // not tight
+    CHECK(d["verdict"] == "fail");
+    CHECK(d["mean_m"].get<double>() > 0.005);
+  }
+}
+
+TEST_CASE("settled at each key pose from the verified drape: the pattern as cut stays, one eased by 10 % sags",
+          "[sewn_fit][cli]") {
+  const CapScene s = write_cap_scene("sewn-fit-settled");
+  const fs::path fit = write_fit_report(s);
+  const std::string base = testing::tool_path("export-rest") + " --garment " + (s.dir / "garment.json").string() +
+                           " -q --fit " + fit.string() + " --drape-settled --drape-mean-limit 0.005 --drape-p95-limit 0.015 ";
+  const auto good = testing::run_command(base + (s.dir / "garment.ply").string() + " --out " + (s.dir / "good").string());
+  INFO(good.err);
+  REQUIRE(good.exit_code == 0);
+  const Json sewn = read_json_file(s.dir / "good" / "report.json")["sewn_fit"];
+  CHECK(sewn["drape"]["judged"] == "the sewn garment settled at each key pose alone from the reference drape");
+  CHECK(sewn["drape"]["settled_worst_mean_m"].get<double>() < 0.001);
+  for (const Json& k : sewn["key_poses"]) {
+    const Json& d = k["settled_from_reference"];
+    INFO("pose " << k["pose"] << " sewn " << d["sewn"] << " rest shape " << d["rest_shape"]);
+    CHECK(d["verdict"] == "pass");
+    CHECK(d["sewn"]["mean_m"].get<double>() < 0.001);
+    CHECK(d["sewn"]["p95_m"].get<double>() < 0.002);
+    // The verified drape settled again with the rest shape's own triangles
+    // stays where it was: the floor of the figure.
+    CHECK(d["rest_shape"]["mean_m"].get<double>() < 0.0005);
+    // The distance after the motion is reported, not bounded.
+    CHECK(k["distance_to_verified"]["failures"].empty());
+    // The settled drape is written with its distance per vertex.
+    const fs::path mesh = s.dir / "good" / d["mesh"].get<std::string>();
+    REQUIRE(fs::exists(mesh));
+    const ScalarField* dist = find_field(read_mesh(mesh).mesh.vertex_fields, "distance_to_verified");
+    REQUIRE(dist != nullptr);
+    CHECK(dist->values.maxCoeff() == Approx(d["sewn"]["max_m"].get<double>()));
+  }
+  Mesh eased = s.cap;
+  const Eigen::RowVector3d centre = eased.V.colwise().mean();
+  eased.V = ((eased.V.rowwise() - centre) * 1.10).rowwise() + centre;
+  write_mesh(s.dir / "eased.ply", eased);
+  const auto bad = testing::run_command(base + (s.dir / "eased.ply").string() + " --out " + (s.dir / "eased").string());
+  INFO(bad.err);
+  CHECK(bad.exit_code == 8);
+  CHECK(bad.err.find("settled at this pose alone from the verified drape, mean distance") != std::string::npos);
+  const Json failed = read_json_file(s.dir / "eased" / "report.json")["sewn_fit"];
+  CHECK(failed["drape"]["verdict"] == "fail");
+  for (const Json& k : failed["key_poses"]) {
+    const Json& d = k["settled_from_reference"];
+    INFO("pose " << k["pose"] << " sewn " << d["sewn"]);
+    CHECK(d["verdict"] == "fail");
+    CHECK(d["sewn"]["mean_m"].get<double>() > 0.005);
+  }
+}
+
+TEST_CASE("a pattern eased by 10 % drapes away from its rest shape's own drape", "[sewn_fit]") {
+  const CapScene s = write_cap_scene("sewn-fit-eased");
+  const fs::path fit = write_fit_report(s, " --no-verify");
+  const FitSettings settings = read_fit_settings(fit);
+  const PoseSet poses = load_pose_set(settings.poses);
+  const MotionSpec motion = read_motion_spec(settings.motion, poses);
+  InterpolationOptions interp;
+  interp.anchor = motion.anchor;
+  PoseInterpolator interpolator(poses, interp);
+  PatternOptions cut;
+  cut.stretch_budget = settings.delta();  // as export-rest cuts with --fit
+  const Pattern pattern = make_pattern(s.cap.V, s.cap.F, {}, cut);
+  const Layout layout = layout_pattern(pattern, LayoutOptions{});
+  const adapt::FitVerification reference = rest_shape_drapes(interpolator, motion, s.cap.V, s.cap.V, s.cap.F, s.garment,
+                                                             settings.run, settings.criteria);
+  std::vector<Eigen::MatrixXd> V_reference;
+  for (const adapt::PoseCheck& c : reference.poses) V_reference.push_back(c.figures.V_draped);
+  const std::vector<std::string> names(V_reference.size(), "reference");
+  DrapeCriteria goal;
+  goal.max_mean = 0.005;
+  goal.max_p95 = 0.015;
+  auto sewn_against_reference = [&](double scale) {
+    Layout scaled = layout;
+    for (auto& piece : scaled.pieces) piece.UV *= scale;
+    SewnFitResult r = sewn_fit_check(interpolator, motion, s.cap.V, s.cap.F, s.garment, pattern, scaled, settings.run,
+                                     settings.criteria);
+    compare_with_verified(r, V_reference, names, s.cap.F, goal);
+    return r;
+  };
+  // The pattern as cut: within a millimetre of the rest shape's drape.
+  const SewnFitResult as_cut = sewn_against_reference(1.0);
+  REQUIRE(as_cut.drape.size() == 2);
+  for (const DrapeDistance& d : as_cut.drape) {
+    INFO("pose " << d.pose << " mean " << d.mean << " p95 " << d.p95);
+    CHECK(d.mean < 0.001);
+    CHECK(d.p95 < 0.002);
+  }
+  CHECK(as_cut.passed());
+  // Every piece scaled up by 10 % (21 % more cloth): loose, so the stretch
+  // bounds pass, but the drape fails both bounds.
+  const SewnFitResult eased = sewn_against_reference(1.10);
+  CHECK(eased.sewn_rest_area / eased.rest_area == Approx(1.21 * as_cut.sewn_rest_area / as_cut.rest_area).epsilon(1e-6));
+  CHECK(eased.verification.passed());
+  CHECK(!eased.drape_passed());
+  CHECK(!eased.passed());
+  for (const DrapeDistance& d : eased.drape) {
+    INFO("pose " << d.pose << " mean " << d.mean << " p95 " << d.p95 << " max " << d.max);
+    CHECK(d.mean > 0.005);
+    CHECK(d.failures.size() >= 1);
+  }
+  CHECK(sewn_fit_failure(eased, pattern).find("mean distance to the verified drape") != std::string::npos);
 }
 
 TEST_CASE("the distance between two drapes of one mesh, by area", "[sewn_fit]") {

@@ -10,6 +10,9 @@
 #include "report/fit_run.h"
 #include "report/html_report.h"
 #include "report/picture_sheet.h"
+#include "report/sewn_sheet.h"
+#include "io/mesh_io.h"
+#include "pose/pose_set.h"
 #include "testing/command.h"
 #include "testing/files.h"
 #include "testing/test_meshes.h"
@@ -352,4 +355,64 @@ TEST_CASE("where the body held the cloth is read with its places, faces and the 
   } catch (const gp::SpecError& e) {
     CHECK_THAT(e.where(), Catch::EndsWith("report.json: /held/held_cloth/0/position_m"));
   }
+}
+
+TEST_CASE("the sewn drape is drawn beside its reference, coloured by their distance", "[report]") {
+  // The scale: white at 0, the goal's bounds marked, clamped beyond 30 mm.
+  const gp::render::ColourScale scale = drape_distance_scale();
+  CHECK(scale.min_value() == 0.0);
+  CHECK(scale.max_value() == 30.0);
+  int marked = 0;
+  for (const auto& t : scale.ticks()) marked += t.marked;
+  CHECK(marked == 2);
+  CHECK(scale.colour(45.0).r == scale.colour(30.0).r);
+  CHECK(scale.colour(0.0).g > scale.colour(15.0).g);
+  // A face takes the mean of its corners.
+  const gp::Mesh sphere = gp::testing::make_icosphere(2, 0.2);
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(sphere.V.rows());
+  d(sphere.F(0, 0)) = 0.003;
+  CHECK(face_mean_of_vertices(d, sphere.F)(0) == Approx(0.001));
+
+  // A fit folder with one key pose measured: the fit's verified drape, and
+  // the sewn drape 10 mm above it with its distance field.
+  const fs::path dir = gp::testing::fresh_temp_dir("report-sewn-sheet");
+  fs::create_directories(dir / "fit");
+  fs::create_directories(dir / "pattern");
+  fs::create_directories(dir / "out");
+  gp::Mesh verified = sphere;
+  verified.V *= 1.05;
+  gp::write_mesh(dir / "fit" / "verified_00_apose.ply", verified);
+  gp::Mesh sewn = verified;
+  sewn.V.col(1).array() += 0.01;
+  sewn.vertex_fields.push_back({"distance_to_verified", Eigen::VectorXd::Constant(sewn.V.rows(), 0.01)});
+  gp::write_mesh(dir / "pattern" / "sewn_00_apose.ply", sewn);
+  FitRun run = small_run();
+  run.dir = dir;
+  run.pattern.path = dir / "pattern" / "report.json";
+  run.pattern.json["sewn_fit"] = Json::parse(R"({"checked": true, "verdict": "fail",
+    "drape": {"reference": "the fit's verified drapes"},
+    "key_poses": [{"key": 0, "pose": "apose", "mesh": "sewn_00_apose.ply",
+      "distance_to_verified": {"verdict": "fail", "verified_mesh": "verified_00_apose.ply", "verified_mesh_in": "fit",
+                               "mean_m": 0.01, "p95_m": 0.01, "max_m": 0.01}}]})");
+  gp::PoseSet poses;
+  poses.names = {"apose", "tpose"};
+  poses.V = {sphere.V * 0.8, sphere.V * 0.8};
+  poses.F = sphere.F;
+  SheetOptions options;
+  options.view_width = 80;
+  options.view_height = 100;
+  options.supersampling = 1;
+  const gp::render::Font font(gp::render::default_font_path());
+  const std::vector<std::string> files = write_sewn_sheets(run, poses, sphere.F, font, options, dir / "out");
+  REQUIRE(files.size() == 2);
+  CHECK(files[0] == "renders/sewn_00_apose.png");
+  CHECK(files[1].empty());  // the sewn fit measured no drape at tpose
+  CHECK(fs::is_regular_file(dir / "out" / files[0]));
+  // No distance field: a geometry error naming the file; a missing reference: an input error.
+  gp::Mesh plain = sewn;
+  plain.vertex_fields.clear();
+  gp::write_mesh(dir / "pattern" / "sewn_00_apose.ply", plain);
+  CHECK_THROWS_AS(write_sewn_sheets(run, poses, sphere.F, font, options, dir / "out"), gp::GeometryError);
+  fs::remove(dir / "fit" / "verified_00_apose.ply");
+  CHECK_THROWS_AS(write_sewn_sheets(run, poses, sphere.F, font, options, dir / "out"), gp::InputError);
 }
