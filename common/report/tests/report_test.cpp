@@ -36,7 +36,7 @@ FitRun small_run() {
        "area_fraction_above_limit": 0.0, "deepest_penetration_m": 0.0, "settle_steps": 80, "settled": true},
       {"key": 1, "pose": "tpose", "max_stretch": 1.1, "p99_stretch": 1.099, "mean_stretch": 1.03,
        "area_fraction_above_limit": 0.0, "deepest_penetration_m": 0.0, "settle_steps": 120, "settled": true}]})");
-  run.keys = {{0, "apose", "a.ply", "/key_poses/0"}, {1, "tpose", "t.ply", "/key_poses/1"}};
+  run.keys = {{0, "apose", "a.ply", "/key_poses/0", "", ""}, {1, "tpose", "t.ply", "/key_poses/1", "", ""}};
   run.pattern.file = "pattern/report.json";
   run.pattern.json = Json::parse(R"({"schema": "export-rest-report/1", "rest_shape": {},
     "sewn_fit": {"checked": false, "why": "no fit report given"},
