@@ -237,12 +237,12 @@ std::string limit_warning(const Pattern& pattern, const PatternOptions& po) {
   for (size_t c = 0; c < pattern.pieces.size(); ++c) {
     const PatternPiece& p = pattern.pieces[c];
     if (p.meets_limit) continue;
-    const bool compression = po.symmetric ? p.stats.max_error > po.max_limit
-                                          : p.stats.worst1_compression > po.compression_worst1;
+    const bool compression = po.limit.symmetric ? p.stats.max_error > po.limit.max_limit
+                                          : p.stats.worst1_compression > po.limit.compression_worst1;
     const Eigen::Vector3d worst = worst_region_centroid(material_faces(pattern, c),
-                                                        compression ? 0.01 : 0.05, compression, po.kernel_radius);
+                                                        compression ? 0.01 : 0.05, compression, po.darts.kernel_radius);
     char buf[256];
-    if (po.symmetric)
+    if (po.limit.symmetric)
       std::snprintf(buf, sizeof(buf), "%s (p95 error %.1f %%, max %.1f %%", p.name.c_str(), 100.0 * p.stats.p95_error,
                     100.0 * p.stats.max_error);
     else
@@ -265,7 +265,7 @@ void rest_shape_figures(const ExportRestOptions& options, const Mesh& design, Ex
   const Mesh& rest = result.rest;
   // A cone point whose defect is 2 pi * the limit cannot be flattened
   // within it unless its neighbourhood takes that error in full.
-  const double limit = options.pattern.symmetric ? options.pattern.max_limit : options.pattern.compression_worst1;
+  const double limit = options.pattern.limit.symmetric ? options.pattern.limit.max_limit : options.pattern.limit.compression_worst1;
   const double cone = 2.0 * M_PI * limit;
   const RestShapeDiagnostics d = diagnose_rest_shape(design.V, rest.V, rest.F, cone);
   // The cones a piece must flatten: those at least a centimetre inside it
@@ -356,14 +356,14 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
   read_inputs(options, result, context, design, have_design);
   lap("read");
 
-  // The fit's stretch budget weighs the panel seams (PatternOptions::stretch_budget).
+  // The fit's stretch budget weighs the panel seams (PanelOptions::stretch_budget).
   PatternOptions pattern_options = options.pattern;
   if (!options.fit.empty()) {
     result.fit = read_fit_settings(options.fit);
     result.fit.run.threads = options.threads;
-    pattern_options.stretch_budget = result.fit.delta();
+    pattern_options.panels.stretch_budget = result.fit.delta();
   }
-  result.stretch_budget = pattern_options.stretch_budget;
+  result.stretch_budget = pattern_options.panels.stretch_budget;
   result.pattern = make_pattern(result.rest.V, result.rest.F, result.seams, pattern_options, context);
   lap("cut_and_flatten");
   refuse_overlapping_pieces(result.pattern);
@@ -406,7 +406,7 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
   // The cutter's options with the stretch budget it used (the fit's delta
   // with --fit).
   PatternOptions used = options.pattern;
-  used.stretch_budget = result.stretch_budget;
+  used.panels.stretch_budget = result.stretch_budget;
   report["options"] = {{"pattern", write_options(used, PatternOptionFields{})},
                        {"layout", write_options(options.layout, LayoutOptionFields{})},
                        {"seam_mismatch_tolerance", write_options(options.tolerance, SeamToleranceFields{})},

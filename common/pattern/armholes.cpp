@@ -137,7 +137,7 @@ double armhole_distance(const PatternMesh& mesh, const Eigen::VectorXd& d, doubl
     double st = 0.0, sl = 0.0, stt = 0.0, stl = 0.0;
     int count = 0;
     for (size_t j = 0; j < ts.size(); ++j)
-      if (std::abs(ts[j] - ts[k]) <= options.slope_window) {
+      if (std::abs(ts[j] - ts[k]) <= options.armholes.slope_window) {
         st += ts[j], sl += ls[j], stt += ts[j] * ts[j], stl += ts[j] * ls[j];
         ++count;
       }
@@ -145,8 +145,8 @@ double armhole_distance(const PatternMesh& mesh, const Eigen::VectorXd& d, doubl
     slope[k] = den > 0.0 ? (count * stl - st * sl) / den : 0.0;
   }
   for (size_t k = 1; k < ts.size(); ++k)
-    if (slope[k] >= options.armhole_slope && slope[k - 1] < options.armhole_slope)
-      return ts[k - 1] + (options.armhole_slope - slope[k - 1]) / (slope[k] - slope[k - 1]) * step;
+    if (slope[k] >= options.armholes.armhole_slope && slope[k - 1] < options.armholes.armhole_slope)
+      return ts[k - 1] + (options.armholes.armhole_slope - slope[k - 1]) / (slope[k] - slope[k - 1]) * step;
   return -1.0;
 }
 
@@ -171,11 +171,11 @@ std::vector<Opening> limb_openings(const PatternMesh& mesh, const Eigen::Vector3
     o.from = Eigen::Vector3d::Zero();
     for (int v : loop) o.from += mesh.rest_V.row(v).transpose();
     o.from /= static_cast<double>(loop.size());
-    if (Eigen::Vector2d(o.from.x() - axis.x(), o.from.z() - axis.z()).norm() < options.limb_offset) continue;
+    if (Eigen::Vector2d(o.from.x() - axis.x(), o.from.z() - axis.z()).norm() < options.armholes.limb_offset) continue;
     o.d = heat_geodesic_distance(mesh.rest_V, mesh.rest_F, loop);
     o.found = armhole_distance(mesh, o.d, 0.5 * h, options);
     // No tube (a neckline or an armhole opening) grows at once.
-    if (o.found < options.min_sleeve_length) continue;
+    if (o.found < options.armholes.min_sleeve_length) continue;
     openings.push_back(std::move(o));
   }
   return openings;
@@ -193,9 +193,9 @@ void pair_mirrored_openings(std::vector<Opening>& openings, const Eigen::Vector3
   const double ra = Eigen::Vector2d(a.from.x() - axis.x(), a.from.z() - axis.z()).norm();
   const double rb = Eigen::Vector2d(b.from.x() - axis.x(), b.from.z() - axis.z()).norm();
   const bool mirrored = (a.from.x() - axis.x()) * (b.from.x() - axis.x()) < 0.0 &&
-                        std::abs(ra - rb) <= options.mirror_tolerance * std::max(ra, rb) &&
-                        std::abs(a.from.y() - b.from.y()) <= options.mirror_tolerance * std::max(ra, rb) &&
-                        std::abs(a.found - b.found) <= options.mirror_tolerance * std::max(a.found, b.found);
+                        std::abs(ra - rb) <= options.armholes.mirror_tolerance * std::max(ra, rb) &&
+                        std::abs(a.from.y() - b.from.y()) <= options.armholes.mirror_tolerance * std::max(ra, rb) &&
+                        std::abs(a.found - b.found) <= options.armholes.mirror_tolerance * std::max(a.found, b.found);
   if (mirrored) {
     a.found = b.found = 0.5 * (a.found + b.found);
     a.paired = b.paired = true;
@@ -216,8 +216,8 @@ void armhole_seams(Pattern& pattern, const std::vector<Opening>& openings, const
                          : q.bary[0] * o.d[mesh.rest_F(q.face, 0)] + q.bary[1] * o.d[mesh.rest_F(q.face, 1)] +
                                q.bary[2] * o.d[mesh.rest_F(q.face, 2)];
     }
-    auto sets = closed_level_sets(mesh.F, dm, o.found, options.smoothing.trace.snap_fraction,
-                                  options.smoothing.trace.min_edge_fraction);
+    auto sets = closed_level_sets(mesh.F, dm, o.found, options.seams.smoothing.trace.snap_fraction,
+                                  options.seams.smoothing.trace.min_edge_fraction);
     if (sets.size() != 1) continue;
     // The limb: the rest faces on the loop's side of the level set.
     if (pattern.limb_of_rest_face.empty()) pattern.limb_of_rest_face.assign(static_cast<size_t>(mesh.rest_F.rows()), -1);
@@ -303,7 +303,7 @@ void merge_armhole_slivers(Pattern& pattern, const PatternOptions& options) {
   for (int guard = 0; guard < 1000; ++guard) {
     // The smallest sliver not tried yet.
     size_t sliver = pattern.pieces.size();
-    double smallest = options.sliver_area;
+    double smallest = options.armholes.sliver_area;
     for (size_t c = 0; c < pattern.pieces.size(); ++c) {
       const double a = face_areas(pattern.pieces[c].V, pattern.pieces[c].F).sum();
       if (a < smallest && !tried.count(pattern.pieces[c].face_ids)) smallest = a, sliver = c;

@@ -28,8 +28,8 @@
 namespace gp {
 
 double panel_excess(const std::vector<MaterialFace>& faces, const PatternOptions& options) {
-  const double c_lim = options.symmetric ? options.max_limit : options.compression_worst1;
-  const double e_lim = options.symmetric ? options.max_limit : options.ease_worst5;
+  const double c_lim = options.limit.symmetric ? options.limit.max_limit : options.limit.compression_worst1;
+  const double e_lim = options.limit.symmetric ? options.limit.max_limit : options.limit.ease_worst5;
   double excess = 0.0;
   for (const MaterialFace& m : faces) {
     const double c = 1.0 - m.stretch[1], e = m.stretch[0] - 1.0;
@@ -81,7 +81,7 @@ class DartPanelPlacer {
     // A tailor cuts both sides of the body alike: a piece's mirror image gets
     // the mirror image of its darts and panel seam, whether or not it is over
     // the limit itself.
-    if (options_.mirror) mirror_ = mirror_pieces(pattern_, options_.mirror_overlap);
+    if (options_.panels.mirror) mirror_ = mirror_pieces(pattern_, options_.panels.mirror_overlap);
     count_limb_pieces();
     for (size_t c : order) cut_piece_and_image(c);
     if (seams_.empty()) return 0;
@@ -117,7 +117,7 @@ class DartPanelPlacer {
 
   bool sleeve_full(size_t c) {
     const int limb = limb_of_piece_[c];
-    return options_.max_sleeve_pieces > 0 && limb >= 0 && limb_pieces_[limb] >= options_.max_sleeve_pieces;
+    return options_.panels.max_sleeve_pieces > 0 && limb >= 0 && limb_pieces_[limb] >= options_.panels.max_sleeve_pieces;
   }
 
   // Mirror images are judged and removed together (review_panels,
@@ -191,7 +191,7 @@ class DartPanelPlacer {
                      ledger_->refused.count(piece_rest_faces(pattern_, static_cast<size_t>(d)))));
     // A piece and its mirror image take two pieces from the budget together.
     const int cost = !source && d >= 0 && d != static_cast<int>(c) && !cut_[static_cast<size_t>(d)] ? 2 : 1;
-    if (given.tips.empty() && pieces_ + cost <= options_.max_pieces && !refused && !sleeve_full(c) &&
+    if (given.tips.empty() && pieces_ + cost <= options_.panels.max_pieces && !refused && !sleeve_full(c) &&
         (!source || source->centre))
       place_panel(c, source, over, chart, rest_faces, given);
     if (given.tips.empty() && !given.centre) {
@@ -201,9 +201,9 @@ class DartPanelPlacer {
         pattern_.notes.push_back(over + "no further dart or panel seam fits" +
                                  (refused ? " (a panel seam did not relieve it)"
                                   : sleeve_full(c)
-                                      ? " (its sleeve has its most pieces, " + std::to_string(options_.max_sleeve_pieces) +
+                                      ? " (its sleeve has its most pieces, " + std::to_string(options_.panels.max_sleeve_pieces) +
                                             ": darts only)"
-                                  : pieces_ + cost > options_.max_pieces ? " (the pattern has its most pieces)"
+                                  : pieces_ + cost > options_.panels.max_pieces ? " (the pattern has its most pieces)"
                                                                          : ""));
     }
     return given;
@@ -213,7 +213,7 @@ class DartPanelPlacer {
   // enough at once, up to the piece's budget.
   void place_darts(size_t c, const Given* source, const std::string& over, const Eigen::MatrixXd& chart, Given& given) {
     const PatternPiece& p = pattern_.pieces[c];
-    const int left = options_.max_darts - static_cast<int>(p.dart_seams.size());
+    const int left = options_.darts.max_darts - static_cast<int>(p.dart_seams.size());
     if (left <= 0) return;
     // Darts already in the piece and those placed now, as chart polylines:
     // a new dart must not cross one (their curves would cross in a face).
@@ -242,7 +242,7 @@ class DartPanelPlacer {
       std::snprintf(deg, sizeof(deg), "%.1f", tip.curvature * 180.0 / M_PI);
       PatternSeam seam{"dart" + std::to_string(++darts_), "dart", "", {}, false, true, {}};
       pair_mirrors(seam, mirror_of);
-      seam.reason = over + how + " (" + deg + " degrees within " + metres(options_.kernel_radius) + "), " +
+      seam.reason = over + how + " (" + deg + " degrees within " + metres(options_.darts.kernel_radius) + "), " +
                     metres(curve_length(p.V, p.F, *curve)) + " long";
       given.tips.push_back(tip);
       given.darts.push_back(seam.name);
@@ -250,12 +250,12 @@ class DartPanelPlacer {
       curves_.push_back(piece_to_mesh(p, *curve));
     };
     const std::string mode = std::string("dart to the mode of its ") +
-                             (options_.dart_placement == PatternOptions::DartPlacement::conformal
+                             (options_.darts.dart_placement == PatternOptions::DartPlacement::conformal
                                   ? "log conformal factor"
                                   : "Gaussian curvature");
     if (source) {
       for (size_t i = 0; i < source->tips.size(); ++i)
-        if (const auto tip = dart_tip_near(pattern_, c, mirror_.reflect(source->tips[i].point), options_.min_dart_angle,
+        if (const auto tip = dart_tip_near(pattern_, c, mirror_.reflect(source->tips[i].point), options_.darts.min_dart_angle,
                                            options_))
           add_dart(*tip, "the mirror image of " + source->darts[i], source->darts[i]);
     } else {
@@ -407,7 +407,7 @@ int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache&
       length += j->length;
       before += t->excess_before;
       compression = std::max(compression, t->compression_before);
-      tight = tight || t->compression_before > options.budget_share * options.stretch_budget;
+      tight = tight || t->compression_before > options.panels.budget_share * options.panels.stretch_budget;
     }
     double after = 0.0;
     bool within = true;
@@ -426,17 +426,17 @@ int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache&
     // And the cutter stops adding pieces only when the limit is met (issue
     // 49): a seam that took away most of its piece's cloth beyond the limit
     // (min_relief_share) stays, however long, while that piece was over it.
-    const bool most = options.min_relief_share > 0.0 && before > 0.0 && relief >= options.min_relief_share * before;
-    if (relief >= options.min_panel_relief * length || (within && tight) || most) {
+    const bool most = options.panels.min_relief_share > 0.0 && before > 0.0 && relief >= options.panels.min_relief_share * before;
+    if (relief >= options.panels.min_panel_relief * length || (within && tight) || most) {
       char budget[180] = "";
-      if (relief < options.min_panel_relief * length && within && tight)
+      if (relief < options.panels.min_panel_relief * length && within && tight)
         std::snprintf(budget, sizeof(budget),
                       ", and both its pieces meet the limit (the piece was compressed by %.2f %%, more than %.0f %% of "
                       "the stretch budget %.3f)",
-                      100.0 * compression, 100.0 * options.budget_share, options.stretch_budget);
-      else if (relief < options.min_panel_relief * length)
+                      100.0 * compression, 100.0 * options.panels.budget_share, options.panels.stretch_budget);
+      else if (relief < options.panels.min_panel_relief * length)
         std::snprintf(budget, sizeof(budget), ", at least %.0f %% of it (min_relief_share)",
-                      100.0 * options.min_relief_share);
+                      100.0 * options.panels.min_relief_share);
       for (const PanelSides& j : js) pattern.seams[j.seam].reason += std::string("; it relieved ") + buf + budget;
       continue;
     }
@@ -469,7 +469,7 @@ void merge_small_pieces(Pattern& pattern, const PatternOptions& options, Flatten
   for (;;) {
     // The smallest piece below the area bordering an added cut.
     size_t best_seam = pattern.seams.size();
-    double best_area = options.min_piece_area;
+    double best_area = options.panels.min_piece_area;
     for (const CutEdge& e : pattern.cut.edges) {
       const PatternSeam& s = pattern.seams[static_cast<size_t>(e.seam)];
       // User seams and armholes are structure, darts lie inside one piece.
@@ -605,7 +605,7 @@ int split_overlapping_pieces(Pattern& pattern, const PatternOptions& options, Fl
   // Each round splits every piece still overlapping once, then flattens:
   // a piece's two parts are each smaller than the outline that crossed
   // itself, and a part that still overlaps is split again.
-  for (int round = 0; round < options.max_overlap_splits; ++round) {
+  for (int round = 0; round < options.panels.max_overlap_splits; ++round) {
     std::vector<PatternSeam> seams;
     std::vector<SurfaceCurve> curves;
     for (size_t c = 0; c < pattern.pieces.size(); ++c) {

@@ -30,8 +30,8 @@ namespace gp {
 bool meets_limit(const PatternPiece& piece, const PatternOptions& options) {
   if (piece.flat.stats.flipped_triangles > 0 || piece.flat.boundary_overlaps) return false;
   const DistortionStats& s = piece.stats;
-  if (options.symmetric) return s.p95_error <= options.p95_limit && s.max_error <= options.max_limit;
-  return s.worst1_compression <= options.compression_worst1 && s.worst5_ease <= options.ease_worst5;
+  if (options.limit.symmetric) return s.p95_error <= options.limit.p95_limit && s.max_error <= options.limit.max_limit;
+  return s.worst1_compression <= options.limit.compression_worst1 && s.worst5_ease <= options.limit.ease_worst5;
 }
 
 namespace {
@@ -99,12 +99,12 @@ bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& 
   // mismatch beyond match_margin times the tolerance gets its pieces
   // flattened again, with 4 times the weight up to max_boundary_weight.
   std::set<int> mismatched;
-  seam_sides_match(pattern, options, options.match_margin, &mismatched);
+  seam_sides_match(pattern, options, options.seams.match_margin, &mismatched);
   bool again = false;
   for (int c : mismatched) {
     const std::vector<int> key = piece_key(pattern, static_cast<size_t>(c));
     auto w = cache.boundary_weight.emplace(key, options.flatten.boundary_weight).first;
-    if (w->second <= 0.0 || w->second * 4.0 > options.max_boundary_weight) continue;
+    if (w->second <= 0.0 || w->second * 4.0 > options.seams.max_boundary_weight) continue;
     w->second *= 4.0;
     cache.results.erase(key);
     again = true;
