@@ -2,7 +2,8 @@
 # packages and build first, so both work on a fresh machine.
 #
 #   make            build everything, tests included (Release) into $(BUILD)
-#   make deps       install missing Debian packages (says what it runs)
+#   make deps       install missing Debian packages (says what it runs); the
+#                   stages' targets (demo, fit, stages) install only theirs
 #   make test       builds the tests too, then runs the unit, command-line and script tests (CTest)
 #   make demo       builds the stages only, then fits a garment on a generated body
 #                   (pipelines/customers/demo); prints the report's path
@@ -24,7 +25,7 @@ FUZZ_SECONDS ?= 600
 FUZZ_BUILD ?= build-fuzz
 FUZZ_TARGETS := read_mesh read_spec
 
-.PHONY: all build stages deps configure test demo fit fit-all fit-summary bench fuzz update-golden clean help
+.PHONY: all build stages deps deps-stages configure configure-stages test demo fit fit-all fit-summary bench fuzz update-golden clean help
 
 all: build
 
@@ -34,11 +35,24 @@ help:
 deps:
 	@scripts/install-deps.sh
 
-configure: deps
+# What the stages need to build and run, without the tests' and benchmarks'
+# packages (Chromium, Slurm, poppler, the Python checks' modules): the first
+# `make demo` of a fresh machine waits for no test tool.
+deps-stages:
+	@scripts/install-deps.sh --demo
+
+define CONFIGURE
 	@if [ ! -f $(BUILD)/CMakeCache.txt ]; then \
 	  echo "cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=$(CMAKE_BUILD_TYPE)"; \
 	  cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=$(CMAKE_BUILD_TYPE) >/dev/null; \
 	fi
+endef
+
+configure: deps
+	$(CONFIGURE)
+
+configure-stages: deps-stages
+	$(CONFIGURE)
 
 build: configure
 	cmake --build $(BUILD) -j$(JOBS)
@@ -47,7 +61,7 @@ build: configure
 # demo and the fits run: the test binaries take more than half of the build's
 # CPU time and are built by `make test` (README.md, "Building").
 STAGE_TOOLS := $(notdir $(patsubst %/CMakeLists.txt,%,$(sort $(wildcard tools/*/CMakeLists.txt))))
-stages: configure
+stages: configure-stages
 	cmake --build $(BUILD) -j$(JOBS) --target $(STAGE_TOOLS)
 
 test: build
@@ -95,7 +109,7 @@ fit-customer/%:
 # Builds only the stages (in $(BUILD); e.g. make bench BUILD=build-bench), then
 # runs them; BENCH_FLAGS=--quick for a reduced run while developing.
 BENCH_FLAGS ?=
-bench: stages
+bench: deps stages
 	$(PYTHON) scripts/bench.py --bin $(GP_BIN) --out BENCHMARKS.md --plots benchmarks $(BENCH_FLAGS)
 
 update-golden: build

@@ -1,9 +1,13 @@
 #!/usr/bin/env bash
 # Installs the Debian packages the project needs, only those missing, and
-# says exactly what it runs. Used by `make deps` (and so by `make test` and
-# `make demo`) so that a fresh machine needs nothing installed by hand.
+# says exactly what it runs. Used by `make deps` (and so by `make` and
+# `make test`) and, with --demo, by `make demo`, `make fit` and `make stages`,
+# so that a fresh machine needs nothing installed by hand.
 set -euo pipefail
 
+# What building the stages and running `make demo` or `make fit` needs
+# (`install-deps.sh --demo`: the first command of a fresh machine installs
+# only these), then what the tests and benchmarks add.
 packages=(
   cmake g++ make pkg-config
   libeigen3-dev            # dense and sparse linear algebra
@@ -15,17 +19,25 @@ packages=(
   libembree-dev            # Embree 3: the BVH of the body's closest-point and ray queries
   nlohmann-json3-dev       # JSON specs and reports
   libcli11-dev             # command-line parsing
-  catch2                   # unit tests (v2)
-  python3 python3-numpy python3-scipy python3-meshio  # scripts/meshdiff.py
-  python3-ezdxf            # reading back the DXF patterns in tests
-  python3-matplotlib       # benchmark plots
+  catch2                   # unit tests (v2); CMake looks for it whenever it configures the tests
+  python3                  # pipelines/fit.mk reads a held pose's opening with it
   libpng-dev libfreetype-dev fonts-dejavu-core  # fit-report: PNG renders and their labels
   librsvg2-bin             # fit-report: the pattern as a picture (rsvg-convert)
   libcairo2-dev            # export-rest: the tiled PDF patterns (A4, Letter, A0, roll)
-  poppler-utils            # tests: the PDF pages rasterised (pdftoppm) and read (pdftotext, pdfinfo)
-  chromium                 # the fit report's browser test (headless)
-  slurm-wlm munge          # the Slurm batch's test runs its own single-node cluster (scripts/tests/local_slurm.py)
 )
+demo_only=false
+if [ "${1:-}" = "--demo" ]; then
+  demo_only=true
+else
+  packages+=(
+    python3-numpy python3-scipy python3-meshio  # scripts/meshdiff.py
+    python3-ezdxf            # reading back the DXF patterns in tests
+    python3-matplotlib       # benchmark plots
+    poppler-utils            # tests: the PDF pages rasterised (pdftoppm) and read (pdftotext, pdfinfo)
+    chromium                 # the fit report's browser test (headless)
+    slurm-wlm munge          # the Slurm batch's test runs its own single-node cluster (scripts/tests/local_slurm.py)
+  )
+fi
 # Node.js and npm run the report's tests and install three.js (scripts/web/):
 # Debian's packages where the machine has no Node.js of its own.
 if ! command -v npm >/dev/null 2>&1; then
@@ -74,12 +86,16 @@ case "$blas" in
 esac
 
 # npm packages at the exact versions of scripts/web/package-lock.json: three.js
-# (copied into every fit report) and the test tools. Reinstalled only when the
-# lock file changed since the last install.
+# (copied into every fit report) and the test tools (--demo: three.js only,
+# `npm ci --omit=dev`). Reinstalled when the lock file changed since the last
+# install, or when the tests need the tools a --demo install left out.
 web="$(cd "$(dirname "$0")" && pwd)/web"
-if [ ! -f "$web/node_modules/.package-lock.json" ] || [ "$web/package-lock.json" -nt "$web/node_modules/.package-lock.json" ]; then
-  echo "deps: running: (cd $web && npm ci --no-audit --no-fund)"
-  (cd "$web" && npm ci --no-audit --no-fund --loglevel=error)
+npm_flags=(--no-audit --no-fund --loglevel=error)
+if $demo_only; then npm_flags+=(--omit=dev); fi
+if [ ! -f "$web/node_modules/.package-lock.json" ] || [ "$web/package-lock.json" -nt "$web/node_modules/.package-lock.json" ] ||
+   { ! $demo_only && [ ! -d "$web/node_modules/playwright-core" ]; }; then
+  echo "deps: running: (cd $web && npm ci ${npm_flags[*]})"
+  (cd "$web" && npm ci "${npm_flags[@]}")
 else
   echo "deps: npm packages of scripts/web are installed"
 fi

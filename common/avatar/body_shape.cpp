@@ -399,58 +399,68 @@ void update_bounds(BodyShape& s) {
   s.box_max += margin;
 }
 
-BodyShape build_body_shape(const Measurements& m) {
-  BodyShape s;
-  s.m = m;
-  const double H = m.height;
-  const double k = H / 1.70;
-  s.scale = k;
-  s.blend_torso = 0.03 * k;
-  s.blend_limb = 0.035 * k;
-  s.blend_leg = 0.03 * k;
-  s.blend_small = 0.012 * k;
+namespace {
 
-  // Landmark heights from anthropometric proportions of stature (e.g. the
-  // ratios tabulated in Drillis and Contini 1966) and the given inseam.
-  const double ld = m.leg_length_difference;
-  const double crotch = m.inseam + 0.5 * std::abs(ld);
-  const double shoulder_y = 0.818 * H;
-  const double T = shoulder_y - crotch;
-  const double y_hip = crotch + 0.14 * T, y_waist = crotch + 0.45 * T, y_under = crotch + 0.635 * T,
-               y_chest = crotch + 0.73 * T, y_armpit = crotch + 0.85 * T;
+// Landmark heights from anthropometric proportions of stature (e.g. the
+// ratios tabulated in Drillis and Contini 1966) and the given inseam, metres.
+struct BodyHeights {
+  double crotch, shoulder, torso;  // torso: shoulder - crotch
+  double hip, waist, under, chest, armpit;
+};
+
+BodyHeights body_heights(const Measurements& m) {
+  BodyHeights h;
+  h.crotch = m.inseam + 0.5 * std::abs(m.leg_length_difference);
+  h.shoulder = 0.818 * m.height;
+  h.torso = h.shoulder - h.crotch;
+  h.hip = h.crotch + 0.14 * h.torso;
+  h.waist = h.crotch + 0.45 * h.torso;
+  h.under = h.crotch + 0.635 * h.torso;
+  h.chest = h.crotch + 0.73 * h.torso;
+  h.armpit = h.crotch + 0.85 * h.torso;
+  return h;
+}
+
+// Rows with depth ratios of typical adult cross-sections; half-widths are
+// solved from the girths (fit_girths refines them on the final shape).
+void build_torso(BodyShape& s, const Measurements& m, const BodyHeights& y) {
+  const double k = s.scale;
   const double n = s.torso_exponent;
-
-  // Rows with depth ratios of typical adult cross-sections; half-widths are
-  // solved from the girths (fit_girths refines them on the final shape).
-  auto row_for = [&](double y, double girth, double front, double back, double zc) {
+  auto row_for = [&](double at, double girth, double front, double back, double zc) {
     const double a = girth / unit_section_perimeter(front, back, n);
-    return TorsoRow{y, a, front * a, back * a, zc};
+    return TorsoRow{at, a, front * a, back * a, zc};
   };
-  const TorsoRow hip = row_for(y_hip, m.hip, 0.60, 0.80, -0.01 * k);
-  const TorsoRow waist = row_for(y_waist, m.waist, 0.72, 0.70, 0.0);
-  const TorsoRow under = row_for(y_under, m.under_bust, 0.72, 0.72, 0.0);
-  const TorsoRow chest = row_for(y_chest, m.chest, 0.80, 0.72, 0.0);
-  TorsoRow bottom{crotch - 0.005 * k, 0.86 * hip.half_width, 0.85 * hip.front, 0.8 * hip.back, hip.center_z};
-  TorsoRow armpit{y_armpit, 0.96 * chest.half_width, 0.66 * chest.half_width, 0.70 * chest.half_width,
+  const TorsoRow hip = row_for(y.hip, m.hip, 0.60, 0.80, -0.01 * k);
+  const TorsoRow waist = row_for(y.waist, m.waist, 0.72, 0.70, 0.0);
+  const TorsoRow under = row_for(y.under, m.under_bust, 0.72, 0.72, 0.0);
+  const TorsoRow chest = row_for(y.chest, m.chest, 0.80, 0.72, 0.0);
+  TorsoRow bottom{y.crotch - 0.005 * k, 0.86 * hip.half_width, 0.85 * hip.front, 0.8 * hip.back, hip.center_z};
+  TorsoRow armpit{y.armpit, 0.96 * chest.half_width, 0.66 * chest.half_width, 0.70 * chest.half_width,
                   -0.005 * k};
-  TorsoRow shoulder{shoulder_y - 0.025 * k, std::max(0.5 * m.shoulder_width - 0.055 * k, 0.07 * k), 0.075 * k,
+  TorsoRow shoulder{y.shoulder - 0.025 * k, std::max(0.5 * m.shoulder_width - 0.055 * k, 0.07 * k), 0.075 * k,
                     0.08 * k, -0.015 * k};
-  TorsoRow top{shoulder_y + 0.045 * k, 0.06 * k, 0.05 * k, 0.06 * k, -0.02 * k};
+  TorsoRow top{y.shoulder + 0.045 * k, 0.06 * k, 0.05 * k, 0.06 * k, -0.02 * k};
   s.torso_rows = {bottom, hip, waist, under, chest, armpit, shoulder, top};
   s.torso_bottom = bottom.y;
   s.torso_top = top.y;
-  s.belly_y = y_waist - 0.03 * k;
-  s.belly_sigma = 0.16 * T;
+  s.belly_y = y.waist - 0.03 * k;
+  s.belly_sigma = 0.16 * y.torso;
+}
 
-  // Neck and head.
+// Neck and head.
+void build_neck_and_head(BodyShape& s, const Measurements& m, const BodyHeights& y) {
+  const double k = s.scale, H = m.height;
   const double r_neck = m.neck / (2 * kPi);
-  s.neck[0] = Ball{Eigen::Vector3d(0, shoulder_y + 0.005 * k, -0.02 * k), 1.12 * r_neck};
+  s.neck[0] = Ball{Eigen::Vector3d(0, y.shoulder + 0.005 * k, -0.02 * k), 1.12 * r_neck};
   s.neck[1] = Ball{Eigen::Vector3d(0, H - 0.17 * k, -0.01 * k), r_neck};
   s.head_radii = Eigen::Vector3d(0.075, 0.11, 0.095) * k;
   s.head_center = Eigen::Vector3d(0, H - s.head_radii.y(), 0.012 * k);
-  const double y_neck = 0.5 * (shoulder_y + 0.045 * k + H - 2 * s.head_radii.y()) + 0.005 * k;
+}
 
-  // Arms in the A-pose.
+// Arms in the A-pose, with mitten hands.
+void build_arms(BodyShape& s, const Measurements& m, const BodyHeights& y) {
+  const double k = s.scale;
+  const double shoulder_y = y.shoulder;
   const double r_upper = m.upper_arm / (2 * kPi), r_wrist = m.wrist / (2 * kPi);
   const double arm_angle = 42.0 * kPi / 180.0;
   for (int side = 0; side < 2; ++side) {
@@ -479,8 +489,12 @@ BodyShape build_body_shape(const Measurements& m) {
     s.hand[side][1] = Ball{A[4].c + (hand_length - r_tip) * d, r_tip};
     s.hand_breadth[side] = Eigen::Vector3d::UnitZ();
   }
+}
 
-  // Legs: the inner thigh surfaces are `gap` apart at the crotch.
+// Legs and feet: the inner thigh surfaces are `gap` apart at the crotch.
+void build_legs(BodyShape& s, const Measurements& m, const BodyHeights& y) {
+  const double k = s.scale;
+  const double crotch = y.crotch, ld = m.leg_length_difference;
   const double r_thigh = m.thigh / (2 * kPi);
   const double gap = 0.022 * k;
   for (int side = 0; side < 2; ++side) {
@@ -491,7 +505,7 @@ BodyShape build_body_shape(const Measurements& m) {
     const double knee_y = floor_y + 0.61 * leg_len;
     const double xc = r_thigh + 0.5 * gap;
     const double spread = 0.035 * k;
-    auto axis_x = [&](double y) { return sx * (xc + (crotch - y) / (crotch - ankle_y) * spread); };
+    auto axis_x = [&](double at) { return sx * (xc + (crotch - at) / (crotch - ankle_y) * spread); };
     const double hip_y = crotch + 0.07 * k;
     const double calf_y = knee_y - 0.28 * (knee_y - ankle_y);
     auto& Lg = s.leg[side];
@@ -508,22 +522,25 @@ BodyShape build_body_shape(const Measurements& m) {
     s.foot[side][1] =
         Ball{Eigen::Vector3d(ankle.x() + sx * 0.02 * k, floor_y + 0.02 * k, ankle.z() + 0.165 * k), 0.02 * k};
   }
+}
 
-  // Skeleton (joint centres).
+// Skeleton (joint centres), from the limbs' balls.
+void build_skeleton(BodyShape& s, const Measurements& m, const BodyHeights& y) {
+  const double k = s.scale, H = m.height;
   Skeleton& sk = s.skeleton;
   sk.names = avatar_joint_names();
   sk.parents = avatar_joint_parents();
   sk.rest.resize(kJointCount, 3);
   auto set = [&](int j, const Eigen::Vector3d& p) { sk.rest.row(j) = p.transpose(); };
-  set(kPelvis, Eigen::Vector3d(0, crotch + 0.07 * k, -0.01 * k));
-  set(kSpine, Eigen::Vector3d(0, y_waist, -0.03 * k));
-  set(kChest, Eigen::Vector3d(0, y_under, -0.03 * k));
-  set(kNeck, Eigen::Vector3d(0, shoulder_y + 0.03 * k, -0.025 * k));
+  set(kPelvis, Eigen::Vector3d(0, y.crotch + 0.07 * k, -0.01 * k));
+  set(kSpine, Eigen::Vector3d(0, y.waist, -0.03 * k));
+  set(kChest, Eigen::Vector3d(0, y.under, -0.03 * k));
+  set(kNeck, Eigen::Vector3d(0, y.shoulder + 0.03 * k, -0.025 * k));
   set(kHead, Eigen::Vector3d(0, H - 0.2 * k, -0.01 * k));
   for (int side = 0; side < 2; ++side) {
     const double sx = side == 0 ? 1.0 : -1.0;
     const int o = side * 4;
-    set(kLClavicle + o, Eigen::Vector3d(sx * 0.02 * k, shoulder_y - 0.01 * k, 0.0));
+    set(kLClavicle + o, Eigen::Vector3d(sx * 0.02 * k, y.shoulder - 0.01 * k, 0.0));
     set(kLShoulder + o, s.arm[side][0].c);
     set(kLElbow + o, s.arm[side][2].c);
     set(kLWrist + o, s.arm[side][4].c);
@@ -532,23 +549,27 @@ BodyShape build_body_shape(const Measurements& m) {
     set(kLKnee + g, s.leg[side][1].c);
     set(kLAnkle + g, s.leg[side][3].c);
   }
+}
 
-  // Girth landmarks.
-  auto torso_mark = [&](const char* name, double target, double y, int bone) {
+// Girth landmarks: where each measured girth is taken, and the bone it follows.
+void build_girth_landmarks(BodyShape& s, const Measurements& m, const BodyHeights& y) {
+  const double k = s.scale, H = m.height;
+  const double y_neck = 0.5 * (y.shoulder + 0.045 * k + H - 2 * s.head_radii.y()) + 0.005 * k;
+  auto torso_mark = [&](const char* name, double target, double at, int bone) {
     GirthLandmark g;
     g.name = g.field = name;
     g.target = target;
-    g.center = Eigen::Vector3d(0, y, 0);
+    g.center = Eigen::Vector3d(0, at, 0);
     g.normal = Eigen::Vector3d::UnitY();
     g.bone = bone;
     return g;
   };
   s.landmarks.push_back(torso_mark("neck", m.neck, y_neck, kNeck));
   s.landmarks.back().center.z() = -0.015 * k;
-  s.landmarks.push_back(torso_mark("chest", m.chest, y_chest, kChest));
-  s.landmarks.push_back(torso_mark("under_bust", m.under_bust, y_under, kChest));
-  s.landmarks.push_back(torso_mark("waist", m.waist, y_waist, kSpine));
-  s.landmarks.push_back(torso_mark("hip", m.hip, y_hip, kPelvis));
+  s.landmarks.push_back(torso_mark("chest", m.chest, y.chest, kChest));
+  s.landmarks.push_back(torso_mark("under_bust", m.under_bust, y.under, kChest));
+  s.landmarks.push_back(torso_mark("waist", m.waist, y.waist, kSpine));
+  s.landmarks.push_back(torso_mark("hip", m.hip, y.hip, kPelvis));
   for (int side = 0; side < 2; ++side) {
     const std::string sfx = side == 0 ? "_left" : "_right";
     const auto& A = s.arm[side];
@@ -569,8 +590,8 @@ BodyShape build_body_shape(const Measurements& m) {
     wr.bone = side == 0 ? kLElbow : kRElbow;
     s.landmarks.push_back(wr);
     const auto& Lg = s.leg[side];
-    const double y = crotch - 0.03 * k;
-    const double t = (Lg[0].c.y() - y) / (Lg[0].c.y() - Lg[1].c.y());
+    const double at = y.crotch - 0.03 * k;
+    const double t = (Lg[0].c.y() - at) / (Lg[0].c.y() - Lg[1].c.y());
     GirthLandmark th;
     th.name = "thigh" + sfx;
     th.field = "thigh";
@@ -580,6 +601,26 @@ BodyShape build_body_shape(const Measurements& m) {
     th.bone = side == 0 ? kLHip : kRHip;
     s.landmarks.push_back(th);
   }
+}
+
+}  // namespace
+
+BodyShape build_body_shape(const Measurements& m) {
+  BodyShape s;
+  s.m = m;
+  const double k = m.height / 1.70;
+  s.scale = k;
+  s.blend_torso = 0.03 * k;
+  s.blend_limb = 0.035 * k;
+  s.blend_leg = 0.03 * k;
+  s.blend_small = 0.012 * k;
+  const BodyHeights heights = body_heights(m);
+  build_torso(s, m, heights);
+  build_neck_and_head(s, m, heights);
+  build_arms(s, m, heights);
+  build_legs(s, m, heights);
+  build_skeleton(s, m, heights);
+  build_girth_landmarks(s, m, heights);
   update_bounds(s);
   return s;
 }

@@ -196,13 +196,13 @@ OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOpti
 
 }  // namespace
 
-ExportRestResult export_rest(const ExportRestOptions& options) {
-  ExportRestResult result;
-  LapTimer timer;
-  auto lap = [&](const char* phase) { result.timing[phase] = timer.lap(); };
-  if (!options.fit.empty() && options.garment.empty())
-    throw UsageError("the sewn-fit check (--fit) needs the garment file (--garment): pins, material, design", "--fit");
+namespace {
 
+// The rest shape, the garment file and its design mesh (`design`, where it
+// has the rest shape's connectivity: have_design), and the seams resolved
+// on the rest shape, into `result`; the loops' names into `context`.
+void read_inputs(const ExportRestOptions& options, ExportRestResult& result, PatternContext& context, Mesh& design,
+                 bool& have_design) {
   MeshReadResult read = read_mesh(options.rest);
   result.warnings = read.warnings;
   result.rest = read.mesh;
@@ -212,7 +212,6 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
 
   result.have_garment = !options.garment.empty();
   result.name = fs::path(options.rest).stem().string();
-  PatternContext context;
   if (result.have_garment) {
     result.garment = read_garment_file(options.garment);
     result.name = result.garment.name;
@@ -227,8 +226,7 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
   }
   // The garment as designed (beside its garment file) lies at the comfort
   // offset from the body; the adapted rest shape may not.
-  Mesh design;
-  bool have_design = false;
+  have_design = false;
   if (result.have_garment) {
     const fs::path design_path = fs::path(options.garment).parent_path() / result.garment.mesh_file;
     if (fs::exists(design_path)) {
@@ -236,48 +234,38 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
       have_design = design.V.rows() == rest.V.rows() && design.F == rest.F;
     }
   }
-  if (!options.seams.empty()) {
-    result.spec = read_seam_spec(options.seams);
-    bool on_body = false, on_design = false;
-    for (const auto& s : result.spec.seams) {
-      on_body = on_body || s.on == SeamSurface::body;
-      on_design = on_design || s.on == SeamSurface::design;
-    }
-    DesignBody body;
-    if (on_body) {
-      if (!result.have_garment)
-        throw UsageError("seams on the body need the garment file (--garment) for its binding", options.seams);
-      body = load_design_body(result.garment, options.garment, options.body);
-    }
-    const bool need_design = on_body || on_design;
-    if (need_design) {
-      if (!result.have_garment)
-        throw UsageError("seams on the garment as designed need the garment file (--garment)", options.seams);
-      if (!have_design)
-        throw GeometryError("the rest shape does not have the designed garment's connectivity",
-                            (fs::path(options.garment).parent_path() / result.garment.mesh_file).string());
-    }
-    result.seams = resolve_seams(rest.V, rest.F, result.spec, result.have_garment ? &result.garment : nullptr,
-                                 on_body ? &body : nullptr, need_design ? &design.V : nullptr);
+  if (options.seams.empty()) return;
+  result.spec = read_seam_spec(options.seams);
+  bool on_body = false, on_design = false;
+  for (const auto& s : result.spec.seams) {
+    on_body = on_body || s.on == SeamSurface::body;
+    on_design = on_design || s.on == SeamSurface::design;
   }
-  lap("read");
+  DesignBody body;
+  if (on_body) {
+    if (!result.have_garment)
+      throw UsageError("seams on the body need the garment file (--garment) for its binding", options.seams);
+    body = load_design_body(result.garment, options.garment, options.body);
+  }
+  const bool need_design = on_body || on_design;
+  if (need_design) {
+    if (!result.have_garment)
+      throw UsageError("seams on the garment as designed need the garment file (--garment)", options.seams);
+    if (!have_design)
+      throw GeometryError("the rest shape does not have the designed garment's connectivity",
+                          (fs::path(options.garment).parent_path() / result.garment.mesh_file).string());
+  }
+  result.seams = resolve_seams(rest.V, rest.F, result.spec, result.have_garment ? &result.garment : nullptr,
+                               on_body ? &body : nullptr, need_design ? &design.V : nullptr);
+}
 
-  // The fit's stretch budget weighs the panel seams (PatternOptions::stretch_budget).
-  PatternOptions pattern_options = options.pattern;
-  if (!options.fit.empty()) {
-    result.fit = read_fit_settings(options.fit);
-    result.fit.run.threads = options.threads;
-    pattern_options.stretch_budget = result.fit.delta();
-  }
-  result.stretch_budget = pattern_options.stretch_budget;
-  result.pattern = make_pattern(rest.V, rest.F, result.seams, pattern_options, context);
-  lap("cut_and_flatten");
-  // Never a pattern with an overlapping piece: its outline crosses itself,
-  // so it cannot be cut from a sheet (make_pattern first removes a dart
-  // whose sides crossed, then splits the piece through the crossing). What
-  // is left is the flattening's failure on this rest shape; nothing is
-  // written.
-  for (const PatternPiece& p : result.pattern.pieces) {
+// Never a pattern with an overlapping piece: its outline crosses itself,
+// so it cannot be cut from a sheet (make_pattern first removes a dart
+// whose sides crossed, then splits the piece through the crossing). What
+// is left is the flattening's failure on this rest shape; nothing is
+// written.
+void refuse_overlapping_pieces(const Pattern& pattern) {
+  for (const PatternPiece& p : pattern.pieces) {
     if (!p.flat.boundary_overlaps) continue;
     Eigen::Vector3d at = Eigen::Vector3d::Zero();
     for (int v : p.flat.overlap_vertex_ids) at += p.V.row(v).transpose();
@@ -286,6 +274,196 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
     std::snprintf(where, sizeof(where), "near (%.3f, %.3f, %.3f) m on the rest shape", at.x(), at.y(), at.z());
     throw NumericalError("the flat piece " + p.name + " overlaps itself and no cut removed the overlap", where);
   }
+}
+
+// Which piece fails the limit, by how much and where: the rest-shape point
+// of its face farthest over the bound it exceeds, so that a tailor (or a
+// seam spec) can put a dart or a seam there.
+std::string limit_warning(const Pattern& pattern, const PatternOptions& po) {
+  std::string failing;
+  for (size_t c = 0; c < pattern.pieces.size(); ++c) {
+    const PatternPiece& p = pattern.pieces[c];
+    if (p.meets_limit) continue;
+    const bool compression = po.limit.symmetric ? p.stats.max_error > po.limit.max_limit
+                                          : p.stats.worst1_compression > po.limit.compression_worst1;
+    const Eigen::Vector3d worst = worst_region_centroid(material_faces(pattern, c),
+                                                        compression ? 0.01 : 0.05, compression, po.darts.kernel_radius);
+    char buf[256];
+    if (po.limit.symmetric)
+      std::snprintf(buf, sizeof(buf), "%s (p95 error %.1f %%, max %.1f %%", p.name.c_str(), 100.0 * p.stats.p95_error,
+                    100.0 * p.stats.max_error);
+    else
+      std::snprintf(buf, sizeof(buf), "%s (compression %.1f %% over its worst 1 %%, ease %.1f %% over its worst 5 %%",
+                    p.name.c_str(), 100.0 * p.stats.worst1_compression, 100.0 * p.stats.worst5_ease);
+    std::string line = buf;
+    if (p.flat.boundary_overlaps) line += ", overlapping";
+    if (p.flat.stats.flipped_triangles > 0) line += ", flipped triangles";
+    std::snprintf(buf, sizeof(buf), "; its worst %s at (%.3f, %.3f, %.3f) m", compression ? "compression" : "ease",
+                  worst.x(), worst.y(), worst.z());
+    line += buf;
+    failing += (failing.empty() ? "" : ", ") + line + ")";
+  }
+  return "the distortion limit is not met in " + failing + " (report.json lists the pieces)";
+}
+
+// Figures of the rest shape against the garment as designed: growth, tucks
+// and cone points explain a pattern that cannot meet the limit.
+void rest_shape_figures(const ExportRestOptions& options, const Mesh& design, ExportRestResult& result) {
+  const Mesh& rest = result.rest;
+  // A cone point whose defect is 2 pi * the limit cannot be flattened
+  // within it unless its neighbourhood takes that error in full.
+  const double limit = options.pattern.limit.symmetric ? options.pattern.limit.max_limit : options.pattern.limit.compression_worst1;
+  const double cone = 2.0 * M_PI * limit;
+  const RestShapeDiagnostics d = diagnose_rest_shape(design.V, rest.V, rest.F, cone);
+  // The cones a piece must flatten: those at least a centimetre inside it
+  // (a seam junction is where pieces meet).
+  const InnerCones inside = cone_points_inside_pieces(design.V, rest.V, rest.F, cone, result.pattern.cut.V,
+                                                      result.pattern.cut.F, kConeInsideMargin);
+  result.rest_shape = {{"design_mesh", (fs::path(options.garment).parent_path() / result.garment.mesh_file).string()},
+                       {"area_growth", d.area_growth},
+                       {"face_growth_p95", d.growth_p95},
+                       {"face_growth_max", d.growth_max},
+                       {"turned_faces", d.turned_faces},
+                       {"turned_area_fraction", d.turned_area_fraction},
+                       {"cone_angle_deg", d.cone_angle * 180.0 / M_PI},
+                       {"cone_points", d.cone_points},
+                       {"cone_points_design", d.cone_points_design},
+                       {"cone_points_inside_pieces", inside.rest},
+                       {"cone_points_inside_pieces_design", inside.design},
+                       {"cone_inside_margin_m", kConeInsideMargin},
+                       {"max_abs_angle_defect_deg", d.max_abs_defect * 180.0 / M_PI},
+                       {"abs_angle_defect_sum_rad", d.abs_defect_sum},
+                       {"abs_angle_defect_sum_design_rad", d.abs_defect_sum_design}};
+  if (!result.pattern.meets_limit && d.cone_points > d.cone_points_design)
+    result.warnings.push_back("the rest shape has " + std::to_string(d.cone_points) + " cone points (the design " +
+                              std::to_string(d.cone_points_design) + ") and " + std::to_string(d.turned_faces) +
+                              " faces turned over in tucks (see rest_shape in report.json)");
+}
+
+// The drapes the sewn garment is measured against: the fit's verified drapes
+// of this rest shape, or, for a fit run without verification, the rest
+// shape simulated here as the sewn garment was (sewn.reference). Fills
+// `reference` and `names`; empty when neither exists.
+void reference_drapes(const ExportRestOptions& options, PoseInterpolator& interpolator, const MotionSpec& motion,
+                      const Mesh& design, ExportRestResult& result, std::vector<Eigen::MatrixXd>& reference,
+                      std::vector<std::string>& names) {
+  const Mesh& rest = result.rest;
+  SewnFitResult& sewn = result.sewn_fit;
+  if (result.fit.verified.empty()) {
+    try {
+      sewn.reference = rest_shape_drapes(interpolator, motion, design.V, rest.V, rest.F, result.garment,
+                                         result.fit.run, result.fit.criteria, options.progress);
+      sewn.reference_is_rest_shape = true;
+    } catch (const NumericalError& e) {
+      sewn.drape_not_measured = std::string("the fit has no verified drapes, and the rest shape's own simulation "
+                                            "failed: ") + e.what();
+      return;
+    }
+    for (const adapt::PoseCheck& check : sewn.reference.poses) {
+      reference.push_back(check.figures.V_draped);
+      names.push_back(rest_drape_name(check.figures));
+    }
+    return;
+  }
+  for (const FitSettings::VerifiedDrape& d : result.fit.verified) {
+    const Mesh m = read_mesh(d.path).mesh;
+    if (m.V.rows() != rest.V.rows() || m.F != rest.F)
+      throw GeometryError("the fit's verified drape is not a drape of this rest shape (" +
+                              std::to_string(m.V.rows()) + " vertices, the rest shape " +
+                              std::to_string(rest.V.rows()) + "); --fit must name the fit of " + options.rest,
+                          d.path.string());
+    reference.push_back(m.V);
+    names.push_back(d.mesh);
+  }
+}
+
+// --drape-settled: the sewn garment (and the rest shape, the floor) settled
+// at each key pose alone from the reference drape, and those distances.
+void settled_drapes(const ExportRestOptions& options, PoseInterpolator& interpolator, const MotionSpec& motion,
+                    const std::vector<Eigen::MatrixXd>& reference, ExportRestResult& result) {
+  const Mesh& rest = result.rest;
+  SewnFitResult& sewn = result.sewn_fit;
+  const auto triangles = sewn_rest_triangles(result.pattern, result.layout, static_cast<int>(rest.F.rows()));
+  const auto settled = settle_from_reference(interpolator, motion, reference, rest.F, result.garment, triangles,
+                                             result.fit.run, result.fit.criteria);
+  const auto floor = settle_from_reference(interpolator, motion, reference, rest.F, result.garment,
+                                           adapt::rest_triangles_of(rest.V, rest.F), result.fit.run,
+                                           result.fit.criteria);
+  sewn.settled_drapes = settled;
+  for (size_t i = 0; i < reference.size(); ++i) {
+    sewn.settled.push_back(drape_distance(settled[i], reference[i], rest.F, options.drape));
+    sewn.settled.back().key = sewn.drape[i].key;
+    sewn.settled.back().pose = sewn.drape[i].pose;
+    sewn.settled.back().verified_mesh = sewn.drape[i].verified_mesh;
+    sewn.settled_floor.push_back(drape_distance(floor[i], reference[i], rest.F, DrapeCriteria{}));
+  }
+}
+
+// The sewn-fit check (--fit): the garment sewn from the flat pieces,
+// simulated through the fit's key poses, then its drapes against the
+// reference drapes of this rest shape.
+void run_sewn_fit(const ExportRestOptions& options, const Mesh& design, ExportRestResult& result) {
+  const Mesh& rest = result.rest;
+  const PoseSet poses = load_pose_set(result.fit.poses);
+  const MotionSpec motion = read_motion_spec(result.fit.motion, poses);
+  if (result.garment.body.vertex_count != 0 &&
+      result.garment.body.vertex_count != static_cast<long long>(poses.V[0].rows()))
+    throw GeometryError("the garment was designed on a body with " + std::to_string(result.garment.body.vertex_count) +
+                            " vertices, the fit's pose set has " + std::to_string(poses.V[0].rows()),
+                        result.fit.poses);
+  InterpolationOptions interp_options;
+  interp_options.anchor = motion.anchor;
+  PoseInterpolator interpolator(poses, interp_options);
+  // A simulation that fails for good is a finding about the pattern (a
+  // pattern far from its rest shape can start with forces no step
+  // survives): the check fails and the pattern is still written.
+  try {
+    result.sewn_fit = sewn_fit_check(interpolator, motion, design.V, rest.F, result.garment, result.pattern,
+                                     result.layout, result.fit.run, result.fit.criteria, options.progress);
+  } catch (const NumericalError& e) {
+    result.sewn_fit_error = std::string("the simulation of the sewn garment failed: ") + e.what();
+    result.sewn_fit.delta = result.fit.delta();
+    result.sewn_fit.drape_not_measured = "the simulation of the sewn garment failed";
+  }
+  result.sewn_fit_done = true;
+  if (!result.sewn_fit_error.empty()) return;
+  SewnFitResult& sewn = result.sewn_fit;
+  std::vector<Eigen::MatrixXd> reference;
+  std::vector<std::string> names;
+  reference_drapes(options, interpolator, motion, design, result, reference, names);
+  // With --drape-settled the bounds judge the settled distances, and the
+  // distance after the whole motion is reported unbounded.
+  const DrapeCriteria motion_bounds = options.drape_settled ? DrapeCriteria{} : options.drape;
+  if (!reference.empty()) compare_with_verified(sewn, reference, names, rest.F, motion_bounds);
+  sewn.drape_criteria = options.drape;
+  if (options.drape_settled && !sewn.drape.empty()) settled_drapes(options, interpolator, motion, reference, result);
+}
+
+}  // namespace
+
+ExportRestResult export_rest(const ExportRestOptions& options) {
+  ExportRestResult result;
+  LapTimer timer;
+  auto lap = [&](const char* phase) { result.timing[phase] = timer.lap(); };
+  if (!options.fit.empty() && options.garment.empty())
+    throw UsageError("the sewn-fit check (--fit) needs the garment file (--garment): pins, material, design", "--fit");
+  PatternContext context;
+  Mesh design;
+  bool have_design = false;
+  read_inputs(options, result, context, design, have_design);
+  lap("read");
+
+  // The fit's stretch budget weighs the panel seams (PanelOptions::stretch_budget).
+  PatternOptions pattern_options = options.pattern;
+  if (!options.fit.empty()) {
+    result.fit = read_fit_settings(options.fit);
+    result.fit.run.threads = options.threads;
+    pattern_options.panels.stretch_budget = result.fit.delta();
+  }
+  result.stretch_budget = pattern_options.panels.stretch_budget;
+  result.pattern = make_pattern(result.rest.V, result.rest.F, result.seams, pattern_options, context);
+  lap("cut_and_flatten");
+  refuse_overlapping_pieces(result.pattern);
   for (const auto& [phase, s] : result.pattern.seconds) result.timing["cut_and_flatten_" + phase] = s;
   LayoutOptions layout = options.layout;
   layout.title = pattern_title(result);
@@ -295,160 +473,17 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
       result.have_garment && result.garment.material.turned_grain() ? result.garment.material.grain_angles : no_grain;
   result.layout = layout_pattern(result.pattern, layout, grain);
   lap("layout");
-  if (!result.pattern.meets_limit) {
-    // Which piece, by how much and where: the rest-shape point of its
-    // face farthest over the bound it exceeds, so that a tailor (or a seam
-    // spec) can put a dart or a seam there.
-    std::string failing;
-    const PatternOptions& po = pattern_options;
-    for (size_t c = 0; c < result.pattern.pieces.size(); ++c) {
-      const PatternPiece& p = result.pattern.pieces[c];
-      if (p.meets_limit) continue;
-      const bool compression = po.symmetric ? p.stats.max_error > po.max_limit
-                                            : p.stats.worst1_compression > po.compression_worst1;
-      const Eigen::Vector3d worst = worst_region_centroid(material_faces(result.pattern, c),
-                                                          compression ? 0.01 : 0.05, compression, po.kernel_radius);
-      char buf[256];
-      if (po.symmetric)
-        std::snprintf(buf, sizeof(buf), "%s (p95 error %.1f %%, max %.1f %%", p.name.c_str(), 100.0 * p.stats.p95_error,
-                      100.0 * p.stats.max_error);
-      else
-        std::snprintf(buf, sizeof(buf), "%s (compression %.1f %% over its worst 1 %%, ease %.1f %% over its worst 5 %%",
-                      p.name.c_str(), 100.0 * p.stats.worst1_compression, 100.0 * p.stats.worst5_ease);
-      std::string line = buf;
-      if (p.flat.boundary_overlaps) line += ", overlapping";
-      if (p.flat.stats.flipped_triangles > 0) line += ", flipped triangles";
-      std::snprintf(buf, sizeof(buf), "; its worst %s at (%.3f, %.3f, %.3f) m", compression ? "compression" : "ease",
-                    worst.x(), worst.y(), worst.z());
-      line += buf;
-      failing += (failing.empty() ? "" : ", ") + line + ")";
-    }
-    result.warnings.push_back("the distortion limit is not met in " + failing + " (report.json lists the pieces)");
-  }
+  if (!result.pattern.meets_limit) result.warnings.push_back(limit_warning(result.pattern, pattern_options));
 
-  // Figures of the rest shape against the garment as designed: growth, tucks
-  // and cone points explain a pattern that cannot meet the limit.
   result.rest_shape = OrderedJson::object();
-  if (have_design) {
-    // A cone point whose defect is 2 pi * the limit cannot be flattened
-    // within it unless its neighbourhood takes that error in full.
-    const double limit = options.pattern.symmetric ? options.pattern.max_limit : options.pattern.compression_worst1;
-    const double cone = 2.0 * M_PI * limit;
-    const RestShapeDiagnostics d = diagnose_rest_shape(design.V, rest.V, rest.F, cone);
-    // The cones a piece must flatten: those at least a centimetre inside it
-    // (a seam junction is where pieces meet).
-    const InnerCones inside = cone_points_inside_pieces(design.V, rest.V, rest.F, cone, result.pattern.cut.V,
-                                                        result.pattern.cut.F, kConeInsideMargin);
-    result.rest_shape = {{"design_mesh", (fs::path(options.garment).parent_path() / result.garment.mesh_file).string()},
-                         {"area_growth", d.area_growth},
-                         {"face_growth_p95", d.growth_p95},
-                         {"face_growth_max", d.growth_max},
-                         {"turned_faces", d.turned_faces},
-                         {"turned_area_fraction", d.turned_area_fraction},
-                         {"cone_angle_deg", d.cone_angle * 180.0 / M_PI},
-                         {"cone_points", d.cone_points},
-                         {"cone_points_design", d.cone_points_design},
-                         {"cone_points_inside_pieces", inside.rest},
-                         {"cone_points_inside_pieces_design", inside.design},
-                         {"cone_inside_margin_m", kConeInsideMargin},
-                         {"max_abs_angle_defect_deg", d.max_abs_defect * 180.0 / M_PI},
-                         {"abs_angle_defect_sum_rad", d.abs_defect_sum},
-                         {"abs_angle_defect_sum_design_rad", d.abs_defect_sum_design}};
-    if (!result.pattern.meets_limit && d.cone_points > d.cone_points_design)
-      result.warnings.push_back("the rest shape has " + std::to_string(d.cone_points) + " cone points (the design " +
-                                std::to_string(d.cone_points_design) + ") and " + std::to_string(d.turned_faces) +
-                                " faces turned over in tucks (see rest_shape in report.json)");
-  }
+  if (have_design) rest_shape_figures(options, design, result);
 
   if (!options.fit.empty()) {
     if (!have_design)
       throw GeometryError("the sewn-fit check starts from the garment as designed, which is missing or has another "
                           "connectivity than the rest shape",
                           (fs::path(options.garment).parent_path() / result.garment.mesh_file).string());
-    const PoseSet poses = load_pose_set(result.fit.poses);
-    const MotionSpec motion = read_motion_spec(result.fit.motion, poses);
-    if (result.garment.body.vertex_count != 0 &&
-        result.garment.body.vertex_count != static_cast<long long>(poses.V[0].rows()))
-      throw GeometryError("the garment was designed on a body with " + std::to_string(result.garment.body.vertex_count) +
-                              " vertices, the fit's pose set has " + std::to_string(poses.V[0].rows()),
-                          result.fit.poses);
-    InterpolationOptions interp_options;
-    interp_options.anchor = motion.anchor;
-    PoseInterpolator interpolator(poses, interp_options);
-    // A simulation that fails for good is a finding about the pattern (a
-    // pattern far from its rest shape can start with forces no step
-    // survives): the check fails and the pattern is still written.
-    try {
-      result.sewn_fit = sewn_fit_check(interpolator, motion, design.V, rest.F, result.garment, result.pattern,
-                                       result.layout, result.fit.run, result.fit.criteria, options.progress);
-    } catch (const NumericalError& e) {
-      result.sewn_fit_error = std::string("the simulation of the sewn garment failed: ") + e.what();
-      result.sewn_fit.delta = result.fit.delta();
-      result.sewn_fit.drape_not_measured = "the simulation of the sewn garment failed";
-    }
-    result.sewn_fit_done = true;
-    if (result.sewn_fit_error.empty()) {
-      // The sewn drapes against the fit's verified drapes of this rest shape.
-      SewnFitResult& sewn = result.sewn_fit;
-      // With --drape-settled the bounds judge the settled distances, and the
-      // distance after the whole motion is reported unbounded.
-      const DrapeCriteria motion_bounds = options.drape_settled ? DrapeCriteria{} : options.drape;
-      if (result.fit.verified.empty()) {
-        // A fit run without verification names no drape of its rest shape:
-        // the rest shape is simulated here, as the sewn garment was.
-        try {
-          sewn.reference = rest_shape_drapes(interpolator, motion, design.V, rest.V, rest.F, result.garment,
-                                             result.fit.run, result.fit.criteria, options.progress);
-          sewn.reference_is_rest_shape = true;
-        } catch (const NumericalError& e) {
-          sewn.drape_not_measured = std::string("the fit has no verified drapes, and the rest shape's own simulation "
-                                                "failed: ") + e.what();
-        }
-        std::vector<Eigen::MatrixXd> reference;
-        std::vector<std::string> names;
-        for (const adapt::PoseCheck& check : sewn.reference.poses) {
-          reference.push_back(check.figures.V_draped);
-          names.push_back(rest_drape_name(check.figures));
-        }
-        if (sewn.reference_is_rest_shape) compare_with_verified(sewn, reference, names, rest.F, motion_bounds);
-      } else {
-        std::vector<Eigen::MatrixXd> verified;
-        std::vector<std::string> names;
-        for (const FitSettings::VerifiedDrape& d : result.fit.verified) {
-          const Mesh m = read_mesh(d.path).mesh;
-          if (m.V.rows() != rest.V.rows() || m.F != rest.F)
-            throw GeometryError("the fit's verified drape is not a drape of this rest shape (" +
-                                    std::to_string(m.V.rows()) + " vertices, the rest shape " +
-                                    std::to_string(rest.V.rows()) + "); --fit must name the fit of " + options.rest,
-                                d.path.string());
-          verified.push_back(m.V);
-          names.push_back(d.mesh);
-        }
-        compare_with_verified(sewn, verified, names, rest.F, motion_bounds);
-      }
-      sewn.drape_criteria = options.drape;
-      if (options.drape_settled && !sewn.drape.empty()) {
-        std::vector<Eigen::MatrixXd> reference;
-        if (sewn.reference_is_rest_shape)
-          for (const adapt::PoseCheck& c : sewn.reference.poses) reference.push_back(c.figures.V_draped);
-        else
-          for (const FitSettings::VerifiedDrape& d : result.fit.verified) reference.push_back(read_mesh(d.path).mesh.V);
-        const auto triangles = sewn_rest_triangles(result.pattern, result.layout, static_cast<int>(rest.F.rows()));
-        const auto settled = settle_from_reference(interpolator, motion, reference, rest.F, result.garment, triangles,
-                                                   result.fit.run, result.fit.criteria);
-        const auto floor = settle_from_reference(interpolator, motion, reference, rest.F, result.garment,
-                                                 adapt::rest_triangles_of(rest.V, rest.F), result.fit.run,
-                                                 result.fit.criteria);
-        sewn.settled_drapes = settled;
-        for (size_t i = 0; i < reference.size(); ++i) {
-          sewn.settled.push_back(drape_distance(settled[i], reference[i], rest.F, options.drape));
-          sewn.settled.back().key = sewn.drape[i].key;
-          sewn.settled.back().pose = sewn.drape[i].pose;
-          sewn.settled.back().verified_mesh = sewn.drape[i].verified_mesh;
-          sewn.settled_floor.push_back(drape_distance(floor[i], reference[i], rest.F, DrapeCriteria{}));
-        }
-      }
-    }
+    run_sewn_fit(options, design, result);
     lap("sewn_fit");
   }
   return result;
@@ -468,7 +503,7 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
   // The cutter's options with the stretch budget it used (the fit's delta
   // with --fit).
   PatternOptions used = options.pattern;
-  used.stretch_budget = result.stretch_budget;
+  used.panels.stretch_budget = result.stretch_budget;
   report["options"] = {{"pattern", write_options(used, PatternOptionFields{})},
                        {"layout", write_options(options.layout, LayoutOptionFields{})},
                        {"seam_mismatch_tolerance", write_options(options.tolerance, SeamToleranceFields{})},

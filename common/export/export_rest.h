@@ -54,7 +54,7 @@ struct ExportRestResult {
   bool sewn_fit_done = false;    // the sewn garment was simulated (with or without success)
   std::string sewn_fit_error;    // a simulation that failed for good (the check then fails)
   FitSettings fit;               // the fit's settings the check used
-  double stretch_budget = 0.0;   // PatternOptions::stretch_budget the cutter used (the fit's delta with --fit)
+  double stretch_budget = 0.0;   // PanelOptions::stretch_budget the cutter used (the fit's delta with --fit)
   SewnFitResult sewn_fit;
   // Whether the pattern fails the sewn-fit check (the stage then exits 8).
   bool sewn_fit_failed() const { return sewn_fit_done && (!sewn_fit_error.empty() || !sewn_fit.passed()); }

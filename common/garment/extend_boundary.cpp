@@ -109,6 +109,113 @@ OrderedJson to_json(const ExtendSpec& s) {
   return j;
 }
 
+namespace {
+
+// The loop's centroid (arc-length weighted) and axis: the vector area
+// (1/2 sum p_i x p_{i+1} about the centroid), as in the paper's extension
+// tool, pointed away from the garment (from the ring of inner neighbours of
+// the loop towards the loop). P: the loop's points, old_length its length.
+void loop_axis(const Mesh& garment, const GarmentLoop& loop, const Eigen::MatrixXd& P, double old_length,
+               const ExtendSpec& spec, Eigen::Vector3d& centroid, Eigen::Vector3d& axis) {
+  const Eigen::Index m = P.rows();
+  centroid = Eigen::Vector3d::Zero();
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const double w = (P.row((i + 1) % m) - P.row(i)).norm();
+    centroid += 0.5 * w * (P.row(i) + P.row((i + 1) % m)).transpose();
+  }
+  centroid /= old_length;
+  Eigen::Vector3d area = Eigen::Vector3d::Zero();
+  for (Eigen::Index i = 0; i < m; ++i)
+    area += 0.5 * Eigen::Vector3d(P.row(i).transpose() - centroid)
+                      .cross(Eigen::Vector3d(P.row((i + 1) % m).transpose() - centroid));
+  if (!(area.norm() > 1e-6 * old_length * old_length))
+    throw GeometryError("loop '" + spec.loop + "' encloses no area, so it has no axis to extend along",
+                        spec.file + ": /loop");
+  axis = area.normalized();
+  const auto neighbors = vertex_neighbors(garment.F, static_cast<int>(garment.V.rows()));
+  const std::set<int> on_loop(loop.vertex_ids.begin(), loop.vertex_ids.end());
+  Eigen::Vector3d inner = Eigen::Vector3d::Zero();
+  int inner_count = 0;
+  for (int v : loop.vertex_ids)
+    for (int w : neighbors[v])
+      if (!on_loop.count(w)) {
+        inner += garment.V.row(w).transpose();
+        ++inner_count;
+      }
+  if (inner_count > 0 && (centroid - inner / inner_count).dot(axis) < 0) axis = -axis;
+}
+
+// Zips consecutive rings (vertex ids and arc-length parameters) by parameter;
+// the garment runs along the old loop in its boundary direction, so the band
+// runs against it.
+std::vector<Eigen::Vector3i> zip_rings(const std::vector<std::vector<int>>& ring_ids,
+                                       const std::vector<std::vector<double>>& ring_u) {
+  std::vector<Eigen::Vector3i> band;
+  const int rows = static_cast<int>(ring_ids.size()) - 1;
+  for (int r = 0; r < rows; ++r) {
+    const auto &A = ring_ids[static_cast<size_t>(r)], &B = ring_ids[static_cast<size_t>(r + 1)];
+    const auto &ua = ring_u[static_cast<size_t>(r)], &ub = ring_u[static_cast<size_t>(r + 1)];
+    const size_t na = A.size(), nb = B.size();
+    size_t i = 0, j = 0;
+    while (i < na || j < nb) {
+      const double a_next = i + 1 < na ? ua[i + 1] : 1.0, b_next = j + 1 < nb ? ub[j + 1] : 1.0;
+      if (j == nb || (i < na && a_next <= b_next)) {
+        band.push_back({A[(i + 1) % na], A[i % na], B[j % nb]});
+        ++i;
+      } else {
+        band.push_back({A[i % na], B[j % nb], B[(j + 1) % nb]});
+        ++j;
+      }
+    }
+  }
+  return band;
+}
+
+// The band may pass through the body (a skirt cone through the hips or the
+// hands): pushed clear of it, bound loops held (new_id: the remeshed id of
+// each vertex before the remeshing, -1).
+void clear_of_body(const DesignBody& body, const GarmentFile& file, int loop_index, const std::vector<int>& new_id,
+                   Eigen::MatrixXd& V, const Eigen::MatrixXi& F, ExtendResult& result) {
+  std::vector<char> fixed(static_cast<size_t>(V.rows()), 0);
+  for (size_t k = 0; k < file.loops.size(); ++k) {
+    if (static_cast<int>(k) == loop_index || file.loops[k].binding.empty()) continue;
+    for (int v : file.loops[k].vertex_ids) {
+      const int moved_id = new_id[static_cast<size_t>(v)];
+      if (moved_id >= 0) fixed[static_cast<size_t>(moved_id)] = 1;
+    }
+  }
+  BodyClearanceOptions clearance;
+  clearance.offset = file.offset;
+  result.clearance = clear_body(V, F, body.V, body.F, fixed, clearance);
+  // Then of the hand hulls the simulation collides with (contact_surface.h),
+  // which its intersection-free contact needs the garment to start outside
+  // of. After the body, since a hull and the hand under it are two parts
+  // for clear_body, which could send them to two sides.
+  const collision::ContactSurface surface = collision::contact_surface(body.V, body.F);
+  const Eigen::MatrixXd V_surface = surface.positions(body.V);
+  if (surface.hull_count > 0 && result.clearance.clear() &&
+      !collision::find_crossings(V_surface, surface.F, V, F).intersection_free()) {
+    result.clearance = clear_body(V, F, V_surface, surface.F, fixed, clearance);
+  }
+}
+
+// Band faces come after the garment's nF faces, which keep their order: how
+// many of them have a normal that faces the axis.
+int inward_band_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::Index nF,
+                      const Eigen::Vector3d& centroid, const Eigen::Vector3d& axis) {
+  const Eigen::MatrixXd N = face_normals(V, F);
+  int flipped = 0;
+  for (Eigen::Index f = nF; f < F.rows(); ++f) {
+    const Eigen::Vector3d c = (V.row(F(f, 0)) + V.row(F(f, 1)) + V.row(F(f, 2))).transpose() / 3.0;
+    Eigen::Vector3d radial = c - centroid;
+    radial -= radial.dot(axis) * axis;
+    if (N.row(f).dot(radial) <= 0) ++flipped;
+  }
+  return flipped;
+}
+
+}  // namespace
+
 ExtendResult extend_boundary(const Mesh& garment, const GarmentFile& file, const ExtendSpec& spec,
                              const DesignBody* body) {
   const int loop_index = file.find_loop(spec.loop);
@@ -124,37 +231,10 @@ ExtendResult extend_boundary(const Mesh& garment, const GarmentFile& file, const
   Eigen::MatrixXd P(m, 3);
   for (Eigen::Index i = 0; i < m; ++i) P.row(i) = garment.V.row(loop.vertex_ids[static_cast<size_t>(i)]);
 
-  // Axis from the centroid and the vector area (1/2 sum p_i x p_{i+1} about
-  // the centroid), as in the paper's extension tool.
   double old_length = 0.0;
   const std::vector<double> u_old = arc_parameters(P, old_length);
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (Eigen::Index i = 0; i < m; ++i) {
-    const double w = (P.row((i + 1) % m) - P.row(i)).norm();
-    centroid += 0.5 * w * (P.row(i) + P.row((i + 1) % m)).transpose();
-  }
-  centroid /= old_length;
-  Eigen::Vector3d area = Eigen::Vector3d::Zero();
-  for (Eigen::Index i = 0; i < m; ++i)
-    area += 0.5 * Eigen::Vector3d(P.row(i).transpose() - centroid)
-                      .cross(Eigen::Vector3d(P.row((i + 1) % m).transpose() - centroid));
-  if (!(area.norm() > 1e-6 * old_length * old_length))
-    throw GeometryError("loop '" + spec.loop + "' encloses no area, so it has no axis to extend along",
-                        spec.file + ": /loop");
-  Eigen::Vector3d axis = area.normalized();
-  // Point the axis away from the garment: from the ring of inner neighbours
-  // of the loop towards the loop.
-  const auto neighbors = vertex_neighbors(garment.F, static_cast<int>(nG));
-  const std::set<int> on_loop(loop.vertex_ids.begin(), loop.vertex_ids.end());
-  Eigen::Vector3d inner = Eigen::Vector3d::Zero();
-  int inner_count = 0;
-  for (int v : loop.vertex_ids)
-    for (int w : neighbors[v])
-      if (!on_loop.count(w)) {
-        inner += garment.V.row(w).transpose();
-        ++inner_count;
-      }
-  if (inner_count > 0 && (centroid - inner / inner_count).dot(axis) < 0) axis = -axis;
+  Eigen::Vector3d centroid, axis;
+  loop_axis(garment, loop, P, old_length, spec, centroid, axis);
 
   double distance = spec.distance;
   if (spec.has_point) {
@@ -203,25 +283,7 @@ ExtendResult extend_boundary(const Mesh& garment, const GarmentFile& file, const
       added.push_back(x);
     }
   }
-  // Zip consecutive rings by parameter; the garment runs along the old loop in
-  // its boundary direction, so the band runs against it.
-  std::vector<Eigen::Vector3i> band;
-  for (int r = 0; r < rows; ++r) {
-    const auto &A = ring_ids[static_cast<size_t>(r)], &B = ring_ids[static_cast<size_t>(r + 1)];
-    const auto &ua = ring_u[static_cast<size_t>(r)], &ub = ring_u[static_cast<size_t>(r + 1)];
-    const size_t na = A.size(), nb = B.size();
-    size_t i = 0, j = 0;
-    while (i < na || j < nb) {
-      const double a_next = i + 1 < na ? ua[i + 1] : 1.0, b_next = j + 1 < nb ? ub[j + 1] : 1.0;
-      if (j == nb || (i < na && a_next <= b_next)) {
-        band.push_back({A[(i + 1) % na], A[i % na], B[j % nb]});
-        ++i;
-      } else {
-        band.push_back({A[i % na], B[j % nb], B[(j + 1) % nb]});
-        ++j;
-      }
-    }
-  }
+  const std::vector<Eigen::Vector3i> band = zip_rings(ring_ids, ring_u);
 
   Eigen::MatrixXd V(nG + static_cast<Eigen::Index>(added.size()), 3);
   V.topRows(nG) = garment.V;
@@ -257,43 +319,13 @@ ExtendResult extend_boundary(const Mesh& garment, const GarmentFile& file, const
   for (size_t i = 0; i < origin.size(); ++i)
     if (origin[i] >= 0) new_id[static_cast<size_t>(origin[i])] = static_cast<int>(i);
 
-  // The band may pass through the body (a skirt cone through the hips or the
-  // hands): pushed clear of it, bound loops held.
   if (body) {
-    std::vector<char> fixed(static_cast<size_t>(V.rows()), 0);
-    for (size_t k = 0; k < file.loops.size(); ++k) {
-      if (static_cast<int>(k) == loop_index || file.loops[k].binding.empty()) continue;
-      for (int v : file.loops[k].vertex_ids) {
-        const int moved_id = new_id[static_cast<size_t>(v)];
-        if (moved_id >= 0) fixed[static_cast<size_t>(moved_id)] = 1;
-      }
-    }
-    BodyClearanceOptions clearance;
-    clearance.offset = file.offset;
-    result.clearance = clear_body(V, F, body->V, body->F, fixed, clearance);
-    // Then of the hand hulls the simulation collides with (contact_surface.h),
-    // which its intersection-free contact needs the garment to start outside
-    // of. After the body, since a hull and the hand under it are two parts
-    // for clear_body, which could send them to two sides.
-    const collision::ContactSurface surface = collision::contact_surface(body->V, body->F);
-    const Eigen::MatrixXd V_surface = surface.positions(body->V);
-    if (surface.hull_count > 0 && result.clearance.clear() &&
-        !collision::find_crossings(V_surface, surface.F, V, F).intersection_free()) {
-      result.clearance = clear_body(V, F, V_surface, surface.F, fixed, clearance);
-    }
+    clear_of_body(*body, file, loop_index, new_id, V, F, result);
     result.body_checked = true;
   }
 
-  // Band faces come after the garment's faces, which keep their order; count
-  // those whose normal faces the axis.
-  const Eigen::MatrixXd N = face_normals(V, F);
   result.band_faces = static_cast<int>(F.rows() - nF);
-  for (Eigen::Index f = nF; f < F.rows(); ++f) {
-    const Eigen::Vector3d c = (V.row(F(f, 0)) + V.row(F(f, 1)) + V.row(F(f, 2))).transpose() / 3.0;
-    Eigen::Vector3d radial = c - centroid;
-    radial -= radial.dot(axis) * axis;
-    if (N.row(f).dot(radial) <= 0) ++result.band_flipped_faces;
-  }
+  result.band_flipped_faces = inward_band_faces(V, F, nF, centroid, axis);
 
   GarmentFile out = file;
   for (auto& l : out.loops)

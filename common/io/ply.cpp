@@ -135,20 +135,18 @@ bool is_integer_type(PlyType t) { return t != PlyType::float32 && t != PlyType::
 
 }  // namespace
 
-MeshReadResult read_ply(const std::filesystem::path& path, const MeshReadOptions& options) {
-  const std::string file = path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open file", file);
+namespace {
 
-  MeshReadResult result;
-  std::string line;
-  if (!std::getline(in, line)) throw InputError("empty file; expected a PLY header", file);
-  if (!line.empty() && line.back() == '\r') line.pop_back();
-  if (line != "ply") throw InputError("not a PLY file (first line is not 'ply')", file);
-
+struct PlyHeader {
   Encoding enc = Encoding::ascii;
-  bool have_format = false;
   std::vector<Element> elements;
+};
+
+// The header after the "ply" line, up to end_header; `in` is left at the body.
+PlyHeader read_header(std::istream& in, const std::string& file) {
+  PlyHeader h;
+  std::string line;
+  bool have_format = false;
   long long line_no = 1;
   while (true) {
     if (!std::getline(in, line)) throw InputError("header has no end_header line", file);
@@ -163,18 +161,18 @@ MeshReadResult read_ply(const std::filesystem::path& path, const MeshReadOptions
     if (key == "format") {
       std::string fmt, version;
       ls >> fmt >> version;
-      if (fmt == "ascii") enc = Encoding::ascii;
-      else if (fmt == "binary_little_endian") enc = Encoding::binary_le;
-      else if (fmt == "binary_big_endian") enc = Encoding::binary_be;
+      if (fmt == "ascii") h.enc = Encoding::ascii;
+      else if (fmt == "binary_little_endian") h.enc = Encoding::binary_le;
+      else if (fmt == "binary_big_endian") h.enc = Encoding::binary_be;
       else throw InputError("unknown PLY format '" + fmt + "'", where);
       have_format = true;
     } else if (key == "element") {
       Element e;
       if (!(ls >> e.name >> e.count) || e.count < 0)
         throw InputError("malformed element line '" + line + "'", where);
-      elements.push_back(e);
+      h.elements.push_back(e);
     } else if (key == "property") {
-      if (elements.empty()) throw InputError("property before any element", where);
+      if (h.elements.empty()) throw InputError("property before any element", where);
       Property p;
       std::string type;
       ls >> type;
@@ -190,16 +188,21 @@ MeshReadResult read_ply(const std::filesystem::path& path, const MeshReadOptions
         if (!parse_type(type, p.type) || p.name.empty())
           throw InputError("malformed property '" + line + "'", where);
       }
-      elements.back().properties.push_back(p);
+      h.elements.back().properties.push_back(p);
     } else {
       throw InputError("unknown header keyword '" + key + "'", where);
     }
   }
   if (!have_format) throw InputError("header has no format line", file);
-  // Every instance of an element with properties takes at least one byte, so
-  // a count beyond the bytes after the header is a corrupt file, not a
-  // reason to allocate or loop that often; an element without properties
-  // would be read without consuming anything.
+  return h;
+}
+
+// Every instance of an element with properties takes at least one byte, so
+// a count beyond the bytes after the header is a corrupt file, not a
+// reason to allocate or loop that often; an element without properties
+// would be read without consuming anything. Also: a vertex element with
+// scalar x, y, z.
+void check_elements(std::istream& in, const std::vector<Element>& elements, const std::string& file) {
   const std::streamoff body_start = in.tellg();
   in.seekg(0, std::ios::end);
   const std::streamoff body_bytes = in.tellg() - body_start;
@@ -213,10 +216,6 @@ MeshReadResult read_ply(const std::filesystem::path& path, const MeshReadOptions
                            " instances, more than the " + std::to_string(body_bytes) + " bytes after the header",
                        file);
   }
-  result.format = enc == Encoding::ascii       ? "ply-ascii"
-                  : enc == Encoding::binary_le ? "ply-binary-le"
-                                               : "ply-binary-be";
-
   const Element* vertex_el = nullptr;
   for (const Element& e : elements)
     if (e.name == "vertex") vertex_el = &e;
@@ -226,6 +225,110 @@ MeshReadResult read_ply(const std::filesystem::path& path, const MeshReadOptions
     for (const Property& p : vertex_el->properties) found |= (p.name == axis && !p.is_list);
     if (!found) throw InputError(std::string("vertex element has no scalar property '") + axis + "'", file);
   }
+}
+
+// The vertex element: positions, and every other scalar property as a field.
+void read_vertices(ValueReader& reader, const Element& e, Mesh& mesh) {
+  mesh.V.resize(e.count, 3);
+  std::vector<int> field_of(e.properties.size(), -1);
+  for (size_t k = 0; k < e.properties.size(); ++k) {
+    const Property& p = e.properties[k];
+    if (p.is_list || p.name == "x" || p.name == "y" || p.name == "z") continue;
+    field_of[k] = static_cast<int>(mesh.vertex_fields.size());
+    mesh.vertex_fields.push_back({p.name, Eigen::VectorXd(e.count)});
+  }
+  for (long long i = 0; i < e.count; ++i) {
+    const std::string where = "vertex " + std::to_string(i);
+    for (size_t k = 0; k < e.properties.size(); ++k) {
+      const Property& p = e.properties[k];
+      if (p.is_list) {
+        const long long n = static_cast<long long>(reader.read(p.count_type, where));
+        for (long long j = 0; j < n; ++j) reader.read(p.type, where);
+        continue;
+      }
+      const double v = reader.read(p.type, where);
+      if (p.name == "x") mesh.V(i, 0) = v;
+      else if (p.name == "y") mesh.V(i, 1) = v;
+      else if (p.name == "z") mesh.V(i, 2) = v;
+      else mesh.vertex_fields[field_of[k]].values(i) = v;
+    }
+    reader.end_instance();
+  }
+}
+
+// The face element: corners into `faces` (triangulated there), and every
+// scalar property as a field with one value per triangle added.
+void read_faces(ValueReader& reader, const Element& e, FaceBuilder& faces, const std::string& file,
+                std::vector<std::string>& scalar_names, std::vector<std::vector<double>>& scalar_values) {
+  const Property* list = nullptr;
+  for (const Property& p : e.properties)
+    if (p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) list = &p;
+  if (!list) throw InputError("face element has no 'vertex_indices' list", file);
+  for (const Property& p : e.properties)
+    if (!p.is_list) scalar_names.push_back(p.name);
+  scalar_values.assign(scalar_names.size(), {});
+  std::vector<long long> corners;
+  std::vector<double> scalars(scalar_names.size());
+  for (long long f = 0; f < e.count; ++f) {
+    const std::string where = "face " + std::to_string(f);
+    size_t s = 0;
+    int added = 0;
+    for (const Property& p : e.properties) {
+      if (p.is_list) {
+        const double n = reader.read(p.count_type, where);
+        if (n < 0 || n > 1e6) throw InputError("implausible corner count", file + ": " + where);
+        corners.resize(static_cast<size_t>(n));
+        for (auto& c : corners) {
+          const double v = reader.read(p.type, where);
+          c = static_cast<long long>(v);
+        }
+        if (&p == list) added = faces.add(corners, f);
+      } else {
+        scalars[s++] = reader.read(p.type, where);
+      }
+    }
+    for (int t = 0; t < added; ++t)
+      for (size_t k = 0; k < scalars.size(); ++k) scalar_values[k].push_back(scalars[k]);
+    reader.end_instance();
+  }
+}
+
+// Any other element: read and dropped.
+void skip_element(ValueReader& reader, const Element& e) {
+  for (long long i = 0; i < e.count; ++i) {
+    const std::string where = e.name + " " + std::to_string(i);
+    for (const Property& p : e.properties) {
+      if (p.is_list) {
+        const long long n = static_cast<long long>(reader.read(p.count_type, where));
+        for (long long j = 0; j < n; ++j) reader.read(p.type, where);
+      } else {
+        reader.read(p.type, where);
+      }
+    }
+    reader.end_instance();
+  }
+}
+
+}  // namespace
+
+MeshReadResult read_ply(const std::filesystem::path& path, const MeshReadOptions& options) {
+  const std::string file = path.string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("cannot open file", file);
+
+  MeshReadResult result;
+  std::string line;
+  if (!std::getline(in, line)) throw InputError("empty file; expected a PLY header", file);
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  if (line != "ply") throw InputError("not a PLY file (first line is not 'ply')", file);
+
+  const PlyHeader header = read_header(in, file);
+  const Encoding enc = header.enc;
+  const std::vector<Element>& elements = header.elements;
+  check_elements(in, elements, file);
+  result.format = enc == Encoding::ascii       ? "ply-ascii"
+                  : enc == Encoding::binary_le ? "ply-binary-le"
+                                               : "ply-binary-be";
 
   ValueReader reader(in, enc, file);
   FaceBuilder faces(file, options.triangulate);
@@ -233,81 +336,15 @@ MeshReadResult read_ply(const std::filesystem::path& path, const MeshReadOptions
   std::vector<std::string> face_scalar_names;
   long long vertex_count = 0;
   std::vector<std::string> skipped_elements;
-
   for (const Element& e : elements) {
     if (e.name == "vertex") {
       vertex_count = e.count;
-      result.mesh.V.resize(e.count, 3);
-      std::vector<int> field_of(e.properties.size(), -1);
-      for (size_t k = 0; k < e.properties.size(); ++k) {
-        const Property& p = e.properties[k];
-        if (p.is_list || p.name == "x" || p.name == "y" || p.name == "z") continue;
-        field_of[k] = static_cast<int>(result.mesh.vertex_fields.size());
-        result.mesh.vertex_fields.push_back({p.name, Eigen::VectorXd(e.count)});
-      }
-      for (long long i = 0; i < e.count; ++i) {
-        const std::string where = "vertex " + std::to_string(i);
-        for (size_t k = 0; k < e.properties.size(); ++k) {
-          const Property& p = e.properties[k];
-          if (p.is_list) {
-            const long long n = static_cast<long long>(reader.read(p.count_type, where));
-            for (long long j = 0; j < n; ++j) reader.read(p.type, where);
-            continue;
-          }
-          const double v = reader.read(p.type, where);
-          if (p.name == "x") result.mesh.V(i, 0) = v;
-          else if (p.name == "y") result.mesh.V(i, 1) = v;
-          else if (p.name == "z") result.mesh.V(i, 2) = v;
-          else result.mesh.vertex_fields[field_of[k]].values(i) = v;
-        }
-        reader.end_instance();
-      }
+      read_vertices(reader, e, result.mesh);
     } else if (e.name == "face") {
-      const Property* list = nullptr;
-      for (const Property& p : e.properties)
-        if (p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) list = &p;
-      if (!list) throw InputError("face element has no 'vertex_indices' list", file);
-      for (const Property& p : e.properties)
-        if (!p.is_list) face_scalar_names.push_back(p.name);
-      face_scalar_values.assign(face_scalar_names.size(), {});
-      std::vector<long long> corners;
-      std::vector<double> scalars(face_scalar_names.size());
-      for (long long f = 0; f < e.count; ++f) {
-        const std::string where = "face " + std::to_string(f);
-        size_t s = 0;
-        int added = 0;
-        for (const Property& p : e.properties) {
-          if (p.is_list) {
-            const double n = reader.read(p.count_type, where);
-            if (n < 0 || n > 1e6) throw InputError("implausible corner count", file + ": " + where);
-            corners.resize(static_cast<size_t>(n));
-            for (auto& c : corners) {
-              const double v = reader.read(p.type, where);
-              c = static_cast<long long>(v);
-            }
-            if (&p == list) added = faces.add(corners, f);
-          } else {
-            scalars[s++] = reader.read(p.type, where);
-          }
-        }
-        for (int t = 0; t < added; ++t)
-          for (size_t k = 0; k < scalars.size(); ++k) face_scalar_values[k].push_back(scalars[k]);
-        reader.end_instance();
-      }
+      read_faces(reader, e, faces, file, face_scalar_names, face_scalar_values);
     } else {
       skipped_elements.push_back(e.name);
-      for (long long i = 0; i < e.count; ++i) {
-        const std::string where = e.name + " " + std::to_string(i);
-        for (const Property& p : e.properties) {
-          if (p.is_list) {
-            const long long n = static_cast<long long>(reader.read(p.count_type, where));
-            for (long long j = 0; j < n; ++j) reader.read(p.type, where);
-          } else {
-            reader.read(p.type, where);
-          }
-        }
-        reader.end_instance();
-      }
+      skip_element(reader, e);
     }
   }
 

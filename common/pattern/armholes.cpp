@@ -95,32 +95,66 @@ std::vector<SurfaceCurve> closed_level_sets(const Eigen::MatrixXi& F, const Eige
   return out;
 }
 
-}  // namespace
+// Every limb's opening: where its tube meets the body, and on which side of
+// the body's axis it lies.
+struct Opening {
+  std::string name;
+  std::vector<int> loop;
+  Eigen::VectorXd d;          // geodesic distance from the loop, per rest vertex
+  double found = -1.0;        // distance of its armhole, metres
+  Eigen::Vector3d from;       // the loop's centroid
+  bool paired = false;        // found is the mean of a mirrored pair's
+};
 
-void cut_armholes(Pattern& pattern, const PatternOptions& options, const PatternContext& context) {
-  const PatternMesh& mesh = pattern.mesh;
-  std::vector<PatternSeam> seams;
-  std::vector<SurfaceCurve> curves;
+// Mean edge length of the pattern mesh (each face's three edges).
+double mean_edge_length(const PatternMesh& mesh) {
   double h = 0.0;
   int edges = 0;
   for (int f = 0; f < mesh.F.rows(); ++f)
     for (int k = 0; k < 3; ++k, ++edges) h += (mesh.V.row(mesh.F(f, k)) - mesh.V.row(mesh.F(f, (k + 1) % 3))).norm();
-  h /= std::max(1, edges);
-  // The body's vertical axis: through the area centroid of the garment.
-  const Eigen::Vector3d axis = area_centroid(mesh.rest_V, mesh.rest_F);
-  // The distance and its cross-sections are taken on the rest shape, whose
-  // triangles do not depend on where earlier cuts ran; the level set is cut
-  // on the pattern mesh from the same piecewise-linear distance.
-  // Every limb's opening first: where its tube meets the body, and on which
-  // side of the body's axis it lies.
-  struct Opening {
-    std::string name;
-    std::vector<int> loop;
-    Eigen::VectorXd d;          // geodesic distance from the loop, per rest vertex
-    double found = -1.0;        // distance of its armhole, metres
-    Eigen::Vector3d from;       // the loop's centroid
-    bool paired = false;        // found is the mean of a mirrored pair's
-  };
+  return h / std::max(1, edges);
+}
+
+// The distance from the opening at which its cross-section first grows
+// faster than armhole_slope, -1 where it never does. The cross-section
+// length along the tube: a sleeve keeps about its girth, and where it meets
+// the body the level set runs down the body's side and its length grows
+// fast. L(t) on a fixed grid of `step`; its slope by least squares over a
+// window, so that the chord noise of single level sets does not decide; the
+// crossing of the threshold interpolated between grid points, so that it
+// moves continuously with the shape.
+double armhole_distance(const PatternMesh& mesh, const Eigen::VectorXd& d, double step, const PatternOptions& options) {
+  double reach = 0.0;
+  for (int v = 0; v < d.size(); ++v)
+    if (std::isfinite(d[v])) reach = std::max(reach, d[v]);
+  std::vector<double> ts, ls;
+  for (double t = step; t < reach; t += step) {
+    ts.push_back(t);
+    ls.push_back(level_set_length(mesh.rest_V, mesh.rest_F, d, t));
+  }
+  std::vector<double> slope(ts.size(), 0.0);
+  for (size_t k = 0; k < ts.size(); ++k) {
+    double st = 0.0, sl = 0.0, stt = 0.0, stl = 0.0;
+    int count = 0;
+    for (size_t j = 0; j < ts.size(); ++j)
+      if (std::abs(ts[j] - ts[k]) <= options.armholes.slope_window) {
+        st += ts[j], sl += ls[j], stt += ts[j] * ts[j], stl += ts[j] * ls[j];
+        ++count;
+      }
+    const double den = count * stt - st * st;
+    slope[k] = den > 0.0 ? (count * stl - st * sl) / den : 0.0;
+  }
+  for (size_t k = 1; k < ts.size(); ++k)
+    if (slope[k] >= options.armholes.armhole_slope && slope[k - 1] < options.armholes.armhole_slope)
+      return ts[k - 1] + (options.armholes.armhole_slope - slope[k - 1]) / (slope[k] - slope[k - 1]) * step;
+  return -1.0;
+}
+
+// The boundary loops that end a limb's tube, with their armhole distances.
+// The distance and its cross-sections are taken on the rest shape, whose
+// triangles do not depend on where earlier cuts ran.
+std::vector<Opening> limb_openings(const PatternMesh& mesh, const Eigen::Vector3d& axis, double h,
+                                   const PatternOptions& options, const PatternContext& context) {
   std::vector<Opening> openings;
   for (const auto& loop : boundary_loops(mesh.rest_F)) {
     Opening o;
@@ -137,64 +171,43 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
     o.from = Eigen::Vector3d::Zero();
     for (int v : loop) o.from += mesh.rest_V.row(v).transpose();
     o.from /= static_cast<double>(loop.size());
-    if (Eigen::Vector2d(o.from.x() - axis.x(), o.from.z() - axis.z()).norm() < options.limb_offset) continue;
+    if (Eigen::Vector2d(o.from.x() - axis.x(), o.from.z() - axis.z()).norm() < options.armholes.limb_offset) continue;
     o.d = heat_geodesic_distance(mesh.rest_V, mesh.rest_F, loop);
-    double reach = 0.0;
-    for (int v = 0; v < o.d.size(); ++v)
-      if (std::isfinite(o.d[v])) reach = std::max(reach, o.d[v]);
-    // Cross-section length along the tube: a sleeve keeps about its girth,
-    // and where it meets the body the level set runs down the body's side
-    // and its length grows fast.
-    // L(t) on a fixed grid; its slope by least squares over a window, so
-    // that the chord noise of single level sets does not decide; the
-    // crossing of the threshold interpolated between grid points, so that
-    // it moves continuously with the shape.
-    const double step = 0.5 * h;
-    std::vector<double> ts, ls;
-    for (double t = step; t < reach; t += step) {
-      ts.push_back(t);
-      ls.push_back(level_set_length(mesh.rest_V, mesh.rest_F, o.d, t));
-    }
-    std::vector<double> slope(ts.size(), 0.0);
-    for (size_t k = 0; k < ts.size(); ++k) {
-      double st = 0.0, sl = 0.0, stt = 0.0, stl = 0.0;
-      int count = 0;
-      for (size_t j = 0; j < ts.size(); ++j)
-        if (std::abs(ts[j] - ts[k]) <= options.slope_window) {
-          st += ts[j], sl += ls[j], stt += ts[j] * ts[j], stl += ts[j] * ls[j];
-          ++count;
-        }
-      const double den = count * stt - st * st;
-      slope[k] = den > 0.0 ? (count * stl - st * sl) / den : 0.0;
-    }
-    for (size_t k = 1; k < ts.size(); ++k)
-      if (slope[k] >= options.armhole_slope && slope[k - 1] < options.armhole_slope) {
-        o.found = ts[k - 1] + (options.armhole_slope - slope[k - 1]) / (slope[k] - slope[k - 1]) * step;
-        break;
-      }
+    o.found = armhole_distance(mesh, o.d, 0.5 * h, options);
     // No tube (a neckline or an armhole opening) grows at once.
-    if (o.found < options.min_sleeve_length) continue;
+    if (o.found < options.armholes.min_sleeve_length) continue;
     openings.push_back(std::move(o));
   }
-  // A tailor cuts both sleeves of a pair alike: two openings on either side
-  // of the axis, at about the same height and distance from it, take the
-  // mean of their two distances. Each alone would move with the few
-  // millimetres by which a scanned body or its remeshed garment is not
-  // symmetric, and the two sleeves would differ by that times their girth.
-  if (openings.size() == 2) {
-    Opening& a = openings[0];
-    Opening& b = openings[1];
-    const double ra = Eigen::Vector2d(a.from.x() - axis.x(), a.from.z() - axis.z()).norm();
-    const double rb = Eigen::Vector2d(b.from.x() - axis.x(), b.from.z() - axis.z()).norm();
-    const bool mirrored = (a.from.x() - axis.x()) * (b.from.x() - axis.x()) < 0.0 &&
-                          std::abs(ra - rb) <= options.mirror_tolerance * std::max(ra, rb) &&
-                          std::abs(a.from.y() - b.from.y()) <= options.mirror_tolerance * std::max(ra, rb) &&
-                          std::abs(a.found - b.found) <= options.mirror_tolerance * std::max(a.found, b.found);
-    if (mirrored) {
-      a.found = b.found = 0.5 * (a.found + b.found);
-      a.paired = b.paired = true;
-    }
+  return openings;
+}
+
+// A tailor cuts both sleeves of a pair alike: two openings on either side
+// of the axis, at about the same height and distance from it, take the
+// mean of their two distances. Each alone would move with the few
+// millimetres by which a scanned body or its remeshed garment is not
+// symmetric, and the two sleeves would differ by that times their girth.
+void pair_mirrored_openings(std::vector<Opening>& openings, const Eigen::Vector3d& axis, const PatternOptions& options) {
+  if (openings.size() != 2) return;
+  Opening& a = openings[0];
+  Opening& b = openings[1];
+  const double ra = Eigen::Vector2d(a.from.x() - axis.x(), a.from.z() - axis.z()).norm();
+  const double rb = Eigen::Vector2d(b.from.x() - axis.x(), b.from.z() - axis.z()).norm();
+  const bool mirrored = (a.from.x() - axis.x()) * (b.from.x() - axis.x()) < 0.0 &&
+                        std::abs(ra - rb) <= options.armholes.mirror_tolerance * std::max(ra, rb) &&
+                        std::abs(a.from.y() - b.from.y()) <= options.armholes.mirror_tolerance * std::max(ra, rb) &&
+                        std::abs(a.found - b.found) <= options.armholes.mirror_tolerance * std::max(a.found, b.found);
+  if (mirrored) {
+    a.found = b.found = 0.5 * (a.found + b.found);
+    a.paired = b.paired = true;
   }
+}
+
+// The armhole seams at the openings' distances, cut on the pattern mesh from
+// the same piecewise-linear distance; each limb found is recorded in
+// `pattern` (limbs, limb_of_rest_face).
+void armhole_seams(Pattern& pattern, const std::vector<Opening>& openings, const Eigen::Vector3d& axis,
+                   const PatternOptions& options, std::vector<PatternSeam>& seams, std::vector<SurfaceCurve>& curves) {
+  const PatternMesh& mesh = pattern.mesh;
   for (const Opening& o : openings) {
     Eigen::VectorXd dm(mesh.V.rows());
     for (int v = 0; v < mesh.V.rows(); ++v) {
@@ -203,8 +216,8 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
                          : q.bary[0] * o.d[mesh.rest_F(q.face, 0)] + q.bary[1] * o.d[mesh.rest_F(q.face, 1)] +
                                q.bary[2] * o.d[mesh.rest_F(q.face, 2)];
     }
-    auto sets = closed_level_sets(mesh.F, dm, o.found, options.smoothing.trace.snap_fraction,
-                                  options.smoothing.trace.min_edge_fraction);
+    auto sets = closed_level_sets(mesh.F, dm, o.found, options.seams.smoothing.trace.snap_fraction,
+                                  options.seams.smoothing.trace.min_edge_fraction);
     if (sets.size() != 1) continue;
     // The limb: the rest faces on the loop's side of the level set.
     if (pattern.limb_of_rest_face.empty()) pattern.limb_of_rest_face.assign(static_cast<size_t>(mesh.rest_F.rows()), -1);
@@ -221,17 +234,13 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
     seams.push_back(seam);
     curves.push_back(sets.front());
   }
-  if (seams.empty()) return;
-  try {
-    Pattern trial = pattern;
-    insert_cuts(trial, seams, curves);
-    pattern = std::move(trial);
-    return;
-  } catch (const GeometryError&) {
-    // Two armholes that cross (on a rest shape grown into flaps, the level
-    // sets of two sleeves can meet) or one that crosses itself: keep those
-    // that go in together, in order, and leave the others to the later cuts.
-  }
+}
+
+// Two armholes that cross (on a rest shape grown into flaps, the level sets
+// of two sleeves can meet) or one that crosses itself: keep those that go in
+// together, in order, and leave the others to the later cuts.
+void insert_armholes_that_fit(Pattern& pattern, const std::vector<PatternSeam>& seams,
+                              const std::vector<SurfaceCurve>& curves) {
   std::vector<size_t> kept;
   for (size_t i = 0; i < seams.size(); ++i) {
     std::vector<PatternSeam> s;
@@ -265,12 +274,36 @@ void cut_armholes(Pattern& pattern, const PatternOptions& options, const Pattern
   if (!s.empty()) insert_cuts(pattern, s, c);
 }
 
+}  // namespace
+
+void cut_armholes(Pattern& pattern, const PatternOptions& options, const PatternContext& context) {
+  const PatternMesh& mesh = pattern.mesh;
+  const double h = mean_edge_length(mesh);
+  // The body's vertical axis: through the area centroid of the garment.
+  const Eigen::Vector3d axis = area_centroid(mesh.rest_V, mesh.rest_F);
+  std::vector<Opening> openings = limb_openings(mesh, axis, h, options, context);
+  pair_mirrored_openings(openings, axis, options);
+  std::vector<PatternSeam> seams;
+  std::vector<SurfaceCurve> curves;
+  armhole_seams(pattern, openings, axis, options, seams, curves);
+  if (seams.empty()) return;
+  try {
+    Pattern trial = pattern;
+    insert_cuts(trial, seams, curves);
+    pattern = std::move(trial);
+    return;
+  } catch (const GeometryError&) {
+    // Some do not go in together: insert_armholes_that_fit.
+  }
+  insert_armholes_that_fit(pattern, seams, curves);
+}
+
 void merge_armhole_slivers(Pattern& pattern, const PatternOptions& options) {
   std::set<std::vector<int>> tried;
   for (int guard = 0; guard < 1000; ++guard) {
     // The smallest sliver not tried yet.
     size_t sliver = pattern.pieces.size();
-    double smallest = options.sliver_area;
+    double smallest = options.armholes.sliver_area;
     for (size_t c = 0; c < pattern.pieces.size(); ++c) {
       const double a = face_areas(pattern.pieces[c].V, pattern.pieces[c].F).sum();
       if (a < smallest && !tried.count(pattern.pieces[c].face_ids)) smallest = a, sliver = c;

@@ -73,7 +73,7 @@ bool seam_sides_match(const Pattern& pattern, const PatternOptions& options, dou
   bool ok = true;
   for (const CutEdge& e : pattern.cut.edges) {
     const size_t i = static_cast<size_t>(e.seam);
-    if (std::abs(left[i] - right[i]) <= margin * std::max(options.seam_tolerance, options.seam_tolerance_relative * length[i]))
+    if (std::abs(left[i] - right[i]) <= margin * std::max(options.seams.seam_tolerance, options.seams.seam_tolerance_relative * length[i]))
       continue;
     ok = false;
     if (!mismatched) return false;

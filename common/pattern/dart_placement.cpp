@@ -169,8 +169,8 @@ double sub_polygon_area(const Eigen::MatrixXd& UV, const std::vector<int>& loop,
 // within snap_fraction), as a curve point.
 CurvePoint outline_point(const PatternPiece& p, size_t k, double t, const PatternOptions& options) {
   const int a = p.boundary[k], b = p.boundary[(k + 1) % p.boundary.size()];
-  const double f = options.smoothing.trace.min_edge_fraction;
-  return snap_to_vertices({CurvePoint::on_edge(a, b, std::clamp(t, f, 1.0 - f))}, options.smoothing.trace.snap_fraction)
+  const double f = options.seams.smoothing.trace.min_edge_fraction;
+  return snap_to_vertices({CurvePoint::on_edge(a, b, std::clamp(t, f, 1.0 - f))}, options.seams.smoothing.trace.snap_fraction)
       .front();
 }
 
@@ -181,13 +181,13 @@ void curvature_samples(const Pattern& pattern, size_t c, const PatternOptions& o
                        std::vector<Eigen::Vector3d>& X, std::vector<double>& value) {
   const PatternPiece& p = pattern.pieces[c];
   const int n = static_cast<int>(p.V.rows());
-  const double r = options.kernel_radius;
+  const double r = options.darts.kernel_radius;
   std::vector<char> boundary(static_cast<size_t>(n), 0);
   for (int v : p.boundary) boundary[static_cast<size_t>(v)] = 1;
   // The piece's angle defects: the rest shape's at its own vertices, zero at
   // points a cut added on an edge or in a face (their angles sum to 2 pi).
   const std::vector<double> K = angle_defects(p.V, p.F);
-  if (options.dart_placement == PatternOptions::DartPlacement::conformal) {
+  if (options.darts.dart_placement == PatternOptions::DartPlacement::conformal) {
     const std::vector<double> u = log_conformal_factor(p, K);
     const Eigen::VectorXd mass = lumped_mass(p.V, p.F);
     for (int v = 0; v < n; ++v)
@@ -214,7 +214,7 @@ Eigen::MatrixXd conformal_chart(const PatternPiece& piece) {
 
 std::vector<DartTip> dart_tips(const Pattern& pattern, size_t c, const PatternOptions& options, int count) {
   const PatternPiece& p = pattern.pieces[c];
-  const double r = options.kernel_radius;
+  const double r = options.darts.kernel_radius;
   std::vector<Eigen::Vector3d> X;
   std::vector<double> value;
   curvature_samples(pattern, c, options, X, value);
@@ -257,27 +257,27 @@ std::vector<DartTip> dart_tips(const Pattern& pattern, size_t c, const PatternOp
     tip.at = closest_point(p, mode, tip.point);
     for (size_t i = 0; i < m; ++i)
       tip.curvature += value[i] * kernel((X[i] - tip.point).norm(), r);
-    if (tip.curvature < options.min_dart_angle) break;  // weaker modes follow
-    if (distance_to_outline(p, tip.point) < options.tip_margin) {
+    if (tip.curvature < options.darts.min_dart_angle) break;  // weaker modes follow
+    if (distance_to_outline(p, tip.point) < options.darts.tip_margin) {
       // A cone at the outline (a shoulder point, where the shoulder seam
       // meets the armhole) has no room for a tip; a tailor points the dart
       // at it from as near as a tip fits: the inner vertex tip_margin inside
       // nearest to the mode, if the curvature around it still calls for a
       // dart.
-      if (!options.tip_inward) continue;
+      if (!options.darts.tip_inward) continue;
       int inner = -1;
       double nearest = std::numeric_limits<double>::infinity();
       for (int v = 0; v < p.V.rows(); ++v) {
         const Eigen::Vector3d x = p.V.row(v).transpose();
         const double d = (x - mode).norm();
-        if (d < nearest && distance_to_outline(p, x) >= options.tip_margin) nearest = d, inner = v;
+        if (d < nearest && distance_to_outline(p, x) >= options.darts.tip_margin) nearest = d, inner = v;
       }
       if (inner < 0 || nearest > 2.0 * r) continue;
       DartTip moved;
       moved.point = p.V.row(inner).transpose();
       moved.at = CurvePoint::at_vertex(inner);
       for (size_t i = 0; i < m; ++i) moved.curvature += value[i] * kernel((X[i] - moved.point).norm(), r);
-      if (moved.curvature < options.min_dart_angle) continue;
+      if (moved.curvature < options.darts.min_dart_angle) continue;
       tip = moved;
     }
     tips.push_back(tip);
@@ -322,14 +322,14 @@ std::optional<SurfaceCurve> dart_curve(const PatternPiece& p, const Eigen::Matri
   }
   std::sort(candidates.begin(), candidates.end());
   for (const auto& [d, k, t] : candidates) {
-    if (d < options.min_dart_length) return std::nullopt;
+    if (d < options.darts.min_dart_length) return std::nullopt;
     const CurvePoint mouth = outline_point(p, k, t, options);
     Eigen::MatrixXd P(2, 2);
     P.row(0) = curve_point_position(chart, p.F, mouth).transpose();
     P.row(1) = chart_position(p, chart, tip.at).transpose();
     if (std::any_of(avoid.begin(), avoid.end(), [&](const Eigen::MatrixXd& line) { return polylines_cross(P, line); }))
       continue;
-    const SurfaceCurve c = trace_polyline(chart, p.F, mouth, tip.at, P, {}, options.smoothing.trace);
+    const SurfaceCurve c = trace_polyline(chart, p.F, mouth, tip.at, P, {}, options.seams.smoothing.trace);
     if (c.size() < 2) return std::nullopt;
     return c;
   }
@@ -350,7 +350,7 @@ std::optional<Eigen::Vector3d> panel_centre(const PatternPiece& p, const Pattern
   double total = 0.0;
   for (int v = 0; v < static_cast<int>(p.V.rows()); ++v) {
     const double x = u[static_cast<size_t>(v)];
-    const double e = mass[v] * (x < 0.0 || options.symmetric ? x * x : options.flatten.ease_weight * x * x);
+    const double e = mass[v] * (x < 0.0 || options.limit.symmetric ? x * x : options.flatten.ease_weight * x * x);
     centroid += e * p.V.row(v).transpose();
     total += e;
   }
@@ -363,11 +363,11 @@ std::optional<DartTip> dart_tip_near(const Pattern& pattern, size_t c, const Eig
   const PatternPiece& p = pattern.pieces[c];
   DartTip tip;
   tip.at = closest_point(p, x, tip.point);
-  if (distance_to_outline(p, tip.point) < options.tip_margin) return std::nullopt;
+  if (distance_to_outline(p, tip.point) < options.darts.tip_margin) return std::nullopt;
   std::vector<Eigen::Vector3d> X;
   std::vector<double> value;
   curvature_samples(pattern, c, options, X, value);
-  for (size_t i = 0; i < X.size(); ++i) tip.curvature += value[i] * kernel((X[i] - tip.point).norm(), options.kernel_radius);
+  for (size_t i = 0; i < X.size(); ++i) tip.curvature += value[i] * kernel((X[i] - tip.point).norm(), options.darts.kernel_radius);
   if (!(tip.curvature >= min_curvature)) return std::nullopt;
   return tip;
 }
@@ -521,10 +521,10 @@ std::optional<SurfaceCurve> centre_seam_curve(const Pattern& pattern, size_t c, 
       }
     }
   }
-  if (part.size() < 2 || *std::min_element(part.begin(), part.end()) < options.min_piece_area) return std::nullopt;
+  if (part.size() < 2 || *std::min_element(part.begin(), part.end()) < options.panels.min_piece_area) return std::nullopt;
   SurfaceCurve cut;
   for (const auto& ce : best->edges) cut.push_back(point_on(ce));
-  cut = snap_to_vertices(cut, std::max(options.smoothing.trace.min_edge_fraction, options.smoothing.trace.snap_fraction));
+  cut = snap_to_vertices(cut, std::max(options.seams.smoothing.trace.min_edge_fraction, options.seams.smoothing.trace.snap_fraction));
   // Snapped, the chain can come back to a vertex it passed (around a vertex
   // on the plane) or touch the outline at a vertex between its ends (a
   // symmetric mesh has vertices on the plane): a cut that touches itself or
@@ -627,12 +627,12 @@ std::optional<SurfaceCurve> panel_curve(const Pattern& pattern, size_t c, const 
   const double scale = chart_area > 0.0 ? area / chart_area : 1.0;
   const double part = scale * std::min(sub_polygon_area(chart, p.boundary, (k_minus + 1) % nb, k_plus),
                                        sub_polygon_area(chart, p.boundary, (k_plus + 1) % nb, k_minus));
-  if (part < options.min_piece_area) return std::nullopt;
+  if (part < options.panels.min_piece_area) return std::nullopt;
   const CurvePoint from = outline_point(p, k_minus, t_minus, options), to = outline_point(p, k_plus, t_plus, options);
   Eigen::MatrixXd P(2, 2);
   P.row(0) = curve_point_position(chart, p.F, from).transpose();
   P.row(1) = curve_point_position(chart, p.F, to).transpose();
-  const SurfaceCurve cut = trace_polyline(chart, p.F, from, to, P, {}, options.smoothing.trace);
+  const SurfaceCurve cut = trace_polyline(chart, p.F, from, to, P, {}, options.seams.smoothing.trace);
   if (cut.size() < 2) return std::nullopt;
   if (where) *where = "panel seam along the grain through the centroid of its conformal distortion energy";
   return cut;

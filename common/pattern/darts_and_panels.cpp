@@ -28,8 +28,8 @@
 namespace gp {
 
 double panel_excess(const std::vector<MaterialFace>& faces, const PatternOptions& options) {
-  const double c_lim = options.symmetric ? options.max_limit : options.compression_worst1;
-  const double e_lim = options.symmetric ? options.max_limit : options.ease_worst5;
+  const double c_lim = options.limit.symmetric ? options.limit.max_limit : options.limit.compression_worst1;
+  const double e_lim = options.limit.symmetric ? options.limit.max_limit : options.limit.ease_worst5;
   double excess = 0.0;
   for (const MaterialFace& m : faces) {
     const double c = 1.0 - m.stretch[1], e = m.stretch[0] - 1.0;
@@ -38,249 +38,300 @@ double panel_excess(const std::vector<MaterialFace>& faces, const PatternOptions
   return excess;
 }
 
-int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, PanelLedger* ledger) {
-  std::vector<PatternSeam> seams;
-  std::vector<SurfaceCurve> curves;
-  int darts = 0, panels = 0;
-  for (const auto& s : pattern.seams) {
-    if (s.kind == "dart") ++darts;
-    if (s.kind == "panel") ++panels;
+namespace {
+
+// What a piece was given: its dart tips and the point its panel seam runs
+// through, and the names of the cuts.
+struct Given {
+  std::vector<DartTip> tips;
+  std::vector<std::string> darts;
+  std::optional<Eigen::Vector3d> centre;
+  std::string panel;
+  bool cut() const { return !tips.empty() || centre; }
+};
+
+// One call of place_darts_and_panels: the cuts chosen so far and the
+// budgets they draw on.
+class DartPanelPlacer {
+ public:
+  DartPanelPlacer(Pattern& pattern, const PatternOptions& options, PanelLedger* ledger)
+      : pattern_(pattern), options_(options), ledger_(ledger) {
+    for (const auto& s : pattern.seams) {
+      if (s.kind == "dart") ++darts_;
+      if (s.kind == "panel") ++panels_;
+    }
+    // Panel seams removed again keep their names: new ones are numbered on.
+    for (const auto& m : pattern.merged_cuts)
+      if (m.rfind("panel", 0) == 0) ++panels_;
+    done_.assign(pattern.pieces.size(), 0);
+    cut_.assign(pattern.pieces.size(), 0);
+    pieces_ = static_cast<int>(pattern.pieces.size());
   }
-  // Panel seams removed again keep their names: new ones are numbered on.
-  for (const auto& m : pattern.merged_cuts)
-    if (m.rfind("panel", 0) == 0) ++panels;
+
   // Failing pieces, the largest first: the piece budget goes where the most
-  // cloth is.
-  std::vector<size_t> order;
-  for (size_t c = 0; c < pattern.pieces.size(); ++c)
-    if (!pattern.pieces[c].meets_limit) order.push_back(c);
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    return pattern.pieces[a].stats.area_3d > pattern.pieces[b].stats.area_3d;
-  });
-  if (order.empty()) return 0;
-  // A tailor cuts both sides of the body alike: a piece's mirror image gets
-  // the mirror image of its darts and panel seam, whether or not it is over
-  // the limit itself.
-  const PieceMirror mirror = options.mirror ? mirror_pieces(pattern, options.mirror_overlap) : PieceMirror{};
-  auto partner = [&](size_t c) { return mirror.partner.empty() ? -1 : mirror.partner[c]; };
+  // cloth is. Returns the number of cuts inserted.
+  int run() {
+    std::vector<size_t> order;
+    for (size_t c = 0; c < pattern_.pieces.size(); ++c)
+      if (!pattern_.pieces[c].meets_limit) order.push_back(c);
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      return pattern_.pieces[a].stats.area_3d > pattern_.pieces[b].stats.area_3d;
+    });
+    if (order.empty()) return 0;
+    // A tailor cuts both sides of the body alike: a piece's mirror image gets
+    // the mirror image of its darts and panel seam, whether or not it is over
+    // the limit itself.
+    if (options_.panels.mirror) mirror_ = mirror_pieces(pattern_, options_.panels.mirror_overlap);
+    count_limb_pieces();
+    for (size_t c : order) cut_piece_and_image(c);
+    if (seams_.empty()) return 0;
+    insert_cuts(pattern_, seams_, curves_);
+    return static_cast<int>(seams_.size());
+  }
+
+ private:
+  int partner(size_t c) const { return mirror_.partner.empty() ? -1 : mirror_.partner[c]; }
+
   // The limb (sleeve) each piece belongs to (most of its area beyond an
   // armhole, as piece_names.h names sleeves), -1 for the body's, and how
   // many pieces each limb has.
-  std::vector<int> limb_of_piece(pattern.pieces.size(), -1);
-  std::map<int, int> limb_pieces;
-  if (!pattern.limb_of_rest_face.empty())
-    for (size_t c = 0; c < pattern.pieces.size(); ++c) {
-      const PatternPiece& p = pattern.pieces[c];
+  void count_limb_pieces() {
+    limb_of_piece_.assign(pattern_.pieces.size(), -1);
+    if (pattern_.limb_of_rest_face.empty()) return;
+    for (size_t c = 0; c < pattern_.pieces.size(); ++c) {
+      const PatternPiece& p = pattern_.pieces[c];
       std::map<int, double> on_limb;
       double area = 0.0;
       for (size_t i = 0; i < p.face_ids.size(); ++i) {
         const Eigen::Vector3d a = p.V.row(p.F(static_cast<int>(i), 0)), b = p.V.row(p.F(static_cast<int>(i), 1)),
                               e = p.V.row(p.F(static_cast<int>(i), 2));
         const double w = 0.5 * (b - a).cross(e - a).norm();
-        on_limb[pattern.limb_of_rest_face[static_cast<size_t>(pattern.mesh.rest_face[static_cast<size_t>(p.face_ids[i])])]] += w;
+        on_limb[pattern_.limb_of_rest_face[static_cast<size_t>(pattern_.mesh.rest_face[static_cast<size_t>(p.face_ids[i])])]] += w;
         area += w;
       }
       for (const auto& [limb, w] : on_limb)
-        if (limb >= 0 && w > 0.5 * area) limb_of_piece[c] = limb;
-      if (limb_of_piece[c] >= 0) ++limb_pieces[limb_of_piece[c]];
+        if (limb >= 0 && w > 0.5 * area) limb_of_piece_[c] = limb;
+      if (limb_of_piece_[c] >= 0) ++limb_pieces_[limb_of_piece_[c]];
     }
-  auto sleeve_full = [&](size_t c) {
-    const int limb = limb_of_piece[c];
-    return options.max_sleeve_pieces > 0 && limb >= 0 && limb_pieces[limb] >= options.max_sleeve_pieces;
-  };
-  std::vector<char> done(pattern.pieces.size(), 0);
-  // Pieces given a cut this round (a piece's mirror image that was given
-  // none, on its own, still takes the mirror image of the piece's).
-  std::vector<char> cut(pattern.pieces.size(), 0);
-  int pieces = static_cast<int>(pattern.pieces.size());
+  }
 
-  // What a piece was given: its dart tips and the point its panel seam runs
-  // through, and the names of the cuts.
-  struct Given {
-    std::vector<DartTip> tips;
-    std::vector<std::string> darts;
-    std::optional<Eigen::Vector3d> centre;
-    std::string panel;
-  };
+  bool sleeve_full(size_t c) {
+    const int limb = limb_of_piece_[c];
+    return options_.panels.max_sleeve_pieces > 0 && limb >= 0 && limb_pieces_[limb] >= options_.panels.max_sleeve_pieces;
+  }
+
   // Mirror images are judged and removed together (review_panels,
   // merge_small_pieces).
-  auto pair_mirrors = [&](PatternSeam& seam, const std::string& image) {
+  void pair_mirrors(PatternSeam& seam, const std::string& image) {
     if (image.empty()) return;
     seam.mirror = image;
-    for (PatternSeam& s : seams)
+    for (PatternSeam& s : seams_)
       if (s.name == image) s.mirror = seam.name;
-  };
-  auto place = [&](size_t c, const Given* source, size_t source_piece) {
+  }
+
+  // Piece c, then its mirror image the same way where it has one and c was cut.
+  void cut_piece_and_image(size_t c) {
+    if (done_[c]) return;
+    done_[c] = 1;
+    const Given given = place(c, nullptr, c);
+    cut_[c] = given.cut();
+    const int d = partner(c);
+    if (d < 0 || d == static_cast<int>(c) || cut_[static_cast<size_t>(d)]) return;
+    if (!cut_[c]) return;  // the mirror image decides for itself
+    done_[static_cast<size_t>(d)] = 1;
+    const Given image = place(static_cast<size_t>(d), &given, c);
+    cut_[static_cast<size_t>(d)] = image.cut();
+    // A panel seam whose mirror image has no room is not cut either, and the
+    // piece gets no other: one side split and the other not is no pattern.
+    if (!given.panel.empty() && image.panel.empty()) withdraw_panel(given.panel, c, static_cast<size_t>(d));
+  }
+
+  void withdraw_panel(const std::string& panel, size_t c, size_t d) {
+    for (size_t i = 0; i < seams_.size(); ++i)
+      if (seams_[i].name == panel) {
+        seams_.erase(seams_.begin() + static_cast<long>(i));
+        curves_.erase(curves_.begin() + static_cast<long>(i));
+        break;
+      }
+    if (ledger_) {
+      auto& trials = ledger_->trials;
+      trials.erase(std::remove_if(trials.begin(), trials.end(), [&](const PanelTrial& t) { return t.seam == panel; }),
+                   trials.end());
+      ledger_->refused.insert(piece_rest_faces(pattern_, c));
+    }
+    --panels_;
+    --pieces_;
+    pattern_.notes.push_back("piece " + pattern_.pieces[c].name + ": no panel seam, as its mirror image " +
+                             pattern_.pieces[d].name + " has no room for one");
+  }
+
+  // Darts, else a panel seam, for piece c: its own (source null) or the
+  // mirror images of what `source` (piece source_piece) was given.
+  Given place(size_t c, const Given* source, size_t source_piece) {
     Given given;
-    const PatternPiece& p = pattern.pieces[c];
+    const PatternPiece& p = pattern_.pieces[c];
     const std::string over =
-        source ? "piece " + p.name + " is cut as its mirror image " + pattern.pieces[source_piece].name + " is: "
+        source ? "piece " + p.name + " is cut as its mirror image " + pattern_.pieces[source_piece].name + " is: "
                : "piece " + p.name + " exceeds the limit (compression " + percent(p.stats.worst1_compression) +
                      " over its worst 1 %, ease " + percent(p.stats.worst5_ease) + " over its worst 5 %): ";
     Eigen::MatrixXd chart;
     try {
       chart = conformal_chart(p);
     } catch (const NumericalError&) {
-      pattern.notes.push_back("piece " + p.name + ": no conformal chart to place a dart or seam in");
+      pattern_.notes.push_back("piece " + p.name + ": no conformal chart to place a dart or seam in");
       return given;
     }
-    // Darts first (a tailor darts before adding a seam): every tip strong
-    // enough at once, up to the piece's budget.
-    const int left = options.max_darts - static_cast<int>(p.dart_seams.size());
-    if (left > 0) {
-      // Darts already in the piece and those placed now, as chart polylines:
-      // a new dart must not cross one (their curves would cross in a face).
-      std::vector<Eigen::MatrixXd> drawn;
-      {
-        std::map<int, int> local;
-        for (int v = 0; v < p.V.rows(); ++v) local[p.mesh_vertex_ids[v]] = v;
-        for (int d : p.dart_seams) {
-          std::vector<Eigen::Vector2d> pts;
-          const auto& ids = pattern.seams[static_cast<size_t>(d)].vertex_ids;
-          for (int v : ids) {
-            const auto it = local.find(v);
-            if (it != local.end()) pts.push_back(chart.row(it->second).transpose());
-          }
-          Eigen::MatrixXd P(static_cast<int>(pts.size()), 2);
-          for (size_t i = 0; i < pts.size(); ++i) P.row(static_cast<int>(i)) = pts[i].transpose();
-          drawn.push_back(P);
-        }
-      }
-      auto add_dart = [&](const DartTip& tip, const std::string& how, const std::string& mirror_of) {
-        if (static_cast<int>(given.tips.size()) >= left) return;
-        const auto curve = dart_curve(p, chart, tip, options, drawn);
-        if (!curve) return;
-        drawn.push_back(curve_positions(chart, p.F, *curve));
-        char deg[32];
-        std::snprintf(deg, sizeof(deg), "%.1f", tip.curvature * 180.0 / M_PI);
-        PatternSeam seam{"dart" + std::to_string(++darts), "dart", "", {}, false, true, {}};
-        pair_mirrors(seam, mirror_of);
-        seam.reason = over + how + " (" + deg + " degrees within " + metres(options.kernel_radius) + "), " +
-                      metres(curve_length(p.V, p.F, *curve)) + " long";
-        given.tips.push_back(tip);
-        given.darts.push_back(seam.name);
-        seams.push_back(seam);
-        curves.push_back(piece_to_mesh(p, *curve));
-      };
-      const std::string mode = std::string("dart to the mode of its ") +
-                               (options.dart_placement == PatternOptions::DartPlacement::conformal
-                                    ? "log conformal factor"
-                                    : "Gaussian curvature");
-      if (source) {
-        for (size_t i = 0; i < source->tips.size(); ++i)
-          if (const auto tip = dart_tip_near(pattern, c, mirror.reflect(source->tips[i].point), options.min_dart_angle,
-                                             options))
-            add_dart(*tip, "the mirror image of " + source->darts[i], source->darts[i]);
-      } else {
-        for (const DartTip& tip : dart_tips(pattern, c, options, left)) add_dart(tip, mode, "");
-      }
-    }
-    const std::vector<int> rest_faces = piece_rest_faces(pattern, c);
+    place_darts(c, source, over, chart, given);
+    const std::vector<int> rest_faces = piece_rest_faces(pattern_, c);
     // A piece whose mirror image's panel seam did not pay is refused too.
     const int d = partner(c);
     const bool refused =
-        ledger && (ledger->refused.count(rest_faces) ||
-                   (d >= 0 && d != static_cast<int>(c) &&
-                    ledger->refused.count(piece_rest_faces(pattern, static_cast<size_t>(d)))));
+        ledger_ && (ledger_->refused.count(rest_faces) ||
+                    (d >= 0 && d != static_cast<int>(c) &&
+                     ledger_->refused.count(piece_rest_faces(pattern_, static_cast<size_t>(d)))));
     // A piece and its mirror image take two pieces from the budget together.
-    const int cost = !source && d >= 0 && d != static_cast<int>(c) && !cut[static_cast<size_t>(d)] ? 2 : 1;
-    if (given.tips.empty() && pieces + cost <= options.max_pieces && !refused && !sleeve_full(c) &&
-        (!source || source->centre)) {
-      std::optional<Eigen::Vector3d> centre =
-          source ? std::optional<Eigen::Vector3d>(mirror.reflect(*source->centre)) : panel_centre(p, options);
-      // A piece across the plane is split as a tailor splits a front or a
-      // back: by a centre seam (two mirrored seams were tried; README.md,
-      // "Both sides cut alike").
-      std::string how;
-      if (centre && !source && partner(c) == static_cast<int>(c)) {
-        centre = centre_seam_point(p, mirror.plane_x, *centre);
-        how = "centre seam along the grain at the middle of the body, at the height of the centroid of its conformal "
-              "distortion energy";
-      }
-      std::string where;
-      std::optional<SurfaceCurve> curve;
-      // The centre seam follows the body's middle (the plane section); a
-      // straight chart line along the grain where that does not fit.
-      if (centre && !how.empty()) {
-        curve = centre_seam_curve(pattern, c, mirror.plane_x, *centre, options);
-        if (curve) how = "centre seam along the middle of the body (where the plane of symmetry cuts the piece), "
-                         "through its point nearest to the centroid of its conformal distortion energy";
-      }
-      if (!curve && centre) curve = panel_curve(pattern, c, chart, *centre, options, &where);
-      if (source) where = "the mirror image of " + source->panel;
-      if (source && !curve) {
-        // No room where the image falls (the two sides of a scanned body
-        // differ): the piece's own panel seam, so that both sides are split.
-        centre = panel_centre(p, options);
-        curve = centre ? panel_curve(pattern, c, chart, *centre, options) : std::nullopt;
-        where += ", through its own centroid (the mirrored point leaves no room)";
-      }
-      if (curve) {
-        if (!how.empty()) where = how;
-        PatternSeam seam{"panel" + std::to_string(++panels), "panel", "", {}, false, true, {}};
-        if (source) pair_mirrors(seam, source->panel);
-        seam.reason = over + where + ", " + metres(curve_length(p.V, p.F, *curve)) + " long";
-        seams.push_back(seam);
-        curves.push_back(piece_to_mesh(p, *curve));
-        if (ledger)
-          ledger->trials.push_back(
-              {seam.name, rest_faces, panel_excess(material_faces(pattern, c), options), p.stats.worst1_compression});
-        ++pieces;
-        given.centre = centre;
-        given.panel = seam.name;
-      }
-    }
+    const int cost = !source && d >= 0 && d != static_cast<int>(c) && !cut_[static_cast<size_t>(d)] ? 2 : 1;
+    if (given.tips.empty() && pieces_ + cost <= options_.panels.max_pieces && !refused && !sleeve_full(c) &&
+        (!source || source->centre))
+      place_panel(c, source, over, chart, rest_faces, given);
     if (given.tips.empty() && !given.centre) {
       if (source)
-        pattern.notes.push_back(over + "no dart or panel seam fits where its mirror image has one");
+        pattern_.notes.push_back(over + "no dart or panel seam fits where its mirror image has one");
       else
-        pattern.notes.push_back(over + "no further dart or panel seam fits" +
-                                (refused ? " (a panel seam did not relieve it)"
-                                 : sleeve_full(c)
-                                     ? " (its sleeve has its most pieces, " + std::to_string(options.max_sleeve_pieces) +
-                                           ": darts only)"
-                                 : pieces + cost > options.max_pieces ? " (the pattern has its most pieces)"
-                                                                      : ""));
+        pattern_.notes.push_back(over + "no further dart or panel seam fits" +
+                                 (refused ? " (a panel seam did not relieve it)"
+                                  : sleeve_full(c)
+                                      ? " (its sleeve has its most pieces, " + std::to_string(options_.panels.max_sleeve_pieces) +
+                                            ": darts only)"
+                                  : pieces_ + cost > options_.panels.max_pieces ? " (the pattern has its most pieces)"
+                                                                         : ""));
     }
     return given;
-  };
+  }
 
-  for (size_t c : order) {
-    if (done[c]) continue;
-    done[c] = 1;
-    const Given given = place(c, nullptr, c);
-    cut[c] = !given.tips.empty() || given.centre;
-    const int d = partner(c);
-    if (d < 0 || d == static_cast<int>(c) || cut[static_cast<size_t>(d)]) continue;
-    if (!cut[c]) continue;  // the mirror image decides for itself
-    done[static_cast<size_t>(d)] = 1;
-    const Given image = place(static_cast<size_t>(d), &given, c);
-    cut[static_cast<size_t>(d)] = !image.tips.empty() || image.centre;
-    // A panel seam whose mirror image has no room is not cut either, and the
-    // piece gets no other: one side split and the other not is no pattern.
-    if (!given.panel.empty() && image.panel.empty()) {
-      for (size_t i = 0; i < seams.size(); ++i)
-        if (seams[i].name == given.panel) {
-          seams.erase(seams.begin() + static_cast<long>(i));
-          curves.erase(curves.begin() + static_cast<long>(i));
-          break;
+  // Darts first (a tailor darts before adding a seam): every tip strong
+  // enough at once, up to the piece's budget.
+  void place_darts(size_t c, const Given* source, const std::string& over, const Eigen::MatrixXd& chart, Given& given) {
+    const PatternPiece& p = pattern_.pieces[c];
+    const int left = options_.darts.max_darts - static_cast<int>(p.dart_seams.size());
+    if (left <= 0) return;
+    // Darts already in the piece and those placed now, as chart polylines:
+    // a new dart must not cross one (their curves would cross in a face).
+    std::vector<Eigen::MatrixXd> drawn;
+    {
+      std::map<int, int> local;
+      for (int v = 0; v < p.V.rows(); ++v) local[p.mesh_vertex_ids[v]] = v;
+      for (int d : p.dart_seams) {
+        std::vector<Eigen::Vector2d> pts;
+        const auto& ids = pattern_.seams[static_cast<size_t>(d)].vertex_ids;
+        for (int v : ids) {
+          const auto it = local.find(v);
+          if (it != local.end()) pts.push_back(chart.row(it->second).transpose());
         }
-      if (ledger) {
-        auto& trials = ledger->trials;
-        trials.erase(std::remove_if(trials.begin(), trials.end(),
-                                    [&](const PanelTrial& t) { return t.seam == given.panel; }),
-                     trials.end());
-        ledger->refused.insert(piece_rest_faces(pattern, c));
+        Eigen::MatrixXd P(static_cast<int>(pts.size()), 2);
+        for (size_t i = 0; i < pts.size(); ++i) P.row(static_cast<int>(i)) = pts[i].transpose();
+        drawn.push_back(P);
       }
-      --panels;
-      --pieces;
-      pattern.notes.push_back("piece " + pattern.pieces[c].name + ": no panel seam, as its mirror image " +
-                              pattern.pieces[static_cast<size_t>(d)].name + " has no room for one");
+    }
+    auto add_dart = [&](const DartTip& tip, const std::string& how, const std::string& mirror_of) {
+      if (static_cast<int>(given.tips.size()) >= left) return;
+      const auto curve = dart_curve(p, chart, tip, options_, drawn);
+      if (!curve) return;
+      drawn.push_back(curve_positions(chart, p.F, *curve));
+      char deg[32];
+      std::snprintf(deg, sizeof(deg), "%.1f", tip.curvature * 180.0 / M_PI);
+      PatternSeam seam{"dart" + std::to_string(++darts_), "dart", "", {}, false, true, {}};
+      pair_mirrors(seam, mirror_of);
+      seam.reason = over + how + " (" + deg + " degrees within " + metres(options_.darts.kernel_radius) + "), " +
+                    metres(curve_length(p.V, p.F, *curve)) + " long";
+      given.tips.push_back(tip);
+      given.darts.push_back(seam.name);
+      seams_.push_back(seam);
+      curves_.push_back(piece_to_mesh(p, *curve));
+    };
+    const std::string mode = std::string("dart to the mode of its ") +
+                             (options_.darts.dart_placement == PatternOptions::DartPlacement::conformal
+                                  ? "log conformal factor"
+                                  : "Gaussian curvature");
+    if (source) {
+      for (size_t i = 0; i < source->tips.size(); ++i)
+        if (const auto tip = dart_tip_near(pattern_, c, mirror_.reflect(source->tips[i].point), options_.darts.min_dart_angle,
+                                           options_))
+          add_dart(*tip, "the mirror image of " + source->darts[i], source->darts[i]);
+    } else {
+      for (const DartTip& tip : dart_tips(pattern_, c, options_, left)) add_dart(tip, mode, "");
     }
   }
-  if (seams.empty()) return 0;
-  insert_cuts(pattern, seams, curves);
-  return static_cast<int>(seams.size());
+
+  // A panel seam through the piece (a centre seam for a piece across the
+  // plane of symmetry), or the mirror image of `source`'s.
+  void place_panel(size_t c, const Given* source, const std::string& over, const Eigen::MatrixXd& chart,
+                   const std::vector<int>& rest_faces, Given& given) {
+    const PatternPiece& p = pattern_.pieces[c];
+    std::optional<Eigen::Vector3d> centre =
+        source ? std::optional<Eigen::Vector3d>(mirror_.reflect(*source->centre)) : panel_centre(p, options_);
+    // A piece across the plane is split as a tailor splits a front or a
+    // back: by a centre seam (two mirrored seams were tried; README.md,
+    // "Both sides cut alike").
+    std::string how;
+    if (centre && !source && partner(c) == static_cast<int>(c)) {
+      centre = centre_seam_point(p, mirror_.plane_x, *centre);
+      how = "centre seam along the grain at the middle of the body, at the height of the centroid of its conformal "
+            "distortion energy";
+    }
+    std::string where;
+    std::optional<SurfaceCurve> curve;
+    // The centre seam follows the body's middle (the plane section); a
+    // straight chart line along the grain where that does not fit.
+    if (centre && !how.empty()) {
+      curve = centre_seam_curve(pattern_, c, mirror_.plane_x, *centre, options_);
+      if (curve) how = "centre seam along the middle of the body (where the plane of symmetry cuts the piece), "
+                       "through its point nearest to the centroid of its conformal distortion energy";
+    }
+    if (!curve && centre) curve = panel_curve(pattern_, c, chart, *centre, options_, &where);
+    if (source) where = "the mirror image of " + source->panel;
+    if (source && !curve) {
+      // No room where the image falls (the two sides of a scanned body
+      // differ): the piece's own panel seam, so that both sides are split.
+      centre = panel_centre(p, options_);
+      curve = centre ? panel_curve(pattern_, c, chart, *centre, options_) : std::nullopt;
+      where += ", through its own centroid (the mirrored point leaves no room)";
+    }
+    if (!curve) return;
+    if (!how.empty()) where = how;
+    PatternSeam seam{"panel" + std::to_string(++panels_), "panel", "", {}, false, true, {}};
+    if (source) pair_mirrors(seam, source->panel);
+    seam.reason = over + where + ", " + metres(curve_length(p.V, p.F, *curve)) + " long";
+    seams_.push_back(seam);
+    curves_.push_back(piece_to_mesh(p, *curve));
+    if (ledger_)
+      ledger_->trials.push_back(
+          {seam.name, rest_faces, panel_excess(material_faces(pattern_, c), options_), p.stats.worst1_compression});
+    ++pieces_;
+    given.centre = centre;
+    given.panel = seam.name;
+  }
+
+  Pattern& pattern_;
+  const PatternOptions& options_;
+  PanelLedger* ledger_;
+  std::vector<PatternSeam> seams_;
+  std::vector<SurfaceCurve> curves_;
+  int darts_ = 0, panels_ = 0;
+  PieceMirror mirror_;
+  std::vector<int> limb_of_piece_;
+  std::map<int, int> limb_pieces_;
+  std::vector<char> done_;
+  // Pieces given a cut this round (a piece's mirror image that was given
+  // none, on its own, still takes the mirror image of the piece's).
+  std::vector<char> cut_;
+  int pieces_ = 0;
+};
+
+}  // namespace
+
+int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, PanelLedger* ledger) {
+  return DartPanelPlacer(pattern, options, ledger).run();
 }
 
 namespace {
@@ -356,7 +407,7 @@ int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache&
       length += j->length;
       before += t->excess_before;
       compression = std::max(compression, t->compression_before);
-      tight = tight || t->compression_before > options.budget_share * options.stretch_budget;
+      tight = tight || t->compression_before > options.panels.budget_share * options.panels.stretch_budget;
     }
     double after = 0.0;
     bool within = true;
@@ -375,17 +426,17 @@ int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache&
     // And the cutter stops adding pieces only when the limit is met (issue
     // 49): a seam that took away most of its piece's cloth beyond the limit
     // (min_relief_share) stays, however long, while that piece was over it.
-    const bool most = options.min_relief_share > 0.0 && before > 0.0 && relief >= options.min_relief_share * before;
-    if (relief >= options.min_panel_relief * length || (within && tight) || most) {
+    const bool most = options.panels.min_relief_share > 0.0 && before > 0.0 && relief >= options.panels.min_relief_share * before;
+    if (relief >= options.panels.min_panel_relief * length || (within && tight) || most) {
       char budget[180] = "";
-      if (relief < options.min_panel_relief * length && within && tight)
+      if (relief < options.panels.min_panel_relief * length && within && tight)
         std::snprintf(budget, sizeof(budget),
                       ", and both its pieces meet the limit (the piece was compressed by %.2f %%, more than %.0f %% of "
                       "the stretch budget %.3f)",
-                      100.0 * compression, 100.0 * options.budget_share, options.stretch_budget);
-      else if (relief < options.min_panel_relief * length)
+                      100.0 * compression, 100.0 * options.panels.budget_share, options.panels.stretch_budget);
+      else if (relief < options.panels.min_panel_relief * length)
         std::snprintf(budget, sizeof(budget), ", at least %.0f %% of it (min_relief_share)",
-                      100.0 * options.min_relief_share);
+                      100.0 * options.panels.min_relief_share);
       for (const PanelSides& j : js) pattern.seams[j.seam].reason += std::string("; it relieved ") + buf + budget;
       continue;
     }
@@ -418,7 +469,7 @@ void merge_small_pieces(Pattern& pattern, const PatternOptions& options, Flatten
   for (;;) {
     // The smallest piece below the area bordering an added cut.
     size_t best_seam = pattern.seams.size();
-    double best_area = options.min_piece_area;
+    double best_area = options.panels.min_piece_area;
     for (const CutEdge& e : pattern.cut.edges) {
       const PatternSeam& s = pattern.seams[static_cast<size_t>(e.seam)];
       // User seams and armholes are structure, darts lie inside one piece.
@@ -554,7 +605,7 @@ int split_overlapping_pieces(Pattern& pattern, const PatternOptions& options, Fl
   // Each round splits every piece still overlapping once, then flattens:
   // a piece's two parts are each smaller than the outline that crossed
   // itself, and a part that still overlaps is split again.
-  for (int round = 0; round < options.max_overlap_splits; ++round) {
+  for (int round = 0; round < options.panels.max_overlap_splits; ++round) {
     std::vector<PatternSeam> seams;
     std::vector<SurfaceCurve> curves;
     for (size_t c = 0; c < pattern.pieces.size(); ++c) {

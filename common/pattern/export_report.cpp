@@ -239,12 +239,12 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
   auto bounds_exceeded = [&options](const PatternPiece& p) {
     std::vector<std::string> over;
     const DistortionStats& s = p.stats;
-    if (options.symmetric) {
-      if (s.p95_error > options.p95_limit) over.push_back("p95_error");
-      if (s.max_error > options.max_limit) over.push_back("max_error");
+    if (options.limit.symmetric) {
+      if (s.p95_error > options.limit.p95_limit) over.push_back("p95_error");
+      if (s.max_error > options.limit.max_limit) over.push_back("max_error");
     } else {
-      if (s.worst1_compression > options.compression_worst1) over.push_back("compression");
-      if (s.worst5_ease > options.ease_worst5) over.push_back("ease");
+      if (s.worst1_compression > options.limit.compression_worst1) over.push_back("compression");
+      if (s.worst5_ease > options.limit.ease_worst5) over.push_back("ease");
     }
     if (p.flat.stats.flipped_triangles > 0) over.push_back("flips");
     if (p.flat.boundary_overlaps) over.push_back("overlap");
@@ -252,7 +252,7 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
   };
   OrderedJson over_limit = OrderedJson::object();
   for (const char* b : {"compression", "ease", "p95_error", "max_error", "flips", "overlap"}) {
-    if (options.symmetric ? (std::string(b) == "compression" || std::string(b) == "ease")
+    if (options.limit.symmetric ? (std::string(b) == "compression" || std::string(b) == "ease")
                           : (std::string(b) == "p95_error" || std::string(b) == "max_error"))
       continue;
     over_limit[b] = OrderedJson::array();
@@ -271,8 +271,8 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
     // seam would go.
     const std::vector<MaterialFace> faces = material_faces(pattern, i);
     auto at = [](const Eigen::Vector3d& x) { return OrderedJson::array({x.x(), x.y(), x.z()}); };
-    const OrderedJson worst_at = {{"compression_worst1_m", at(worst_region_centroid(faces, 0.01, true, options.kernel_radius))},
-                                  {"ease_worst5_m", at(worst_region_centroid(faces, 0.05, false, options.kernel_radius))}};
+    const OrderedJson worst_at = {{"compression_worst1_m", at(worst_region_centroid(faces, 0.01, true, options.darts.kernel_radius))},
+                                  {"ease_worst5_m", at(worst_region_centroid(faces, 0.05, false, options.darts.kernel_radius))}};
     pieces.push_back({{"name", p.name},
                       {"vertices", p.V.rows()},
                       {"faces", p.F.rows()},
@@ -365,12 +365,12 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
   j["added_cuts"] = added;
   j["merged_cuts"] = pattern.merged_cuts;
   j["notes"] = pattern.notes;
-  if (options.symmetric)
-    j["summary"]["limit"] = {{"kind", "symmetric"}, {"p95_error", options.p95_limit}, {"max_error", options.max_limit}};
+  if (options.limit.symmetric)
+    j["summary"]["limit"] = {{"kind", "symmetric"}, {"p95_error", options.limit.p95_limit}, {"max_error", options.limit.max_limit}};
   else
     j["summary"]["limit"] = {{"kind", "one-sided"},
-                             {"compression_worst1", options.compression_worst1},
-                             {"ease_worst5", options.ease_worst5}};
+                             {"compression_worst1", options.limit.compression_worst1},
+                             {"ease_worst5", options.limit.ease_worst5}};
   return j;
 }
 

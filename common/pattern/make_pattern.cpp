@@ -50,8 +50,8 @@ Pattern cut_user_seams(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
       if (uses[static_cast<size_t>(v)] > 1 || on_boundary[static_cast<size_t>(v)]) fixed.push_back(v);
     PatternSeam seam{s.name, "user", "", {}, s.closed, false, {}};
     SurfaceCurve c;
-    if (options.smooth) {
-      c = smooth_edge_path(V, F, s.vertex_ids, fixed, s.closed, options.smoothing, &seam.smoothed, s.click_ids);
+    if (options.seams.smooth) {
+      c = smooth_edge_path(V, F, s.vertex_ids, fixed, s.closed, options.seams.smoothing, &seam.smoothed, s.click_ids);
     } else {
       for (int v : s.vertex_ids) c.push_back(CurvePoint::at_vertex(v));
       if (s.closed) c.push_back(CurvePoint::at_vertex(s.vertex_ids.front()));
@@ -63,7 +63,7 @@ Pattern cut_user_seams(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
     insert_cuts(pattern, added, curves);
   } catch (const GeometryError& e) {
     // Smoothed seams that cross each other: cut along the edge paths instead.
-    if (!options.smooth) throw;
+    if (!options.seams.smooth) throw;
     pattern = Pattern{};
     pattern.mesh = pattern_mesh_of_rest(V, F);
     for (size_t i = 0; i < seams.size(); ++i) {
@@ -86,7 +86,7 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   auto lap = [&](const std::string& phase) { seconds[phase] += timer.lap(); };
   Pattern pattern = cut_user_seams(V, F, seams, options);
   lap("user_seams");
-  if (options.armholes) {
+  if (options.armholes.enabled) {
     cut_armholes(pattern, options, context);
     merge_armhole_slivers(pattern, options);
   }
@@ -95,7 +95,7 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   lap("disks");
   FlattenCache cache;
   PanelLedger ledger;
-  for (int round = 0; round < options.max_rounds; ++round) {
+  for (int round = 0; round < options.panels.max_rounds; ++round) {
     ++pattern.rounds;
     flatten_pieces(pattern, options, cache, true);
     while (match_seams(pattern, options, cache)) flatten_pieces(pattern, options, cache, true);
@@ -127,7 +127,7 @@ Pattern make_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const s
   polish_pieces(pattern, options, cache);
   pattern.seams_within_tolerance = seam_sides_match(pattern, options, 1.0, nullptr);
   // The final names: mirrored pieces named alike, from their average.
-  if (options.mirror) name_pieces(pattern, mirror_pieces(pattern, options.mirror_overlap));
+  if (options.panels.mirror) name_pieces(pattern, mirror_pieces(pattern, options.panels.mirror_overlap));
   lap("polish");
   pattern.seconds = seconds;
   return pattern;

@@ -26,14 +26,14 @@ struct PatternContext {
 };
 
 // Phase 1: the pattern mesh refined along the user seams (smoothed unless
-// options.smooth is false) and cut into pieces.
+// options.seams.smooth is false) and cut into pieces.
 Pattern cut_user_seams(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<SeamPath>& seams,
                        const PatternOptions& options);
 
-// Phase 1b: armholes (see PatternOptions::armholes).
+// Phase 1b: armholes (see ArmholeOptions, PatternOptions::armholes).
 void cut_armholes(Pattern& pattern, const PatternOptions& options, const PatternContext& context);
 
-// Phase 1c: a sliver (< options.sliver_area) that an armhole left beside a
+// Phase 1c: a sliver (< options.armholes.sliver_area) that an armhole left beside a
 // user seam joins the neighbour sharing the most armhole (that stretch is not
 // cut); listed in the notes.
 void merge_armhole_slivers(Pattern& pattern, const PatternOptions& options);

@@ -1,13 +1,15 @@
 #pragma once
-// The cutter's options (make_pattern.h): the distortion limit, darts, panel
-// seams, armholes, topology cuts, seams and the flattening, with their
-// defaults and units, and the list the reports record them by.
+// The cutter's options (make_pattern.h) in groups by concern: the distortion
+// limit, darts, panel seams (and the other added cuts), armholes, seams (and
+// the topology cuts' cost) and the flattening, with their defaults and units,
+// and the list the reports record them by (flat, as before the grouping).
 #include "pattern/flatten.h"
 #include "pattern/surface_curve.h"
 
 namespace gp {
 
-struct PatternOptions {
+// The distortion limit a piece must meet.
+struct DistortionLimit {
   // The one-sided limit: compression 1 - s2 (stretched when sewn) tightly,
   // ease s1 - 1 loosely; fractions, as means over the worst part of the area
   // (continuous, unlike percentiles). None per triangle: a dart's tip always
@@ -17,18 +19,26 @@ struct PatternOptions {
   bool symmetric = false;           // max(|s1-1|, |s2-1|) instead: p95 and max
   double p95_limit = 0.02;
   double max_limit = 0.05;
+};
 
-  enum class DartPlacement {
+// Where darts go and how many.
+struct DartOptions {
+  enum class Placement {
     curvature,  // mode of the kernel-smoothed angle defect (integrated Gaussian curvature)
     conformal,  // minimum of the log conformal factor u (L u = -K, u = 0 on the boundary)
   };
-  DartPlacement dart_placement = DartPlacement::curvature;
+  Placement dart_placement = Placement::curvature;
   int max_darts = 2;                // per piece
   double kernel_radius = 0.06;      // metres: radius of the curvature / density kernel
   double min_dart_angle = 0.25;     // radians of Gaussian curvature within the kernel below which no dart is placed
   double tip_margin = 0.05;         // metres: a dart's tip lies at least this far inside its piece
   bool tip_inward = true;           // a curvature mode nearer the outline gets its tip moved inward to tip_margin
   double min_dart_length = 0.05;    // metres
+};
+
+// The cuts the cutter adds where a piece fails the limit: panel seams, both
+// sides alike, and the rounds and splits that bound them.
+struct PanelOptions {
   // Panel seams stop at this many pieces: the paper's 5-pose shirt has 10
   // (it was 12, which the slim-shirt filled with sleeve quarters and a
   // front split twice; issue 49).
@@ -84,21 +94,26 @@ struct PatternOptions {
   double min_piece_area = 0.01;     // m^2: added cuts leave no piece smaller than this
   int max_rounds = 16;              // flatten / place rounds
   int max_overlap_splits = 4;       // rounds of split_overlapping_pieces
+};
 
-  // Armholes: a loop ending a limb's tube (centroid at least limb_offset from
-  // the body's vertical axis) gets a seam at the geodesic level set whose
-  // length first grows faster than armhole_slope (m/m, fitted over
-  // +-slope_window), at least min_sleeve_length from the loop. Two limbs
-  // mirrored across the axis (their distances from it, heights and armhole
-  // distances equal within mirror_tolerance) share the mean armhole distance.
-  bool armholes = true;
+// Armholes: a loop ending a limb's tube (centroid at least limb_offset from
+// the body's vertical axis) gets a seam at the geodesic level set whose
+// length first grows faster than armhole_slope (m/m, fitted over
+// +-slope_window), at least min_sleeve_length from the loop. Two limbs
+// mirrored across the axis (their distances from it, heights and armhole
+// distances equal within mirror_tolerance) share the mean armhole distance.
+struct ArmholeOptions {
+  bool enabled = true;
   double min_sleeve_length = 0.04;  // metres
   double armhole_slope = 2.0;
   double slope_window = 0.03;       // metres
   double limb_offset = 0.12;        // metres
   double mirror_tolerance = 0.25;   // fraction
   double sliver_area = 1e-4;        // m^2: smaller pieces an armhole cuts off join their neighbour
+};
 
+// How seams run and how closely their two flat sides must match.
+struct SeamOptions {
   double front_back_cost = 4.0;     // topology cuts: cost of length facing front or back against sideways
 
   bool smooth = true;               // cuts through triangles along smooth curves (false: along rest edges)
@@ -115,6 +130,17 @@ struct PatternOptions {
   double seam_tolerance_relative = 0.0;  // fraction
   double match_margin = 1.0;
   double max_boundary_weight = 640.0;
+};
+
+// The cutter's options, one group per concern; the report records them
+// flat, under the names of PatternOptionFields.
+struct PatternOptions {
+  using DartPlacement = DartOptions::Placement;
+  DistortionLimit limit;
+  DartOptions darts;
+  PanelOptions panels;
+  ArmholeOptions armholes;
+  SeamOptions seams;
   FlattenOptions flatten = default_flatten();
 
   // Ease priced at a tenth of compression (curvature no cut relieves
@@ -134,48 +160,48 @@ struct PatternOptions {
 struct PatternOptionFields {
   template <class Fields>
   void operator()(PatternOptions& o, Fields& f) const {
-    f.names("limit", o.symmetric, "symmetric", "one-sided");
-    f.number("compression_worst1", o.compression_worst1, Range::between(0.0, 1.0));
-    f.number("ease_worst5", o.ease_worst5, Range::non_negative());
-    f.number("p95_limit", o.p95_limit, Range::non_negative());
-    f.number("max_limit", o.max_limit, Range::non_negative());
-    f.choice("dart_placement", o.dart_placement,
-             ChoiceNames<PatternOptions::DartPlacement>{{PatternOptions::DartPlacement::curvature, "curvature"},
-                                                        {PatternOptions::DartPlacement::conformal, "conformal"}});
-    f.integer("max_darts", o.max_darts, Range::between(0, 100));
-    f.number("kernel_radius_m", o.kernel_radius, Range::positive());
-    f.number("min_dart_angle_rad", o.min_dart_angle, Range::non_negative());
-    f.number("tip_margin_m", o.tip_margin, Range::non_negative());
-    f.flag("tip_inward", o.tip_inward);
-    f.number("min_dart_length_m", o.min_dart_length, Range::non_negative());
-    f.integer("max_pieces", o.max_pieces, Range::between(0, 1e6));
-    f.integer("max_sleeve_pieces", o.max_sleeve_pieces, Range::between(0, 1e6));
-    f.flag("mirror", o.mirror);
-    f.number("mirror_overlap", o.mirror_overlap, Range::between(0.0, 1.0));
-    f.number("min_panel_relief_m2_per_m", o.min_panel_relief, Range::non_negative());
-    f.number("min_relief_share", o.min_relief_share, Range::non_negative());
-    f.number("stretch_budget", o.stretch_budget, Range::non_negative());
-    f.number("budget_share", o.budget_share, Range::non_negative());
-    f.integer("ease_balance_steps", o.ease_balance_steps, Range::between(0, 100));
-    f.number("ease_balance_factor", o.ease_balance_factor, Range::between(1.0, 100.0));
-    f.number("min_ease_weight", o.min_ease_weight, Range::between(0.0, 1.0));
-    f.number("min_piece_area_m2", o.min_piece_area, Range::non_negative());
-    f.integer("max_rounds", o.max_rounds, Range::between(1, 1e6));
-    f.integer("max_overlap_splits", o.max_overlap_splits, Range::between(0, 100));
-    f.flag("armholes", o.armholes);
-    f.number("min_sleeve_length_m", o.min_sleeve_length, Range::non_negative());
-    f.number("armhole_slope", o.armhole_slope, Range::positive());
-    f.number("slope_window_m", o.slope_window, Range::positive());
-    f.number("limb_offset_m", o.limb_offset, Range::non_negative());
-    f.number("mirror_tolerance", o.mirror_tolerance, Range::non_negative());
-    f.number("sliver_area_m2", o.sliver_area, Range::non_negative());
-    f.number("front_back_cost", o.front_back_cost, Range::positive());
-    f.flag("smooth", o.smooth);
-    f.group("smoothing", o.smoothing, EdgePathSmoothingFields{});
-    f.number("seam_tolerance_m", o.seam_tolerance, Range::non_negative());
-    f.number("seam_tolerance_relative", o.seam_tolerance_relative, Range::non_negative());
-    f.number("match_margin", o.match_margin, Range::non_negative());
-    f.number("max_boundary_weight", o.max_boundary_weight, Range::non_negative());
+    f.names("limit", o.limit.symmetric, "symmetric", "one-sided");
+    f.number("compression_worst1", o.limit.compression_worst1, Range::between(0.0, 1.0));
+    f.number("ease_worst5", o.limit.ease_worst5, Range::non_negative());
+    f.number("p95_limit", o.limit.p95_limit, Range::non_negative());
+    f.number("max_limit", o.limit.max_limit, Range::non_negative());
+    f.choice("dart_placement", o.darts.dart_placement,
+             ChoiceNames<DartOptions::Placement>{{DartOptions::Placement::curvature, "curvature"},
+                                                 {DartOptions::Placement::conformal, "conformal"}});
+    f.integer("max_darts", o.darts.max_darts, Range::between(0, 100));
+    f.number("kernel_radius_m", o.darts.kernel_radius, Range::positive());
+    f.number("min_dart_angle_rad", o.darts.min_dart_angle, Range::non_negative());
+    f.number("tip_margin_m", o.darts.tip_margin, Range::non_negative());
+    f.flag("tip_inward", o.darts.tip_inward);
+    f.number("min_dart_length_m", o.darts.min_dart_length, Range::non_negative());
+    f.integer("max_pieces", o.panels.max_pieces, Range::between(0, 1e6));
+    f.integer("max_sleeve_pieces", o.panels.max_sleeve_pieces, Range::between(0, 1e6));
+    f.flag("mirror", o.panels.mirror);
+    f.number("mirror_overlap", o.panels.mirror_overlap, Range::between(0.0, 1.0));
+    f.number("min_panel_relief_m2_per_m", o.panels.min_panel_relief, Range::non_negative());
+    f.number("min_relief_share", o.panels.min_relief_share, Range::non_negative());
+    f.number("stretch_budget", o.panels.stretch_budget, Range::non_negative());
+    f.number("budget_share", o.panels.budget_share, Range::non_negative());
+    f.integer("ease_balance_steps", o.panels.ease_balance_steps, Range::between(0, 100));
+    f.number("ease_balance_factor", o.panels.ease_balance_factor, Range::between(1.0, 100.0));
+    f.number("min_ease_weight", o.panels.min_ease_weight, Range::between(0.0, 1.0));
+    f.number("min_piece_area_m2", o.panels.min_piece_area, Range::non_negative());
+    f.integer("max_rounds", o.panels.max_rounds, Range::between(1, 1e6));
+    f.integer("max_overlap_splits", o.panels.max_overlap_splits, Range::between(0, 100));
+    f.flag("armholes", o.armholes.enabled);
+    f.number("min_sleeve_length_m", o.armholes.min_sleeve_length, Range::non_negative());
+    f.number("armhole_slope", o.armholes.armhole_slope, Range::positive());
+    f.number("slope_window_m", o.armholes.slope_window, Range::positive());
+    f.number("limb_offset_m", o.armholes.limb_offset, Range::non_negative());
+    f.number("mirror_tolerance", o.armholes.mirror_tolerance, Range::non_negative());
+    f.number("sliver_area_m2", o.armholes.sliver_area, Range::non_negative());
+    f.number("front_back_cost", o.seams.front_back_cost, Range::positive());
+    f.flag("smooth", o.seams.smooth);
+    f.group("smoothing", o.seams.smoothing, EdgePathSmoothingFields{});
+    f.number("seam_tolerance_m", o.seams.seam_tolerance, Range::non_negative());
+    f.number("seam_tolerance_relative", o.seams.seam_tolerance_relative, Range::non_negative());
+    f.number("match_margin", o.seams.match_margin, Range::non_negative());
+    f.number("max_boundary_weight", o.seams.max_boundary_weight, Range::non_negative());
     f.group("flatten", o.flatten, FlattenOptionFields{});
   }
 };

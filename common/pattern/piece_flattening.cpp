@@ -30,8 +30,8 @@ namespace gp {
 bool meets_limit(const PatternPiece& piece, const PatternOptions& options) {
   if (piece.flat.stats.flipped_triangles > 0 || piece.flat.boundary_overlaps) return false;
   const DistortionStats& s = piece.stats;
-  if (options.symmetric) return s.p95_error <= options.p95_limit && s.max_error <= options.max_limit;
-  return s.worst1_compression <= options.compression_worst1 && s.worst5_ease <= options.ease_worst5;
+  if (options.limit.symmetric) return s.p95_error <= options.limit.p95_limit && s.max_error <= options.limit.max_limit;
+  return s.worst1_compression <= options.limit.compression_worst1 && s.worst5_ease <= options.limit.ease_worst5;
 }
 
 namespace {
@@ -67,8 +67,8 @@ double limit_ratio(const PatternPiece& p, const PatternOptions& options) {
   auto ratio = [](double value, double bound) {
     return bound > 0.0 ? value / bound : (value > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
   };
-  return std::max(ratio(p.stats.worst1_compression, options.compression_worst1),
-                  ratio(p.stats.worst5_ease, options.ease_worst5));
+  return std::max(ratio(p.stats.worst1_compression, options.limit.compression_worst1),
+                  ratio(p.stats.worst5_ease, options.limit.ease_worst5));
 }
 
 }  // namespace
@@ -106,26 +106,26 @@ void polish_pieces(Pattern& pattern, const PatternOptions& options, const Flatte
 
 
 bool balance_ease(Pattern& pattern, const PatternOptions& options, FlattenCache& cache) {
-  if (options.symmetric || options.ease_balance_steps <= 0 || options.ease_balance_factor <= 1.0) return false;
+  if (options.limit.symmetric || options.panels.ease_balance_steps <= 0 || options.panels.ease_balance_factor <= 1.0) return false;
   bool changed = false;
   for (size_t c = 0; c < pattern.pieces.size(); ++c) {
     PatternPiece& p = pattern.pieces[c];
     if (p.meets_limit || p.flat.stats.flipped_triangles > 0 || p.flat.boundary_overlaps) continue;
-    const bool tight = p.stats.worst1_compression > options.compression_worst1;
-    const bool loose = p.stats.worst5_ease > options.ease_worst5;
+    const bool tight = p.stats.worst1_compression > options.limit.compression_worst1;
+    const bool loose = p.stats.worst5_ease > options.limit.ease_worst5;
     if (tight == loose) continue;  // over both bounds (or neither): no trade helps
     const std::vector<int> key = piece_key(pattern, c);
     const FlattenOptions base = piece_flatten_options(options, cache, key);
     // Over compression: ease made cheaper, so that the piece grows where it
     // was tight; over ease: dearer.
-    const double factor = tight ? 1.0 / options.ease_balance_factor : options.ease_balance_factor;
+    const double factor = tight ? 1.0 / options.panels.ease_balance_factor : options.panels.ease_balance_factor;
     const FlattenResult before = p.flat;
     const DistortionStats stats_before = p.stats;
     double best_ratio = limit_ratio(p, options), best_weight = base.ease_weight;
     FlattenResult best = before;
     double w = base.ease_weight;
-    for (int k = 0; k < options.ease_balance_steps; ++k) {
-      const double next = std::clamp(w * factor, std::max(options.min_ease_weight, 1e-6), 1.0);
+    for (int k = 0; k < options.panels.ease_balance_steps; ++k) {
+      const double next = std::clamp(w * factor, std::max(options.panels.min_ease_weight, 1e-6), 1.0);
       if (next == w) break;
       w = next;
       FlattenOptions flatten = base;
@@ -164,12 +164,12 @@ bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& 
   // mismatch beyond match_margin times the tolerance gets its pieces
   // flattened again, with 4 times the weight up to max_boundary_weight.
   std::set<int> mismatched;
-  seam_sides_match(pattern, options, options.match_margin, &mismatched);
+  seam_sides_match(pattern, options, options.seams.match_margin, &mismatched);
   bool again = false;
   for (int c : mismatched) {
     const std::vector<int> key = piece_key(pattern, static_cast<size_t>(c));
     auto w = cache.boundary_weight.emplace(key, options.flatten.boundary_weight).first;
-    if (w->second <= 0.0 || w->second * 4.0 > options.max_boundary_weight) continue;
+    if (w->second <= 0.0 || w->second * 4.0 > options.seams.max_boundary_weight) continue;
     w->second *= 4.0;
     cache.results.erase(key);
     again = true;

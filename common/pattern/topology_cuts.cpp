@@ -48,7 +48,7 @@ void cut_to_disks(Pattern& pattern, const PatternOptions& options, const Pattern
       auto cost = [&](int a, int b) {
         const Eigen::Vector3d nm = (N.row(a) + N.row(b)).normalized();
         const double nz = std::isfinite(nm.z()) ? nm.z() : 0.0;
-        return (p.V.row(a) - p.V.row(b)).norm() * (1.0 + options.front_back_cost * nz * nz);
+        return (p.V.row(a) - p.V.row(b)).norm() * (1.0 + options.seams.front_back_cost * nz * nz);
       };
       const double inf = std::numeric_limits<double>::infinity();
       const auto search_from = [&](const std::vector<int>& sources, const std::function<bool(int)>& stop) {
@@ -101,13 +101,13 @@ void cut_to_disks(Pattern& pattern, const PatternOptions& options, const Pattern
       }
       PatternSeam seam{"join" + std::to_string(++count), "topology", reason, {}, false, false, {}};
       SurfaceCurve c;
-      if (options.smooth && path.size() > 2) {
+      if (options.seams.smooth && path.size() > 2) {
         // Smoothed in the piece itself, so that it cannot cross into another.
         std::vector<int> fixed{path.front(), path.back()};
         const auto flags = boundary_flags(p);
         for (int v : path)
           if (flags[static_cast<size_t>(v)]) fixed.push_back(v);
-        c = smooth_edge_path(p.V, p.F, path, fixed, false, options.smoothing, &seam.smoothed);
+        c = smooth_edge_path(p.V, p.F, path, fixed, false, options.seams.smoothing, &seam.smoothed);
       } else {
         for (int v : path) c.push_back(CurvePoint::at_vertex(v));
       }

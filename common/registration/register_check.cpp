@@ -186,19 +186,17 @@ std::vector<PoseInput> collect_pose_inputs(const std::vector<std::string>& args)
   return inputs;
 }
 
-RegisterCheckResult register_check(const std::vector<PoseInput>& inputs,
-                                   const RegisterCheckOptions& o) {
-  const auto t_start = Clock::now();
-  RegisterCheckResult r;
-  if (inputs.empty()) throw UsageError("no pose meshes given");
-  const int n = static_cast<int>(inputs.size());
+namespace {
 
-  // Read (InputError propagates: nothing to check in an unreadable file).
-  auto t0 = Clock::now();
+// Reads every pose (InputError propagates: nothing to check in an
+// unreadable file); the read warnings go into r, order_preserved per pose.
+std::vector<Mesh> read_poses(const std::vector<PoseInput>& inputs, const RegisterCheckOptions& o, RegisterCheckResult& r,
+                             std::vector<bool>& order_preserved) {
+  const int n = static_cast<int>(inputs.size());
   std::vector<Mesh> meshes(static_cast<size_t>(n));
   r.poses.resize(static_cast<size_t>(n));
   std::vector<std::vector<std::string>> read_warnings(static_cast<size_t>(n));
-  std::vector<bool> order_preserved(static_cast<size_t>(n), true);
+  order_preserved.assign(static_cast<size_t>(n), true);
   parallel_for(n, o.threads, [&](int i) {
     MeshReadOptions ro;
     ro.triangulate = o.triangulate;
@@ -213,6 +211,176 @@ RegisterCheckResult register_check(const std::vector<PoseInput>& inputs,
     r.poses[i].file = inputs[i].file.string();
     for (const std::string& w : read_warnings[i]) add(r, Severity::warning, ExitCode::ok, inputs[i].name, w);
   }
+  return meshes;
+}
+
+// Pose i against the reference: its vertices in the reference's order into
+// V_ordered (empty where they cannot be), its connectivity and findings in
+// r. False when it is not in correspondence.
+bool correspond(const std::vector<Mesh>& meshes, const std::vector<PoseInput>& inputs, int i, int ref,
+                const std::vector<bool>& usable, const RegisterCheckOptions& o, RegisterCheckResult& r,
+                std::vector<Eigen::MatrixXd>& V_ordered) {
+  PoseCheck& p = r.poses[i];
+  const std::string& refname = inputs[ref].name;
+  if (meshes[i].V.rows() != meshes[ref].V.rows() || meshes[i].F.rows() != meshes[ref].F.rows()) {
+    p.connectivity = Connectivity::different;
+    add(r, Severity::error, ExitCode::geometry, p.name,
+        "poses not in correspondence: " + std::to_string(meshes[i].V.rows()) + " vertices and " +
+            std::to_string(meshes[i].F.rows()) + " faces, but reference '" + refname + "' has " +
+            std::to_string(meshes[ref].V.rows()) + " and " + std::to_string(meshes[ref].F.rows()) +
+            " (" + p.file + ")");
+    return false;
+  }
+  p.connectivity = compare_triangle_lists(meshes[ref].F, meshes[i].F);
+  if (p.connectivity == Connectivity::identical) {
+    V_ordered[i] = meshes[i].V;
+    return true;
+  }
+  if (p.connectivity == Connectivity::same_faces_reordered) {
+    // Same vertex order, triangles listed differently: the reference's list serves.
+    V_ordered[i] = meshes[i].V;
+    if (o.reorder) {
+      p.reordered = true;
+      p.reorder_note = "triangles listed in another order; rewritten with the reference's triangle list";
+      add(r, Severity::warning, ExitCode::ok, p.name, p.reorder_note + " (" + p.file + ")");
+      return true;
+    }
+    add(r, Severity::error, ExitCode::geometry, p.name,
+        "same triangles as '" + refname + "' but listed in another order; pass --reorder to "
+        "rewrite it with the reference's triangle list (" + p.file + ")");
+    return false;
+  }
+  std::optional<VertexCorrespondence> c;
+  if (usable[i] && usable[ref])
+    c = find_vertex_correspondence(meshes[ref].V, meshes[ref].F, meshes[i].V, meshes[i].F);
+  if (!c) {
+    add(r, Severity::error, ExitCode::geometry, p.name,
+        "poses not in correspondence: the triangle list differs from reference '" + refname +
+            "' and no relabelling of the vertices maps one onto the other (" + p.file + ")");
+    return false;
+  }
+  p.connectivity = Connectivity::permuted;
+  if (!o.reorder) {
+    add(r, Severity::error, ExitCode::geometry, p.name,
+        "same mesh as '" + refname + "' with its vertices in another order; pass --reorder to "
+        "re-index it into the reference's order (" + p.file + ")");
+    return false;
+  }
+  p.reordered = true;
+  p.reorder_note = "vertices re-indexed into the reference's order (" +
+                   std::to_string(c->candidates_tried) + " seed trials; verified: every triangle maps "
+                   "to a triangle)";
+  if (!c->note.empty()) p.reorder_note += "; " + c->note;
+  add(r, Severity::warning, ExitCode::ok, p.name,
+      p.reorder_note + " (" + p.file + ")");
+  V_ordered[i] = reorder_vertices(meshes[i].V, *c);
+  return true;
+}
+
+// Units and up axis from the reference pose (findings into r).
+UnitsAndUp units_and_up(const Mesh& reference, const std::string& name, const RegisterCheckOptions& o,
+                        RegisterCheckResult& r) {
+  UnitsAndUp u;
+  const std::string where = " (" + r.poses[static_cast<size_t>(r.reference)].file + ")";
+  if (o.up == "auto") {
+    const UpAxisDetection d = detect_up_axis(reference.V, reference.F);
+    u.up = d.up;
+    u.up_ambiguous = d.ambiguous;
+    u.up_reason = d.reason;
+    u.up_cues = d.cues;
+    if (d.ambiguous)
+      add(r, Severity::error, ExitCode::geometry, name,
+          "cannot tell which way is up: " + d.reason + "; pass --up" + where);
+  } else {
+    u.up = UpAxis::parse(o.up);
+    u.up_reason = "given by --up";
+  }
+  const Eigen::VectorXd along = reference.V.col(u.up.axis);
+  u.height = along.maxCoeff() - along.minCoeff();
+  if (o.height > 0) {
+    if (o.units != "auto") throw UsageError("--height scales the body itself; it excludes --units", "--height");
+    if (!(u.height > 0)) {
+      add(r, Severity::error, ExitCode::geometry, name,
+          "the body has no extent along " + u.up.name() + "; cannot scale it to --height" + where);
+    } else {
+      u.units = "height";
+      u.given_height_m = o.height;
+      u.scale_to_metres = o.height / u.height;
+    }
+  } else {
+    if (o.units == "auto") {
+      try {
+        u.units = detect_units(u.height);
+      } catch (const GeometryError& e) {
+        add(r, Severity::error, ExitCode::geometry, name,
+            std::string(e.what()) + " or --height" + where);
+      }
+    } else {
+      u.units = o.units;
+    }
+    u.scale_to_metres = metres_per_unit(u.units);
+  }
+  return u;
+}
+
+// Every usable pose in metres, y up, and its edge lengths against the
+// reference's (a fail beyond max_edge_ratio).
+void compare_edge_lengths(const std::vector<PoseInput>& inputs, const std::vector<bool>& usable,
+                          const std::vector<Eigen::MatrixXd>& V_ordered, const RegisterCheckOptions& o,
+                          RegisterCheckResult& r) {
+  const int n = static_cast<int>(inputs.size());
+  const int ref = r.reference;
+  const Eigen::MatrixXi E = unique_edges(r.F);
+  for (int i = 0; i < n; ++i) {
+    if (!usable[i] || V_ordered[i].rows() == 0) continue;
+    r.poses[i].V = to_metres_y_up(V_ordered[i], *r.units);
+  }
+  for (int i = 0; i < n; ++i) {
+    if (i == ref || r.poses[i].V.rows() == 0 || r.poses[ref].V.rows() == 0) continue;
+    r.poses[i].edge_ratios = edge_ratio_stats(r.poses[ref].V, r.poses[i].V, E, o.worst_edges);
+    const EdgeRatioStats& s = *r.poses[i].edge_ratios;
+    if (s.worst_factor > o.max_edge_ratio) {
+      const EdgeRatioEdge& w = s.worst.front();
+      add(r, Severity::fail, ExitCode::check_failed, r.poses[i].name,
+          "registration: an edge changes length by a factor of " + format_double(s.worst_factor) +
+              " against '" + inputs[ref].name + "' (limit " + format_double(o.max_edge_ratio) +
+              "): edge " + std::to_string(w.v0) + "-" + std::to_string(w.v1) + " is " +
+              format_double(w.length) + " m, " + format_double(w.reference_length) +
+              " m in the reference (" + r.poses[i].file + ")");
+    }
+  }
+}
+
+// Self-intersections (warnings): only on poses CGAL can hold as a surface.
+void self_intersection_warnings(const std::vector<Mesh>& meshes, const std::vector<bool>& usable,
+                                const RegisterCheckOptions& o, RegisterCheckResult& r) {
+  const int n = static_cast<int>(meshes.size());
+  parallel_for(n, o.threads, [&](int i) {
+    const PoseCheck& p = r.poses[i];
+    if (!usable[i] || !p.mesh.manifold() || p.mesh.inconsistent_orientation_edges > 0) return;
+    r.poses[i].self_intersections = self_intersections(meshes[i].V, meshes[i].F);
+  });
+  for (int i = 0; i < n; ++i) {
+    const auto& si = r.poses[i].self_intersections;
+    if (si && si->pair_count > 0)
+      add(r, Severity::warning, ExitCode::ok, r.poses[i].name,
+          std::to_string(si->pair_count) + " pairs of triangles intersect, e.g. faces " +
+              join_pairs(si->first_pairs) + " (" + r.poses[i].file + ")");
+  }
+}
+
+}  // namespace
+
+RegisterCheckResult register_check(const std::vector<PoseInput>& inputs,
+                                   const RegisterCheckOptions& o) {
+  const auto t_start = Clock::now();
+  RegisterCheckResult r;
+  if (inputs.empty()) throw UsageError("no pose meshes given");
+  const int n = static_cast<int>(inputs.size());
+
+  auto t0 = Clock::now();
+  std::vector<bool> order_preserved;
+  const std::vector<Mesh> meshes = read_poses(inputs, o, r, order_preserved);
   r.seconds_read = seconds_since(t0);
 
   r.reference = 0;
@@ -239,64 +407,7 @@ RegisterCheckResult register_check(const std::vector<PoseInput>& inputs,
   bool all_correspond = true;
   for (int i = 0; i < n; ++i) {
     if (i == ref) continue;
-    PoseCheck& p = r.poses[i];
-    const std::string& refname = inputs[ref].name;
-    if (meshes[i].V.rows() != meshes[ref].V.rows() || meshes[i].F.rows() != meshes[ref].F.rows()) {
-      p.connectivity = Connectivity::different;
-      add(r, Severity::error, ExitCode::geometry, p.name,
-          "poses not in correspondence: " + std::to_string(meshes[i].V.rows()) + " vertices and " +
-              std::to_string(meshes[i].F.rows()) + " faces, but reference '" + refname + "' has " +
-              std::to_string(meshes[ref].V.rows()) + " and " + std::to_string(meshes[ref].F.rows()) +
-              " (" + p.file + ")");
-      all_correspond = false;
-      continue;
-    }
-    p.connectivity = compare_triangle_lists(meshes[ref].F, meshes[i].F);
-    if (p.connectivity == Connectivity::identical) {
-      V_ordered[i] = meshes[i].V;
-      continue;
-    }
-    if (p.connectivity == Connectivity::same_faces_reordered) {
-      // Same vertex order, triangles listed differently: the reference's list serves.
-      V_ordered[i] = meshes[i].V;
-      if (o.reorder) {
-        p.reordered = true;
-        p.reorder_note = "triangles listed in another order; rewritten with the reference's triangle list";
-        add(r, Severity::warning, ExitCode::ok, p.name, p.reorder_note + " (" + p.file + ")");
-      } else {
-        add(r, Severity::error, ExitCode::geometry, p.name,
-            "same triangles as '" + refname + "' but listed in another order; pass --reorder to "
-            "rewrite it with the reference's triangle list (" + p.file + ")");
-        all_correspond = false;
-      }
-      continue;
-    }
-    std::optional<VertexCorrespondence> c;
-    if (usable[i] && usable[ref])
-      c = find_vertex_correspondence(meshes[ref].V, meshes[ref].F, meshes[i].V, meshes[i].F);
-    if (!c) {
-      add(r, Severity::error, ExitCode::geometry, p.name,
-          "poses not in correspondence: the triangle list differs from reference '" + refname +
-              "' and no relabelling of the vertices maps one onto the other (" + p.file + ")");
-      all_correspond = false;
-      continue;
-    }
-    p.connectivity = Connectivity::permuted;
-    if (!o.reorder) {
-      add(r, Severity::error, ExitCode::geometry, p.name,
-          "same mesh as '" + refname + "' with its vertices in another order; pass --reorder to "
-          "re-index it into the reference's order (" + p.file + ")");
-      all_correspond = false;
-      continue;
-    }
-    p.reordered = true;
-    p.reorder_note = "vertices re-indexed into the reference's order (" +
-                     std::to_string(c->candidates_tried) + " seed trials; verified: every triangle maps "
-                     "to a triangle)";
-    if (!c->note.empty()) p.reorder_note += "; " + c->note;
-    add(r, Severity::warning, ExitCode::ok, p.name,
-        p.reorder_note + " (" + p.file + ")");
-    V_ordered[i] = reorder_vertices(meshes[i].V, *c);
+    if (!correspond(meshes, inputs, i, ref, usable, o, r, V_ordered)) all_correspond = false;
   }
   for (int i = 0; i < n; ++i)
     if (!order_preserved[i] && n > 1)
@@ -305,90 +416,12 @@ RegisterCheckResult register_check(const std::vector<PoseInput>& inputs,
           "or luck (" + r.poses[i].file + ")");
   r.seconds_correspondence = seconds_since(t0);
 
-  // Units and up axis from the reference pose.
-  if (usable[ref]) {
-    UnitsAndUp u;
-    const std::string where = " (" + r.poses[ref].file + ")";
-    if (o.up == "auto") {
-      const UpAxisDetection d = detect_up_axis(meshes[ref].V, meshes[ref].F);
-      u.up = d.up;
-      u.up_ambiguous = d.ambiguous;
-      u.up_reason = d.reason;
-      u.up_cues = d.cues;
-      if (d.ambiguous)
-        add(r, Severity::error, ExitCode::geometry, inputs[ref].name,
-            "cannot tell which way is up: " + d.reason + "; pass --up" + where);
-    } else {
-      u.up = UpAxis::parse(o.up);
-      u.up_reason = "given by --up";
-    }
-    const Eigen::VectorXd along = meshes[ref].V.col(u.up.axis);
-    u.height = along.maxCoeff() - along.minCoeff();
-    if (o.height > 0) {
-      if (o.units != "auto") throw UsageError("--height scales the body itself; it excludes --units", "--height");
-      if (!(u.height > 0)) {
-        add(r, Severity::error, ExitCode::geometry, inputs[ref].name,
-            "the body has no extent along " + u.up.name() + "; cannot scale it to --height" + where);
-      } else {
-        u.units = "height";
-        u.given_height_m = o.height;
-        u.scale_to_metres = o.height / u.height;
-      }
-    } else {
-      if (o.units == "auto") {
-        try {
-          u.units = detect_units(u.height);
-        } catch (const GeometryError& e) {
-          add(r, Severity::error, ExitCode::geometry, inputs[ref].name,
-              std::string(e.what()) + " or --height" + where);
-        }
-      } else {
-        u.units = o.units;
-      }
-      u.scale_to_metres = metres_per_unit(u.units);
-    }
-    r.units = u;
-  }
-
+  if (usable[ref]) r.units = units_and_up(meshes[ref], inputs[ref].name, o, r);
   // Normalize and compare edge lengths against the reference.
-  if (r.units && all_correspond) {
-    const Eigen::MatrixXi E = unique_edges(r.F);
-    for (int i = 0; i < n; ++i) {
-      if (!usable[i] || V_ordered[i].rows() == 0) continue;
-      r.poses[i].V = to_metres_y_up(V_ordered[i], *r.units);
-    }
-    for (int i = 0; i < n; ++i) {
-      if (i == ref || r.poses[i].V.rows() == 0 || r.poses[ref].V.rows() == 0) continue;
-      r.poses[i].edge_ratios = edge_ratio_stats(r.poses[ref].V, r.poses[i].V, E, o.worst_edges);
-      const EdgeRatioStats& s = *r.poses[i].edge_ratios;
-      if (s.worst_factor > o.max_edge_ratio) {
-        const EdgeRatioEdge& w = s.worst.front();
-        add(r, Severity::fail, ExitCode::check_failed, r.poses[i].name,
-            "registration: an edge changes length by a factor of " + format_double(s.worst_factor) +
-                " against '" + inputs[ref].name + "' (limit " + format_double(o.max_edge_ratio) +
-                "): edge " + std::to_string(w.v0) + "-" + std::to_string(w.v1) + " is " +
-                format_double(w.length) + " m, " + format_double(w.reference_length) +
-                " m in the reference (" + r.poses[i].file + ")");
-      }
-    }
-  }
+  if (r.units && all_correspond) compare_edge_lengths(inputs, usable, V_ordered, o, r);
 
-  // Self-intersections (warnings): only on poses CGAL can hold as a surface.
   t0 = Clock::now();
-  if (o.self_intersections) {
-    parallel_for(n, o.threads, [&](int i) {
-      const PoseCheck& p = r.poses[i];
-      if (!usable[i] || !p.mesh.manifold() || p.mesh.inconsistent_orientation_edges > 0) return;
-      r.poses[i].self_intersections = self_intersections(meshes[i].V, meshes[i].F);
-    });
-    for (int i = 0; i < n; ++i) {
-      const auto& si = r.poses[i].self_intersections;
-      if (si && si->pair_count > 0)
-        add(r, Severity::warning, ExitCode::ok, r.poses[i].name,
-            std::to_string(si->pair_count) + " pairs of triangles intersect, e.g. faces " +
-                join_pairs(si->first_pairs) + " (" + r.poses[i].file + ")");
-    }
-  }
+  if (o.self_intersections) self_intersection_warnings(meshes, usable, o, r);
   r.seconds_self_intersections = seconds_since(t0);
   r.seconds_total = seconds_since(t_start);
   return r;

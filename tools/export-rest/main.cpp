@@ -23,15 +23,15 @@ int main(int argc, char** argv) {
   app.add_option("--limit", limit,
                  "Distortion limit: one-sided (bounds compression tightly, ease loosely) or symmetric (bounds both alike)")
       ->capture_default_str()->check(CLI::IsMember({"one-sided", "symmetric"}));
-  app.add_option("--compression-limit", po.compression_worst1,
+  app.add_option("--compression-limit", po.limit.compression_worst1,
                  "One-sided limit: mean compression 1 - s2 allowed over the worst 1 % of a piece's area [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 1.0));
-  app.add_option("--ease-limit", po.ease_worst5,
+  app.add_option("--ease-limit", po.limit.ease_worst5,
                  "One-sided limit: mean ease s1 - 1 allowed over the worst 5 % of a piece's area [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
-  app.add_option("--p95-limit", po.p95_limit, "Symmetric limit: error max(|s1-1|, |s2-1|) allowed on 95 % of the area [fraction]")
+  app.add_option("--p95-limit", po.limit.p95_limit, "Symmetric limit: error max(|s1-1|, |s2-1|) allowed on 95 % of the area [fraction]")
       ->capture_default_str()->check(CLI::Range(1e-6, 1.0));
-  app.add_option("--max-limit", po.max_limit, "Symmetric limit: error allowed everywhere [fraction]")
+  app.add_option("--max-limit", po.limit.max_limit, "Symmetric limit: error allowed everywhere [fraction]")
       ->capture_default_str()->check(CLI::Range(1e-6, 1.0));
   app.add_option("--ease-weight", po.flatten.ease_weight,
                  "Cost of ease relative to compression in the flattening (1 is ARAP) [fraction]")
@@ -40,49 +40,49 @@ int main(int argc, char** argv) {
   app.add_option("--dart-placement", placement,
                  "Dart tips at the concentration of Gaussian curvature (curvature) or of the log conformal factor (conformal)")
       ->capture_default_str()->check(CLI::IsMember({"curvature", "conformal"}));
-  app.add_option("--max-darts", po.max_darts, "Darts per piece [count]")->capture_default_str()->check(CLI::Range(0, 100));
-  app.add_option("--max-pieces", po.max_pieces, "Panel seams stop at this many pieces [count]")
+  app.add_option("--max-darts", po.darts.max_darts, "Darts per piece [count]")->capture_default_str()->check(CLI::Range(0, 100));
+  app.add_option("--max-pieces", po.panels.max_pieces, "Panel seams stop at this many pieces [count]")
       ->capture_default_str()->check(CLI::Range(0, 1000));
-  app.add_option("--max-sleeve-pieces", po.max_sleeve_pieces,
+  app.add_option("--max-sleeve-pieces", po.panels.max_sleeve_pieces,
                  "A sleeve's pieces get no panel seam once it has this many, only darts (0: no bound) [count]")
       ->capture_default_str()->check(CLI::Range(0, 1000));
-  app.add_option("--min-relief-share", po.min_relief_share,
+  app.add_option("--min-relief-share", po.panels.min_relief_share,
                  "... or relieves at least this share of its piece's cloth beyond the limit (0: off) [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 1e6));
-  app.add_option("--min-panel-relief", po.min_panel_relief,
+  app.add_option("--min-panel-relief", po.panels.min_panel_relief,
                  "A panel seam stays only where it relieves this much cloth beyond the limit per metre of its length [m^2/m]")
       ->capture_default_str()->check(CLI::Range(0.0, 100.0));
-  app.add_option("--kernel-radius", po.kernel_radius, "Radius of the curvature and energy kernels [m]")
+  app.add_option("--kernel-radius", po.darts.kernel_radius, "Radius of the curvature and energy kernels [m]")
       ->capture_default_str()->check(CLI::Range(0.005, 1.0));
-  app.add_option("--min-dart-angle", po.min_dart_angle, "Least Gaussian curvature around a dart's tip [radians]")
+  app.add_option("--min-dart-angle", po.darts.min_dart_angle, "Least Gaussian curvature around a dart's tip [radians]")
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
-  app.add_option("--max-rounds", po.max_rounds, "Rounds of flattening and placing darts and panels [count]")
+  app.add_option("--max-rounds", po.panels.max_rounds, "Rounds of flattening and placing darts and panels [count]")
       ->capture_default_str()->check(CLI::Range(1, 1000));
-  app.add_option("--max-overlap-splits", po.max_overlap_splits,
+  app.add_option("--max-overlap-splits", po.panels.max_overlap_splits,
                  "Rounds of splitting a piece whose outline overlaps itself through the crossing; one still "
                  "overlapping fails the stage [count]")->capture_default_str()->check(CLI::Range(0, 100));
-  app.add_option("--ease-balance-steps", po.ease_balance_steps, "A piece over one bound of the one-sided limit and "
+  app.add_option("--ease-balance-steps", po.panels.ease_balance_steps, "A piece over one bound of the one-sided limit and "
                  "within the other is flattened again with ease up to this many times cheaper or dearer (0: off) [count]")
       ->capture_default_str()->check(CLI::Range(0, 100));
-  app.add_option("--ease-balance-factor", po.ease_balance_factor, "... each time by this factor [ratio]")
+  app.add_option("--ease-balance-factor", po.panels.ease_balance_factor, "... each time by this factor [ratio]")
       ->capture_default_str()->check(CLI::Range(1.0, 100.0));
-  app.add_option("--min-piece-area", po.min_piece_area, "Added cuts leave no piece smaller than this [m^2]")
+  app.add_option("--min-piece-area", po.panels.min_piece_area, "Added cuts leave no piece smaller than this [m^2]")
       ->capture_default_str()->check(CLI::Range(0.0, 100.0));
-  app.add_option("--tip-margin", po.tip_margin, "A dart's tip lies at least this far inside its piece [m]")
+  app.add_option("--tip-margin", po.darts.tip_margin, "A dart's tip lies at least this far inside its piece [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 1.0));
   bool no_tip_inward = false, no_mirror = false, no_armholes = false, edge_cuts = false;
   app.add_flag("--no-tip-inward", no_tip_inward,
                "A dart's curvature mode within the tip margin of the outline is skipped, not pointed at from inside");
   app.add_flag("--no-mirror", no_mirror,
                "Cut each piece on its own (default: a piece's mirror image across the body gets the mirror image of its darts and panel seams)");
-  app.add_option("--mirror-overlap", po.mirror_overlap,
+  app.add_option("--mirror-overlap", po.panels.mirror_overlap,
                  "Two pieces are mirror images where their mirrored areas share this much of each [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 1.0));
   app.add_flag("--no-armholes", no_armholes, "No seam around a sleeve where it meets the body");
   app.add_flag("--edge-cuts", edge_cuts, "Cut along the rest shape's edges instead of smooth curves through its triangles");
-  app.add_option("--smoothing-wavelength", po.smoothing.wavelength, "Seam wiggles shorter than this are smoothed away [m]")
+  app.add_option("--smoothing-wavelength", po.seams.smoothing.wavelength, "Seam wiggles shorter than this are smoothed away [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
-  app.add_option("--smoothing-tolerance", po.smoothing.tolerance,
+  app.add_option("--smoothing-tolerance", po.seams.smoothing.tolerance,
                  "A cut may leave its edge path freely by this fraction of the path's mean edge length (0: the wavelength alone) [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 2.0));
   app.add_option("--arap-iterations", po.flatten.max_iterations, "Most flattening iterations per piece [count]")
@@ -95,25 +95,25 @@ int main(int argc, char** argv) {
                  "in an iteration, so that the printed pieces do not depend on the last bits of the rest shape "
                  "[fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 1.0));
-  app.add_option("--snap-fraction", po.smoothing.trace.snap_fraction,
+  app.add_option("--snap-fraction", po.seams.smoothing.trace.snap_fraction,
                  "A cut crossing an edge closer than this fraction of its length to an end runs through that end [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.5));
-  app.add_option("--min-edge-fraction", po.smoothing.trace.min_edge_fraction,
+  app.add_option("--min-edge-fraction", po.seams.smoothing.trace.min_edge_fraction,
                  "Cut curves cross an edge at least this fraction of its length from its ends [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.5));
-  app.add_option("--seam-tolerance", po.seam_tolerance, "A seam's two flat sides may differ by this much [m]")
+  app.add_option("--seam-tolerance", po.seams.seam_tolerance, "A seam's two flat sides may differ by this much [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.1));
-  app.add_option("--seam-tolerance-relative", po.seam_tolerance_relative,
+  app.add_option("--seam-tolerance-relative", po.seams.seam_tolerance_relative,
                  "... or by this fraction of its 3D length, where that is more [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.1));
-  app.add_option("--match-margin", po.match_margin,
+  app.add_option("--match-margin", po.seams.match_margin,
                  "Pieces on a seam whose sides differ by more than this times the seam tolerance are flattened again [fraction]")
       ->capture_default_str()->check(CLI::Range(0.1, 100.0));
-  app.add_option("--budget-share", po.budget_share,
+  app.add_option("--budget-share", po.panels.budget_share,
                  "A panel seam relieving less than --min-panel-relief stays, where both its pieces then meet the limit, only if "
                  "its piece was compressed by more than this share of the stretch budget (the fit's delta with --fit, else 0.10) [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 100.0));
-  app.add_option("--max-boundary-weight", po.max_boundary_weight,
+  app.add_option("--max-boundary-weight", po.seams.max_boundary_weight,
                  "Pieces on a seam whose sides differ beyond the tolerance are flattened again with up to this boundary weight [dimensionless]")
       ->capture_default_str()->check(CLI::Range(0.0, 1e6));
   app.add_option("--boundary-weight", po.flatten.boundary_weight,
@@ -151,18 +151,18 @@ int main(int argc, char** argv) {
     gp::set_thread_count(tool.common().threads);
     const auto start = std::chrono::steady_clock::now();
     o.threads = tool.common().threads;
-    po.symmetric = limit == "symmetric";
-    po.dart_placement = placement == "conformal" ? gp::PatternOptions::DartPlacement::conformal
+    po.limit.symmetric = limit == "symmetric";
+    po.darts.dart_placement = placement == "conformal" ? gp::PatternOptions::DartPlacement::conformal
                                                  : gp::PatternOptions::DartPlacement::curvature;
-    po.smooth = !edge_cuts;
-    po.armholes = !no_armholes;
-    po.mirror = !no_mirror;
+    po.seams.smooth = !edge_cuts;
+    po.armholes.enabled = !no_armholes;
+    po.panels.mirror = !no_mirror;
     o.dxf.profile = gp::dxf_profile_from_name(dxf_profile);
     if (o.dxf.date.empty()) o.dxf.date = gp::default_creation_date(o.rest);
-    po.tip_inward = !no_tip_inward;
-    if (po.p95_limit > po.max_limit) throw gp::UsageError("--p95-limit must not exceed --max-limit", "--p95-limit");
-    o.tolerance.absolute = po.seam_tolerance;
-    o.tolerance.relative = po.seam_tolerance_relative;
+    po.darts.tip_inward = !no_tip_inward;
+    if (po.limit.p95_limit > po.limit.max_limit) throw gp::UsageError("--p95-limit must not exceed --max-limit", "--p95-limit");
+    o.tolerance.absolute = po.seams.seam_tolerance;
+    o.tolerance.relative = po.seams.seam_tolerance_relative;
 
     gp::adapt::MotionProgressLine progress(o.fit.empty() ? gp::adapt::MotionRunOptions{}
                                                          : gp::read_fit_settings(o.fit).run);

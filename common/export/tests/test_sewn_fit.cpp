@@ -397,7 +397,7 @@ TEST_CASE("a pattern eased by 10 % drapes away from its rest shape's own drape",
   interp.anchor = motion.anchor;
   PoseInterpolator interpolator(poses, interp);
   PatternOptions cut;
-  cut.stretch_budget = settings.delta();  // as export-rest cuts with --fit
+  cut.panels.stretch_budget = settings.delta();  // as export-rest cuts with --fit
   const Pattern pattern = make_pattern(s.cap.V, s.cap.F, {}, cut);
   const Layout layout = layout_pattern(pattern, LayoutOptions{});
   const adapt::FitVerification reference = rest_shape_drapes(interpolator, motion, s.cap.V, s.cap.V, s.cap.F, s.garment,

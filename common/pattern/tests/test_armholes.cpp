@@ -52,7 +52,7 @@ TEST_CASE("slivers between an armhole and a user seam join the piece across the 
   const std::vector<int> user_path = pattern.seams[0].vertex_ids;
 
   PatternOptions options;
-  options.sliver_area = 3e-4;  // both slivers, not the 47.5 cm^2 "sleeve"
+  options.armholes.sliver_area = 3e-4;  // both slivers, not the 47.5 cm^2 "sleeve"
   merge_armhole_slivers(pattern, options);
 
   // Three pieces: the sleeve with the left sliver, the lower left, the right
@@ -85,7 +85,7 @@ TEST_CASE("slivers between an armhole and a user seam join the piece across the 
     Pattern again;
     again.mesh = pattern_mesh_of_rest(grid.V, grid.F);
     insert_cuts(again, seams, {user, armhole});
-    options.sliver_area = 1e-4;  // both slivers are larger
+    options.armholes.sliver_area = 1e-4;  // both slivers are larger
     merge_armhole_slivers(again, options);
     CHECK(again.pieces.size() == 5);
     CHECK(again.notes.empty());

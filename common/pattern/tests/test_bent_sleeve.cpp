@@ -68,12 +68,12 @@ TEST_CASE("a bent sleeve made without seams is cut within the limit, with no ove
 
   // One topology cut and no dart: over the limit, so the test can fail.
   PatternOptions plain = options;
-  plain.max_darts = 0;
-  plain.max_pieces = 1;
+  plain.darts.max_darts = 0;
+  plain.panels.max_pieces = 1;
   const Pattern opened = make_pattern(sleeve.V, sleeve.F, {}, plain);
   REQUIRE(opened.pieces.size() == 1);
   CHECK(!opened.meets_limit);
-  CHECK(opened.pieces[0].stats.worst1_compression > options.compression_worst1);
+  CHECK(opened.pieces[0].stats.worst1_compression > options.limit.compression_worst1);
 
   const Pattern pattern = make_pattern(sleeve.V, sleeve.F, {}, options);
   INFO("pieces " << pattern.pieces.size() << ", compression " << pattern.pieces[0].stats.worst1_compression
@@ -88,8 +88,8 @@ TEST_CASE("a bent sleeve made without seams is cut within the limit, with no ove
     CHECK(p.meets_limit);
     CHECK(!p.flat.boundary_overlaps);
     CHECK(p.flat.stats.flipped_triangles == 0);
-    CHECK(p.stats.worst1_compression <= options.compression_worst1);
-    CHECK(p.stats.worst5_ease <= options.ease_worst5);
+    CHECK(p.stats.worst1_compression <= options.limit.compression_worst1);
+    CHECK(p.stats.worst5_ease <= options.limit.ease_worst5);
     area_3d += p.stats.area_3d;
     area_2d += p.stats.area_2d;
   }

@@ -109,13 +109,13 @@ TEST_CASE("export-rest writes a 1:1 pattern of a sleeve", "[cli]") {
   CHECK(report["options"]["pattern"]["flatten"]["ease_weight"] == 0.1);
   // The options read back, strictly, to those the stage ran with.
   PatternOptions back;
-  back.max_darts = 99;
+  back.darts.max_darts = 99;
   back.flatten.ease_weight = 1.0;
   read_options(SpecObject(report["options"]["pattern"], "report.json", "/options/pattern"), true, back,
                PatternOptionFields{});
-  CHECK(back.max_darts == PatternOptions{}.max_darts);
+  CHECK(back.darts.max_darts == PatternOptions{}.darts.max_darts);
   CHECK(back.flatten.ease_weight == PatternOptions{}.flatten.ease_weight);
-  CHECK(back.smoothing.trace.max_steps == PatternOptions{}.smoothing.trace.max_steps);
+  CHECK(back.seams.smoothing.trace.max_steps == PatternOptions{}.seams.smoothing.trace.max_steps);
   CHECK(report["sewn_fit"]["checked"] == false);
   const double width = c.nu * 2.0 * c.radius * std::sin(M_PI / c.nu);
   const double outline = report["pieces"][0]["outline_length"];

@@ -81,14 +81,14 @@ TEST_CASE("a hemisphere gets darts and seams and its distortion falls", "[flatte
   PatternOptions options;
   // Uncut, the cap is far outside the limit and still has no flipped triangle.
   PatternOptions none = options;
-  none.max_darts = 0;
-  none.max_pieces = 1;
+  none.darts.max_darts = 0;
+  none.panels.max_pieces = 1;
   const Pattern uncut = make_pattern(cap.V, cap.F, {}, none);
   REQUIRE(uncut.pieces.size() == 1);
   CHECK(!uncut.meets_limit);
   CHECK(uncut.pieces[0].flat.stats.flipped_triangles == 0);
   const double before = uncut.pieces[0].stats.worst1_compression;
-  CHECK(before > 3.0 * options.compression_worst1);
+  CHECK(before > 3.0 * options.limit.compression_worst1);
 
   const Pattern pattern = make_pattern(cap.V, cap.F, {}, options);
   for (const auto& s : pattern.seams) {
@@ -96,13 +96,13 @@ TEST_CASE("a hemisphere gets darts and seams and its distortion falls", "[flatte
     CHECK((s.kind == "dart" || s.kind == "panel"));
   }
   CHECK(pattern.seams.size() >= 1);
-  CHECK(static_cast<int>(pattern.pieces.size()) <= options.max_pieces);
+  CHECK(static_cast<int>(pattern.pieces.size()) <= options.panels.max_pieces);
   double worst = 0.0;
   for (const auto& p : pattern.pieces) {
     CHECK(p.flat.stats.flipped_triangles == 0);
     CHECK(!p.flat.boundary_overlaps);
-    CHECK(static_cast<int>(p.dart_seams.size()) <= options.max_darts);
-    CHECK(p.stats.area_3d >= options.min_piece_area);
+    CHECK(static_cast<int>(p.dart_seams.size()) <= options.darts.max_darts);
+    CHECK(p.stats.area_3d >= options.panels.min_piece_area);
     worst = std::max(worst, p.stats.worst1_compression);
   }
   INFO("compression over the worst 1 % uncut " << before << ", cut " << worst << " in " << pattern.pieces.size() << " pieces");

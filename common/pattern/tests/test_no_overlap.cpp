@@ -52,8 +52,8 @@ Mesh winding_fan(double turns, int per_turn) {
 
 PatternOptions plain_options() {
   PatternOptions o;
-  o.mirror = false;
-  o.armholes = false;
+  o.panels.mirror = false;
+  o.armholes.enabled = false;
   return o;
 }
 
@@ -62,7 +62,7 @@ PatternOptions plain_options() {
 TEST_CASE("a fan winding past a full turn is split until no piece overlaps itself", "[cutter][overlap]") {
   const Mesh fan = winding_fan(1.5, 36);
   PatternOptions o = plain_options();
-  o.max_overlap_splits = 0;
+  o.panels.max_overlap_splits = 0;
   const Pattern whole = make_pattern(fan.V, fan.F, {}, o);
   REQUIRE(whole.pieces.size() == 1);
   CHECK(whole.pieces[0].flat.boundary_overlaps);  // 540 degrees cannot lie flat without overlapping

@@ -101,12 +101,12 @@ void check_sound(const Pattern& pattern) {
 TEST_CASE("pieces pair with their mirror images, mutually", "[pattern][mirror]") {
   const Mesh m = two_bumps(0.02, 0.04);
   PatternOptions o;
-  o.max_darts = 0;
-  o.max_pieces = 1;  // the user's seam only
+  o.darts.max_darts = 0;
+  o.panels.max_pieces = 1;  // the user's seam only
   // Down the middle: two halves, each the other's image.
   const Pattern halves = make_pattern(m.V, m.F, vertical_seam(0.0), o);
   REQUIRE(halves.pieces.size() == 2);
-  const PieceMirror a = mirror_pieces(halves, o.mirror_overlap);
+  const PieceMirror a = mirror_pieces(halves, o.panels.mirror_overlap);
   CHECK(a.partner == std::vector<int>{1, 0});
   // The plane through the area centroid, nudged to the higher bump's side.
   CHECK(a.plane_x > 0.0);
@@ -115,7 +115,7 @@ TEST_CASE("pieces pair with their mirror images, mutually", "[pattern][mirror]")
   // the wide piece, which is not the strip's, so the strip has none.
   const Pattern strip = make_pattern(m.V, m.F, vertical_seam(0.15), o);
   REQUIRE(strip.pieces.size() == 2);
-  const PieceMirror b = mirror_pieces(strip, o.mirror_overlap);
+  const PieceMirror b = mirror_pieces(strip, o.panels.mirror_overlap);
   const int wide = strip.pieces[0].stats.area_3d > strip.pieces[1].stats.area_3d ? 0 : 1;
   CHECK(b.partner[static_cast<size_t>(wide)] == wide);
   CHECK(b.partner[static_cast<size_t>(1 - wide)] == -1);
@@ -127,17 +127,17 @@ TEST_CASE("two mirrored pieces are cut alike: darts", "[pattern][mirror]") {
   // without one but has the curvature a dart needs.
   const Mesh m = two_bumps(0.02, 0.04);
   PatternOptions o;
-  o.min_dart_angle = 0.2;
-  o.mirror = false;
+  o.darts.min_dart_angle = 0.2;
+  o.panels.mirror = false;
   const Pattern alone = make_pattern(m.V, m.F, vertical_seam(0.0), o);
   CHECK(count_kind(alone, "dart") == 1);
-  o.mirror = true;
+  o.panels.mirror = true;
   const Pattern both = make_pattern(m.V, m.F, vertical_seam(0.0), o);
   REQUIRE(both.pieces.size() == 2);
   CHECK(count_kind(both, "dart") == 2);
   for (const PatternPiece& p : both.pieces) CHECK(p.dart_seams.size() == 1);
   check_mirrored(both, "dart");
-  check_mirror_tips(dart_tip_points(both), mirror_pieces(both, o.mirror_overlap).plane_x, 0.005);
+  check_mirror_tips(dart_tip_points(both), mirror_pieces(both, o.panels.mirror_overlap).plane_x, 0.005);
   check_sound(both);
   for (const PatternPiece& p : both.pieces) CHECK(p.meets_limit);
 
@@ -155,12 +155,12 @@ TEST_CASE("two mirrored pieces are cut alike: darts", "[pattern][mirror]") {
 TEST_CASE("two mirrored pieces are cut alike: panel seams, kept together", "[pattern][mirror]") {
   const Mesh m = two_bumps(0.01, 0.04);
   PatternOptions o;
-  o.max_darts = 0;
-  o.mirror = false;
+  o.darts.max_darts = 0;
+  o.panels.mirror = false;
   const Pattern alone = make_pattern(m.V, m.F, vertical_seam(0.0), o);
   CHECK(count_kind(alone, "panel") == 1);
   CHECK(alone.pieces.size() == 3);
-  o.mirror = true;
+  o.panels.mirror = true;
   const Pattern both = make_pattern(m.V, m.F, vertical_seam(0.0), o);
   CHECK(count_kind(both, "panel") == 2);
   CHECK(both.pieces.size() == 4);
@@ -178,8 +178,8 @@ TEST_CASE("of two darts whose piece overlaps, the one whose sides crossed goes",
   // high bump's, 49 degrees), leaves the piece within reach of the limit.
   const Mesh m = two_bumps(0.016, 0.04);
   PatternOptions o;
-  o.min_dart_angle = 0.1;
-  o.mirror = false;
+  o.darts.min_dart_angle = 0.1;
+  o.panels.mirror = false;
   const Pattern pattern = make_pattern(m.V, m.F, {}, o);
   REQUIRE(pattern.pieces.size() == 1);
   const std::vector<Eigen::Vector3d> tips = dart_tip_points(pattern);

@@ -245,8 +245,8 @@ TEST_CASE("dart tips are two kernel radii apart even where mean shift climbs bac
   }
   const Mesh cap = testing::compact(sphere.V, faces);
   PatternOptions options;
-  options.max_darts = 0;
-  options.max_pieces = 1;
+  options.darts.max_darts = 0;
+  options.panels.max_pieces = 1;
   const Pattern pattern = make_pattern(cap.V, cap.F, {}, options);
   REQUIRE(pattern.pieces.size() == 1);
   for (const int count : {2, 4}) {
@@ -257,7 +257,7 @@ TEST_CASE("dart tips are two kernel radii apart even where mean shift climbs bac
     for (size_t i = 0; i < tips.size(); ++i)
       for (size_t j = i + 1; j < tips.size(); ++j) {
         INFO("tips " << i << " and " << j << " of " << tips.size() << " (asked for " << count << ")");
-        CHECK((tips[i].point - tips[j].point).norm() >= 2.0 * options.kernel_radius);
+        CHECK((tips[i].point - tips[j].point).norm() >= 2.0 * options.darts.kernel_radius);
       }
   }
 }
