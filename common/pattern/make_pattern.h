@@ -33,9 +33,8 @@ Pattern cut_user_seams(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
 // Phase 1b: armholes (see ArmholeOptions, PatternOptions::armholes).
 void cut_armholes(Pattern& pattern, const PatternOptions& options, const PatternContext& context);
 
-// Phase 1c: a sliver (< options.armholes.sliver_area) that an armhole left beside a
-// user seam joins the neighbour sharing the most armhole (that stretch is not
-// cut); listed in the notes.
+// Phase 1c: a sliver (< sliver_area) an armhole left beside a user seam joins
+// the neighbour sharing the most armhole.
 void merge_armhole_slivers(Pattern& pattern, const PatternOptions& options);
 
 // Phase 2: topology cuts until every piece is a disk. Throws GeometryError
@@ -56,19 +55,13 @@ void flatten_pieces(Pattern& pattern, const PatternOptions& options, FlattenCach
 // Phase 4: whether the pieces on mismatched seams were flattened again.
 bool match_seams(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
 
-// Phase 4b (the one-sided limit only): a piece over one bound of the limit
-// and within the other is flattened again with ease priced lower (over
-// compression) or higher (over ease), so that it trades the one for the
-// other as a tailor eases a piece where it would otherwise be tight: ease
-// weights options.flatten.ease_weight times ease_balance_factor^k, k = 1 ..
-// ease_balance_steps, within [min_ease_weight, 1], keeping the first that
-// meets the limit, else the piece as it was (it then gets darts or a panel
-// seam). Whether any piece changed.
+// Phase 4b (one-sided limit): a piece over one bound and within the other
+// is flattened again with ease cheaper or dearer (PanelOptions, README.md
+// "Ease against compression, piece by piece"). Whether any piece changed.
 bool balance_ease(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
 
-// Last: the output pieces' flattenings iterated on to final_tolerance: the
-// cutter's decisions are made on flattenings stopped at `tolerance`, and the
-// pieces it hands out are their converged shapes.
+// Last: the output pieces' flattenings converged to final_tolerance (the
+// decisions use flattenings stopped at `tolerance`).
 void polish_pieces(Pattern& pattern, const PatternOptions& options, const FlattenCache& cache);
 
 // A panel seam on trial: the piece it split (rest faces, sorted) and its
@@ -93,31 +86,24 @@ struct PanelLedger {
 double panel_excess(const std::vector<MaterialFace>& faces, const PatternOptions& options);
 
 // Phase 5: one dart (Sawhney and Crane 2017) or panel seam in every piece
-// over the limit that can take one (none in a piece `ledger` refused);
-// returns how many cuts were added, the panel seams on trial in `ledger`.
+// over the limit that `ledger` did not refuse; returns the cuts added.
 int place_darts_and_panels(Pattern& pattern, const PatternOptions& options, PanelLedger* ledger = nullptr);
 
-// Phase 5b: a panel seam on trial that relieved less than min_panel_relief
-// per metre (and left a piece over the limit or split one compressed by at
-// most budget_share of stretch_budget) is removed (merged_cuts) and its piece
-// refused; returns how many. A seam and its mirror image (PatternSeam::mirror)
-// are judged on their relief and length together and removed together.
+// Phase 5b: a panel seam on trial that did not pay (PanelOptions) is removed
+// with its mirror image and its piece refused; returns how many.
 int review_panels(Pattern& pattern, const PatternOptions& options, FlattenCache& cache, PanelLedger& ledger);
 
 // Phase 6: removes added cuts bordering a piece under min_piece_area, each
 // with its mirror image (pieces stay disks; armholes stay).
 void merge_small_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
 
-// Phase 6b: removes a dart whose sides crossed (the piece wanted less cloth
-// there) when that leaves fewer overlapping pieces and adds none: of several
-// such darts, the one that leaves the least cloth beyond the limit
-// (panel_excess); listed in merged_cuts.
+// Phase 6b: removes the dart whose crossed sides overlap its piece when that
+// leaves fewer overlapping pieces (of several, the least panel_excess).
 void remove_overlapping_darts(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
 
-// Phase 6c: a piece whose outline still overlaps itself is split by a panel
-// seam along the grain through the crossing (halfway to its centroid), at
-// most max_overlap_splits rounds; returns how many seams were added. A
-// pattern is never written with an overlapping piece (export_rest.h).
+// Phase 6c: a piece whose outline still overlaps itself is split along the
+// grain through the crossing, at most max_overlap_splits rounds; returns how
+// many seams were added.
 int split_overlapping_pieces(Pattern& pattern, const PatternOptions& options, FlattenCache& cache);
 
 // All phases.
