@@ -173,7 +173,7 @@ const SolverCounters& StaticSolver::counters() const { return impl_->counters; }
 
 StaticSolveReport StaticSolver::solve(const ClothSimulator& sim, const StaticBody& body,
                                       const Eigen::VectorXd& offsets, Eigen::MatrixXd& X) {
-  impl_->tau = impl_->options.initial_step;
+  restart();
   return resume(sim, body, offsets, X, impl_->options.max_iterations);
 }
 
@@ -210,7 +210,7 @@ StaticSolveReport StaticSolver::resume(const ClothSimulator& sim, const StaticBo
   StaticSolveReport report;
   std::vector<VertexContact> contact(static_cast<size_t>(nv));
   const Eigen::MatrixXd zero = Eigen::MatrixXd::Zero(nv, 3);
-  Eigen::VectorXd sol, moved(nv);
+  Eigen::VectorXd sol, moved;
   Eigen::MatrixXd dx(nv, 3), grad(nv, 3);
 
   for (int iteration = 0;; ++iteration) {
@@ -276,6 +276,8 @@ StaticSolveReport StaticSolver::resume(const ClothSimulator& sim, const StaticBo
     report.residuals.push_back(residual);
     report.residual = residual;
     report.iterations = iteration;
+    // The model's energy as the trial points' is computed (not the assembly's sum), so that the
+    // line search compares like with like.
     const double energy = cloth_energies(X, F, rest, params).total() + barrier;
     report.energy = energy;
     s.times.forces_assembly += seconds_since(t0);
@@ -292,13 +294,14 @@ StaticSolveReport StaticSolver::resume(const ClothSimulator& sim, const StaticBo
       if (free_id(v) >= 0) dx.row(v) = tau * sol.segment<3>(3 * free_id(v)).transpose();
     }
     const double slope = (grad.array() * dx.array()).sum();  // < 0: the matrix is SPD
+    const Eigen::VectorXd step_lengths = dx.rowwise().norm();
 
     // The largest step that cannot carry a vertex through the body: a vertex moving less than its
     // distance to the wall stays in a ball free of it; one that could reach it moves at most
     // max_displacement, its end checked against the wall.
     double alpha = 1.0;
     for (Eigen::Index v = 0; v < nv; ++v) {
-      const double length = dx.row(v).norm();
+      const double length = step_lengths(v);
       if (free_id(v) < 0 || length == 0.0) continue;
       const VertexContact& c = contact[static_cast<size_t>(v)];
       const double room = body.distance ? c.distance - c.wall : std::numeric_limits<double>::infinity();
@@ -312,7 +315,7 @@ StaticSolveReport StaticSolver::resume(const ClothSimulator& sim, const StaticBo
     Eigen::MatrixXd X_trial;
     for (int trial = 0; trial < kMaxTrials; ++trial) {
       X_trial = X + alpha * dx;
-      for (Eigen::Index v = 0; v < nv; ++v) moved(v) = alpha * dx.row(v).norm();
+      moved = alpha * step_lengths;
       ++report.line_search_trials;
       const double e_barrier = s.barrier_energy(X_trial, areas, contact, moved, body);
       if (std::isfinite(e_barrier)) {
