@@ -568,10 +568,10 @@ struct GarmentMotion::Impl {
       return d;
     };
     // The equilibrium is sought in parts of adapt_every iterations; between
-    // them, once the cloth moves less than adapt_displacement, the rest shape
-    // is adapted to the cloth there (as the dynamic settling adapts every
-    // adapt_every steps once the cloth is slow). Settled: converged, with the
-    // last adaptation below fixed_point_area_change.
+    // them, once the cloth moves less than adapt_displacement or its largest
+    // stretch is steady, the rest shape is adapted to the cloth there (as the
+    // dynamic settling adapts once the cloth is slow). Settled: converged,
+    // with the last adaptation below fixed_point_area_change.
     static_solver->restart();
     const int cap = options.statics.max_iterations;
     double best_stretch = std::numeric_limits<double>::infinity();
