@@ -23,8 +23,22 @@ struct PoseCheck {
   bool passed() const { return failures.empty(); }
 };
 
+// The in-between frames of one transition (keys[transition] -> keys[transition + 1]) that the
+// run solved to equilibrium (MotionRunOptions::frame_stride), each judged by the key poses' bounds.
+struct TransitionCheck {
+  int transition = 0;
+  std::string from, to;               // the key poses' names
+  std::vector<PoseCheck> frames;      // in order; only the worst keeps its drape and per-face figures
+  // Index into frames of the worst: the most bounds exceeded, then the largest area above
+  // 1 + delta, then the largest p99 stretch. -1: no frames.
+  int worst = -1;
+  int failed_frames() const;
+  bool passed() const { return failed_frames() == 0; }
+};
+
 struct FitVerification {
   std::vector<PoseCheck> poses;       // one per key pose of the motion
+  std::vector<TransitionCheck> transitions;  // those with frames solved (in order); empty: none were
   long steps = 0;
   long rejected_steps = 0;
   double seconds = 0.0;               // wall time of the simulation
@@ -45,6 +59,15 @@ FitVerification verify_fit(PoseInterpolator& interpolator, const MotionSpec& mot
 // The checks of a run without adaptation (its key poses are already a fresh
 // simulation of its rest shape); seconds is left 0.
 FitVerification judge_run(const MotionRunResult& run, double delta, const FitCriteria& criteria = {});
+
+// The in-between frames over the bounds, as frame indices of the motion (ascending): where a
+// further fit cycle adapts (MotionRunOptions::adapt_frames).
+std::vector<int> failed_frames(const FitVerification& v);
+
+// A transition's check as the stages report it: its frames' count, how many failed, the worst
+// frame's check (to_json of a PoseCheck, with its drape's file `mesh`, "" for none) and the worst
+// value of each figure over the frames.
+OrderedJson to_json(const TransitionCheck& check, const std::string& mesh);
 
 // A key pose's check as the stages report it: key, pose, `mesh` (the drape's
 // file), verdict, failures, stretch figures, penetration, crossings and

@@ -1,5 +1,7 @@
 #include "adapt/garment_fit.h"
 
+#include <algorithm>
+
 #include "core/error.h"
 
 namespace gp::adapt {
@@ -10,6 +12,12 @@ FitResult fit_garment(PoseInterpolator& interpolator, const MotionSpec& motion, 
   if (options.max_cycles < 1) throw UsageError("at least one fit cycle is needed");
   FitResult fit;
   MotionRunOptions run_options = options.motion;
+  if (options.frame_stride < 0) throw UsageError("the verification's frame stride must be non-negative");
+  // A run without adaptation is its own verification, in-between frames included.
+  if (!run_options.adapt && options.verify) run_options.frame_stride = options.frame_stride;
+  MotionRunOptions verify_options = run_options;
+  verify_options.frame_stride = options.frame_stride;
+  verify_options.adapt_frames.clear();
   for (int cycle = 1;; ++cycle) {
     MotionRunResult run;
     std::optional<FitVerification> verification;
@@ -29,8 +37,8 @@ FitResult fit_garment(PoseInterpolator& interpolator, const MotionSpec& motion, 
       if (options.verify) {
         // A run that did not adapt is its own fresh simulation.
         verification = run_options.adapt ? verify_fit(interpolator, motion, V_garment, F, garment,
-                                                      rest_triangles_of(run.V_rest, F), run_options, options.criteria,
-                                                      progress)
+                                                      rest_triangles_of(run.V_rest, F), verify_options,
+                                                      options.criteria, progress)
                                          : judge_run(run, run_options.adaptation.delta, options.criteria);
       }
     } catch (const NumericalError& e) {
@@ -51,6 +59,13 @@ FitResult fit_garment(PoseInterpolator& interpolator, const MotionSpec& motion, 
     fit.cycles.push_back(summary);
     if (!options.verify || summary.verified || cycle >= options.max_cycles || !run_options.adapt) return fit;
     run_options.initial_rest = fit.run.V_rest;
+    // The next cycle also adapts where an in-between frame failed, as the paper adapts during the
+    // motion; the frames of earlier cycles stay.
+    std::vector<int> more = failed_frames(*fit.verification);
+    std::vector<int>& frames = run_options.adapt_frames;
+    frames.insert(frames.end(), more.begin(), more.end());
+    std::sort(frames.begin(), frames.end());
+    frames.erase(std::unique(frames.begin(), frames.end()), frames.end());
   }
 }
 

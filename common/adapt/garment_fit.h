@@ -28,6 +28,11 @@ struct FitOptions {
   FitCriteria criteria;     // the verification's bounds
   bool verify = true;       // false: one adaptation cycle, no verification
   int max_cycles = 3;       // adaptation cycles at most
+  // The verification also solves every frame_stride-th in-between frame of each transition to its
+  // static equilibrium and judges it by the key poses' bounds (MotionRunOptions::frame_stride): a
+  // garment must allow the movement, not only its key poses. A further cycle adapts at the frames
+  // that failed (MotionRunOptions::adapt_frames). 0: the key poses only.
+  int frame_stride = 0;
   // The stage's own admission rule, recorded with the fit: the pose set's
   // design pose may be another body than the garment was designed on (the
   // garment is carried to it before the fit); refused otherwise.
@@ -60,6 +65,7 @@ struct FitOptionFields {
     f.number("max_face_growth", a.max_face_growth, Range::between(1.0, 1000.0));
     f.flag("verify", o.verify);
     f.integer("max_cycles", o.max_cycles, Range::between(1, 100));
+    f.integer("verify_frame_stride", o.frame_stride, Range::between(0, 1e6));
     f.number("arap_tolerance", a.arap.tolerance, Range::positive());
     f.number("arap_stretch_tolerance", a.arap.stretch_tolerance, Range::non_negative());
     f.integer("arap_max_iterations", a.arap.max_iterations, Range::between(1, 1e9));

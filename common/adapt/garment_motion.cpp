@@ -62,6 +62,9 @@ void check_options(const MotionRunOptions& options) {
   if (!(options.pin_clearance >= 0.0 && options.pin_clearance <= 1.0)) {
     throw UsageError("pin_clearance must be within [0, 1] (a fraction of the comfort offset)");
   }
+  if (options.frame_stride < 0) {
+    throw UsageError("frame_stride must be non-negative, got " + std::to_string(options.frame_stride));
+  }
   if (!options.rest_triangles.empty() && options.adapt) {
     throw UsageError("per-face rest triangles need adapt off (the rest shape is then fixed)");
   }
@@ -128,6 +131,8 @@ struct GarmentMotion::Impl {
   Eigen::VectorXd offsets;
   bool ramp_done = false;
 
+  std::vector<int> adapt_frames;  // options.adapt_frames, sorted
+
   std::optional<RestShapeAdapter> adapter;
   Eigen::MatrixXd V_rest;
   double design_area = 0.0;
@@ -156,6 +161,14 @@ struct GarmentMotion::Impl {
         lag(applied_adaptation_lag(o)) {
     check_options(options);
     if (frames.empty()) throw SpecError("the motion has no frames");
+    adapt_frames = options.adapt_frames;
+    std::sort(adapt_frames.begin(), adapt_frames.end());
+    for (int f : adapt_frames) {
+      if (f <= 0 || f >= static_cast<int>(frames.size()) || frames[static_cast<size_t>(f)].key >= 0) {
+        throw UsageError("adaptation frame " + std::to_string(f) + " is not an in-between frame of the motion (" +
+                         std::to_string(frames.size()) + " frames)");
+      }
+    }
     bind_pins(V_garment);
     set_up_body(V_garment);
     set_up_cloth(V_garment);
@@ -543,14 +556,11 @@ struct GarmentMotion::Impl {
   // and the equilibrium solved again until the rest area is a fixed point.
   // Cloth stretched beyond held_stretch at an equilibrium that the last
   // adaptation did not relieve by held_improvement is held by the body.
-  void settle_static(KeyPoseResult& key, size_t frame_index, const ProgressCallback& progress) {
-    if (!static_solver) static_solver.emplace(options.statics);
-    key.solved_static = true;
-    // The offsets are the garment's from here on: the barrier pushes a vertex
-    // that is still inside its offset out gradually (its wall rises with it).
-    offsets.setConstant(garment.offset);
-    ramp_done = true;
-    std::vector<int> hints(static_cast<size_t>(sim->positions().rows()), -1);
+  // The body as the static solve meets it (cloth/static_solve.h): the collider's distances, with
+  // the room in front of vertices near it, and the closest features within a radius. `hints`
+  // (one per cloth vertex) warm-start the distance queries and must outlive the solve.
+  cloth::StaticBody static_body(std::vector<int>& hints) {
+    hints.assign(static_cast<size_t>(sim->positions().rows()), -1);
     const double room_within = 3.0 * garment.offset + options.statics.barrier_band;
     cloth::StaticBody body;
     body.features = [this](const Eigen::Vector3d& p, double radius, std::vector<cloth::BodyFeature>& out) {
@@ -567,6 +577,20 @@ struct GarmentMotion::Impl {
       if (with_room && q.signed_distance < room_within) d.room = collider->gap(q);
       return d;
     };
+    return body;
+  }
+
+  // adapt: adapt the rest shape on the way to the fixed point (options.adapt at a key pose or an
+  // adaptation frame; an in-between frame that is only recorded is solved without).
+  void settle_static(KeyPoseResult& key, size_t frame_index, const ProgressCallback& progress, bool adapt) {
+    if (!static_solver) static_solver.emplace(options.statics);
+    key.solved_static = true;
+    // The offsets are the garment's from here on: the barrier pushes a vertex
+    // that is still inside its offset out gradually (its wall rises with it).
+    offsets.setConstant(garment.offset);
+    ramp_done = true;
+    std::vector<int> hints;
+    const cloth::StaticBody body = static_body(hints);
     // The equilibrium is sought in parts of adapt_every iterations; between
     // them, once the cloth moves less than adapt_displacement or its largest
     // stretch is steady, the rest shape is adapted to the cloth there (as the
@@ -581,7 +605,7 @@ struct GarmentMotion::Impl {
     while (true) {
       Eigen::MatrixXd X = sim->positions();
       for (size_t k = 0; k < pin_ids.size(); ++k) X.row(pin_ids[k]) = targets.row(static_cast<Eigen::Index>(k));
-      const int part = options.adapt ? std::min(options.adapt_every, cap - key.newton_iterations) : cap;
+      const int part = adapt ? std::min(options.adapt_every, cap - key.newton_iterations) : cap;
       const Eigen::MatrixXd X_before = X;
       const cloth::StaticSolveReport r = static_solver->resume(*sim, body, offsets, X, part);
       result.newton_iterations += r.iterations;
@@ -618,13 +642,13 @@ struct GarmentMotion::Impl {
       // place while the cloth the body stretches stays as it is).
       const bool steady = std::abs(stretch - previous_stretch) < options.settle_stretch_change;
       previous_stretch = stretch;
-      if (options.adapt && (moved < options.statics.adapt_displacement || steady || r.converged)) {
+      if (adapt && (moved < options.statics.adapt_displacement || steady || r.converged)) {
         const double area_before = mesh_area(V_rest, F);
         adapt_now();
         last_change = std::abs(mesh_area(V_rest, F) - area_before) / area_before;
         key.rest_area_change = last_change;
       }
-      if (r.converged && (!options.adapt || last_change < options.fixed_point_area_change)) {
+      if (r.converged && (!adapt || last_change < options.fixed_point_area_change)) {
         key.settled = true;
         break;
       }
@@ -730,8 +754,47 @@ struct GarmentMotion::Impl {
     key.steps = result.steps;
   }
 
+  // The cloth settled at frame i with the body still, by the run's equilibrium, and adapted there
+  // when `adapt`.
+  void settle_pose(KeyPoseResult& key, size_t i, const ProgressCallback& progress, bool adapt) {
+    if (options.equilibrium == Equilibrium::static_solve) {
+      settle_static(key, i, progress, adapt);
+    } else {
+      settle(key, i, progress);
+      // And at the end of each pose, unless the body holds the cloth: its
+      // figures are then those it was found held with.
+      if (adapt && !key.held) adapt_now();
+    }
+  }
+
+  // An in-between frame held still and recorded (result.frames): an adaptation frame settles and
+  // adapts as a key pose does; any other is solved to its static equilibrium without adaptation,
+  // whatever the run's equilibrium, since its figures must not carry the cloth's inertia. The
+  // transition goes on from there at rest.
+  void hold_frame(const MotionFrame& frame, size_t i, const ProgressCallback& progress, bool adapt) {
+    collider->set_body(surface.positions(V_body));
+    contact->set_body(surface.positions(V_body));
+    KeyPoseResult f;
+    f.key = frame.transition + 1;
+    f.frame = static_cast<int>(i);
+    f.transition = frame.transition;
+    f.t = frame.t;
+    char name[160];
+    std::snprintf(name, sizeof(name), "%s to %s at %.3f", motion.keys[static_cast<size_t>(frame.transition)].pose.c_str(),
+                  motion.keys[static_cast<size_t>(frame.transition) + 1].pose.c_str(), frame.t);
+    f.pose = name;
+    if (adapt) {
+      settle_pose(f, i, progress, true);
+    } else {
+      settle_static(f, i, progress, false);
+    }
+    record(f);
+    result.frames.push_back(std::move(f));
+  }
+
   MotionRunResult run(const ProgressCallback& progress) {
     result.times.setup = seconds_since(start);
+    int since_key = 0;  // in-between frames since the last key pose
     request_next_stage();
     for (size_t i = 0; i < frames.size(); ++i) {
       const MotionFrame& frame = frames[i];
@@ -748,21 +811,23 @@ struct GarmentMotion::Impl {
                       result.steps, result.adaptations, result.steps / std::max(seconds_since(start), 1e-9));
         report(progress, line, frame.transition + 1, i, 0, false, largest_stretches().maxCoeff());
       }
-      if (frame.key < 0) continue;
+      if (frame.key < 0) {
+        ++since_key;
+        const bool adapt_here = options.adapt && std::binary_search(adapt_frames.begin(), adapt_frames.end(),
+                                                                    static_cast<int>(i));
+        if (adapt_here || (options.frame_stride > 0 && since_key % options.frame_stride == 0)) {
+          hold_frame(frame, i, progress, adapt_here);
+        }
+        continue;
+      }
+      since_key = 0;
 
       collider->set_body(surface.positions(V_body));
       contact->set_body(surface.positions(V_body));
       KeyPoseResult key;
       key.key = frame.key;
       key.pose = motion.keys[static_cast<size_t>(frame.key)].pose;
-      if (options.equilibrium == Equilibrium::static_solve) {
-        settle_static(key, i, progress);
-      } else {
-        settle(key, i, progress);
-        // And at the end of each pose, unless the body holds the cloth: its
-        // figures are then those it was found held with.
-        if (options.adapt && !key.held) adapt_now();
-      }
+      settle_pose(key, i, progress, options.adapt);
       result.all_settled = result.all_settled && key.settled;
       record(key);
       if (progress) {

@@ -68,6 +68,17 @@ struct MotionRunOptions {
   Equilibrium equilibrium = Equilibrium::dynamic;
   StaticSettleOptions statics;        // the static solve at a key pose
   int substeps = 1;                   // simulation steps per interpolation frame (paper: one)
+  // In-between frames solved to their static equilibrium and recorded (MotionRunResult::frames):
+  // every frame_stride-th frame of each transition (its key poses excepted), 0: none. The cloth
+  // goes on from that equilibrium, at rest, so that the frame's figures and the rest of the
+  // transition carry no inertia: the motion is judged as a sequence of held poses, the way a
+  // garment has to allow each position of the movement (Wolff et al. 2023, sec. 1). The
+  // verification sets it (FitOptions::frame_stride).
+  int frame_stride = 0;
+  // Frames (indices into motion_frames) that the adaptation treats as key poses: settled, adapted
+  // there, and recorded in MotionRunResult::frames. A fit cycle adapts at the in-between frames that
+  // its verification found over the bounds.
+  std::vector<int> adapt_frames;
   bool adapt = true;                  // false: evaluate the fixed rest shape (--no-adapt)
   // Adapt only while the cloth settles at a key pose (the body still), not
   // while the body moves: stretch in a transition is mostly transient (the
@@ -184,6 +195,9 @@ struct ArapTotals {                   // the stitchings of a run
 struct MotionRunResult {
   Eigen::MatrixXd V_rest;             // final rest shape (same connectivity as the garment)
   std::vector<KeyPoseResult> keys;    // up to the first held one (KeyPoseResult::held), where the run stops
+  // The in-between frames solved to equilibrium (MotionRunOptions::frame_stride, adapt_frames), in
+  // order; each KeyPoseResult's key is the transition's target key, frame its frame index.
+  std::vector<KeyPoseResult> frames;
   int held_key = -1;                  // index into keys of the pose the body holds, -1: none
   long steps = 0;
   int adaptations = 0;                // adaptations that changed the rest shape

@@ -31,6 +31,11 @@ struct HeldCloth {
 struct KeyPoseResult {
   std::string pose;
   int key = 0;                        // index in the motion's key sequence
+  // An in-between frame (MotionRunResult::frames): its index in the motion's frames, its
+  // transition (keys[transition] -> keys[transition + 1]) and parameter in it; -1 at a key pose.
+  int frame = -1;
+  int transition = -1;
+  double t = 0.0;
   Eigen::MatrixXd V_draped;           // #V by 3
   Eigen::VectorXd face_max_stretch;   // #F, largest principal stretch against the rest shape
   Eigen::VectorXd face_rest_area;     // #F, rest areas (m^2)

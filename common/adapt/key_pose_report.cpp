@@ -12,6 +12,11 @@ OrderedJson key_pose_json(const KeyPoseResult& k, const std::string& mesh, const
   OrderedJson j;
   j["key"] = k.key;
   j["pose"] = k.pose;
+  if (k.frame >= 0) {  // an in-between frame
+    j["frame"] = k.frame;
+    j["transition"] = k.transition;
+    j["t"] = k.t;
+  }
   j["mesh"] = mesh;
   if (checked) {
     j["verdict"] = failures->empty() ? "pass" : "fail";

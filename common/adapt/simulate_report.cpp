@@ -18,6 +18,12 @@ std::string verified_drape_file_name(const KeyPoseResult& k, bool adapted) {
   return drape_file_name(adapted ? "verified" : "draped", k);
 }
 
+std::string worst_frame_file_name(const TransitionCheck& t) {
+  char name[256];
+  std::snprintf(name, sizeof(name), "worst_frame_%02d_%s_to_%s.ply", t.transition, t.from.c_str(), t.to.c_str());
+  return name;
+}
+
 std::vector<std::pair<std::string, Mesh>> fit_meshes(const FitResult& fit, const Eigen::MatrixXi& F, bool adapted) {
   std::vector<std::pair<std::string, Mesh>> meshes;
   Mesh rest;
@@ -36,6 +42,11 @@ std::vector<std::pair<std::string, Mesh>> fit_meshes(const FitResult& fit, const
   if (fit.verification && adapted) {
     for (const PoseCheck& check : fit.verification->poses) {
       drape(verified_drape_file_name(check.figures, true), check.figures);
+    }
+  }
+  if (fit.verification) {
+    for (const TransitionCheck& t : fit.verification->transitions) {
+      if (t.worst >= 0) drape(worst_frame_file_name(t), t.frames[static_cast<size_t>(t.worst)].figures);
     }
   }
   return meshes;
@@ -82,11 +93,17 @@ OrderedJson verification_json(const FitVerification& verification, const FitOpti
   for (const PoseCheck& check : verification.poses) {
     poses_json.push_back(to_json(check, verified_drape_file_name(check.figures, options.motion.adapt)));
   }
+  OrderedJson transitions_json = OrderedJson::array();
+  for (const TransitionCheck& t : verification.transitions) {
+    transitions_json.push_back(to_json(t, t.worst >= 0 ? worst_frame_file_name(t) : std::string()));
+  }
   return {{"verdict", verification.passed() ? "pass" : "fail"},
           {"criteria", write_options(options.criteria, FitCriteriaFields{})},
           {"steps", verification.steps},
           {"rejected_steps", verification.rejected_steps},
-          {"key_poses", poses_json}};
+          {"frame_stride", options.frame_stride},
+          {"key_poses", poses_json},
+          {"transitions", transitions_json}};
 }
 
 OrderedJson run_json(const MotionRunResult& result) {
@@ -278,6 +295,14 @@ std::optional<std::string> fit_failure(const FitResult& fit, const OrderedJson& 
       if (check.passed()) continue;
       return "the verification fails at key pose " + std::to_string(check.figures.key) + " (" + check.figures.pose +
              "): " + check.failures.front();
+    }
+    for (const TransitionCheck& t : fit.verification->transitions) {
+      if (t.passed()) continue;
+      const PoseCheck& w = t.frames[static_cast<size_t>(t.worst)];
+      return "the verification fails in " + std::to_string(t.failed_frames()) + " of " +
+             std::to_string(t.frames.size()) + " in-between frames from " + t.from + " to " + t.to +
+             ", the worst at frame " + std::to_string(w.figures.frame) + " (" + w.figures.pose +
+             "): " + w.failures.front();
     }
   }
   return std::nullopt;

@@ -26,10 +26,16 @@ std::string drape_file_name(const std::string& prefix, const KeyPoseResult& k);
 // run's draped_* file.
 std::string verified_drape_file_name(const KeyPoseResult& k, bool adapted);
 
+// The drape file of a transition's worst in-between frame in a verification:
+// "worst_frame_<transition, two digits>_<from>_to_<to>.ply".
+std::string worst_frame_file_name(const TransitionCheck& t);
+
 // The meshes of a fit, by file name, in the order they are written:
 // rest.ply (the adapted rest shape), the run's drape at every key pose and,
 // after an adaptation, the verification's; each drape with its largest
-// principal stretch per face (face field max_stretch). F: the garment's faces.
+// principal stretch per face (face field max_stretch), and the worst
+// in-between frame of each transition the verification solved. F: the
+// garment's faces.
 std::vector<std::pair<std::string, Mesh>> fit_meshes(const FitResult& fit, const Eigen::MatrixXi& F, bool adapted);
 
 // The key pose the body holds (fit.run.held_key), or null: where the cloth is

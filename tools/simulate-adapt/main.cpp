@@ -37,6 +37,9 @@ int main(int argc, char** argv) {
                "the motion without adaptation; a failing key pose exits 8) and adapt in one cycle");
   option("--cycles", fit_options.max_cycles, CLI::Range(1, 100), "Adaptation cycles at most: another cycle through "
          "the motion, from the garment as designed with the rest shape so far, while the verification fails [count]");
+  option("--verify-frame-stride", fit_options.frame_stride, CLI::Range(0, 1000000), "Verification: also solve every "
+         "n-th in-between frame of each transition to its static equilibrium and judge it by the key poses' bounds; a "
+         "further cycle adapts at the frames that fail (0: the key poses only) [frames]");
   option("--verify-max-area", criteria.max_area_above, CLI::Range(0.0, 1.0), "Verification: a key pose fails when "
          "this fraction of the area or more is stretched above 1+delta [1]");
   option("--verify-p99-margin", criteria.p99_margin, CLI::NonNegativeNumber, "Verification: a key pose fails when its "
