@@ -591,21 +591,39 @@ struct GarmentMotion::Impl {
     ramp_done = true;
     std::vector<int> hints;
     const cloth::StaticBody body = static_body(hints);
-    // The equilibrium is sought in parts of adapt_every iterations; between
-    // them, once the cloth moves less than adapt_displacement or its largest
-    // stretch is steady, the rest shape is adapted to the cloth there (as the
-    // dynamic settling adapts once the cloth is slow). Settled: converged,
-    // with the last adaptation below fixed_point_area_change.
+    // With adaptation the equilibrium is sought in parts of adapt_every
+    // iterations; between them, once the cloth moves less than
+    // adapt_displacement or its largest stretch is steady, the rest shape is
+    // adapted to the cloth there (as the dynamic settling adapts once the
+    // cloth is slow). Once an adaptation changes the rest area by less than
+    // fixed_point_area_change, the equilibrium is converged without adapting
+    // and the fixed point tested there: an adaptation at the converged cloth
+    // that changes the area by less again ends the pose, after one more
+    // solve of the last rest shape's equilibrium (its figures are those of a
+    // true equilibrium). Adapting every part to the end, the tail of a fit
+    // spent hundreds of iterations on changes of 0.01 % each: every
+    // adaptation kicked the cloth off the equilibrium that the test needed
+    // (adapt/README.md, "The static solve").
+    enum class Phase { adapting, converging, final_solve };
+    Phase phase = adapt ? Phase::adapting : Phase::final_solve;
     static_solver->restart();
     const int cap = options.statics.max_iterations;
     double best_stretch = std::numeric_limits<double>::infinity();
     int best_at = 0;
     double last_change = std::numeric_limits<double>::infinity();
     double previous_stretch = largest_stretches().maxCoeff();
+    const auto adapt_and_measure = [&]() {
+      const double area_before = mesh_area(V_rest, F);
+      adapt_now();
+      last_change = std::abs(mesh_area(V_rest, F) - area_before) / area_before;
+      key.rest_area_change = last_change;
+      return last_change;
+    };
     while (true) {
       Eigen::MatrixXd X = sim->positions();
       for (size_t k = 0; k < pin_ids.size(); ++k) X.row(pin_ids[k]) = targets.row(static_cast<Eigen::Index>(k));
-      const int part = adapt ? std::min(options.adapt_every, cap - key.newton_iterations) : cap;
+      const int left = cap - key.newton_iterations;
+      const int part = phase == Phase::adapting ? std::min(options.adapt_every, left) : left;
       const Eigen::MatrixXd X_before = X;
       const cloth::StaticSolveReport r = static_solver->resume(*sim, body, offsets, X, part);
       result.newton_iterations += r.iterations;
@@ -642,13 +660,17 @@ struct GarmentMotion::Impl {
       // place while the cloth the body stretches stays as it is).
       const bool steady = std::abs(stretch - previous_stretch) < options.settle_stretch_change;
       previous_stretch = stretch;
-      if (adapt && (moved < options.statics.adapt_displacement || steady || r.converged)) {
-        const double area_before = mesh_area(V_rest, F);
-        adapt_now();
-        last_change = std::abs(mesh_area(V_rest, F) - area_before) / area_before;
-        key.rest_area_change = last_change;
-      }
-      if (r.converged && (!adapt || last_change < options.fixed_point_area_change)) {
+      if (phase == Phase::adapting && (moved < options.statics.adapt_displacement || steady || r.converged)) {
+        if (adapt_and_measure() < options.fixed_point_area_change) phase = Phase::converging;
+      } else if (phase == Phase::converging && r.converged) {
+        // The fixed-point test at the converged cloth.
+        const double change = adapt_and_measure();
+        if (change == 0.0) {  // nothing clipped: this equilibrium is the pose's
+          key.settled = true;
+          break;
+        }
+        phase = change < options.fixed_point_area_change ? Phase::final_solve : Phase::adapting;
+      } else if (phase == Phase::final_solve && r.converged) {
         key.settled = true;
         break;
       }
@@ -767,13 +789,17 @@ struct GarmentMotion::Impl {
     }
   }
 
-  // An in-between frame held still and recorded (result.frames): an adaptation frame settles and
-  // adapts as a key pose does; any other is solved to its static equilibrium without adaptation,
-  // whatever the run's equilibrium, since its figures must not carry the cloth's inertia. The
-  // transition goes on from there at rest.
+  // An in-between frame held still and recorded (result.frames). An adaptation frame settles and
+  // adapts as a key pose does, and the transition goes on from there. Any other is observed: its
+  // static equilibrium solved without adaptation, whatever the run's equilibrium (its figures must
+  // not carry the cloth's inertia), from the cloth as the transition left it, which then goes on
+  // as if the frame had not been solved, so the key poses are the same with or without observed
+  // frames.
   void hold_frame(const MotionFrame& frame, size_t i, const ProgressCallback& progress, bool adapt) {
+    const Eigen::MatrixXd X_moving = sim->positions(), V_moving = sim->velocities();
+    const Eigen::VectorXd offsets_moving = offsets;
+    const bool ramp_moving = ramp_done;
     collider->set_body(surface.positions(V_body));
-    contact->set_body(surface.positions(V_body));
     KeyPoseResult f;
     f.key = frame.transition + 1;
     f.frame = static_cast<int>(i);
@@ -784,11 +810,17 @@ struct GarmentMotion::Impl {
                   motion.keys[static_cast<size_t>(frame.transition) + 1].pose.c_str(), frame.t);
     f.pose = name;
     if (adapt) {
+      contact->set_body(surface.positions(V_body));
       settle_pose(f, i, progress, true);
+      record(f);
     } else {
       settle_static(f, i, progress, false);
+      record(f);
+      sim->set_positions(X_moving);
+      sim->set_velocities(V_moving);
+      offsets = offsets_moving;
+      ramp_done = ramp_moving;
     }
-    record(f);
     result.frames.push_back(std::move(f));
   }
 

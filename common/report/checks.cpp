@@ -168,6 +168,19 @@ std::vector<Check> fit_checks(const FitRun& run, const FitThresholds& t) {
                                   " times (body edges through cloth triangles or cloth edges through body triangles).");
     }
   }
+  // The movement between the key poses: each transition's in-between frames solved to equilibrium.
+  if (const Json* transitions = lookup(run.fit, "/verification/transitions"); transitions && transitions->is_array()) {
+    for (const Json& t : *transitions) {
+      if (t.value("verdict", "pass") != "fail") continue;
+      const Json& w = t.at("worst_frame");
+      const std::vector<std::string> failures = w.value("failures", std::vector<std::string>{});
+      add(CheckLevel::fail, "verification", t.value("from", "") + " to " + t.value("to", ""),
+          "Between " + t.value("from", "") + " and " + t.value("to", "") + ", " +
+              std::to_string(t.value("frames_failed", 0)) + " of " + std::to_string(t.value("frames_solved", 0)) +
+              " in-between frames fail; the worst, at " + format_fixed(w.value("t", 0.0), 2) + " of the way, " +
+              (failures.empty() ? std::string("exceeds a bound") : failures.front()) + ".");
+    }
+  }
   if (const Json* overall = lookup(run.fit, "/verification"); overall && verdict_of(overall) == "fail")
     add(CheckLevel::fail, "verification", "", "The verification of the fit (the final rest shape simulated afresh) fails.");
 

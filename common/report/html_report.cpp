@@ -247,6 +247,20 @@ std::string html_report(const FitRun& run, const ReportFiles& files, const std::
            figure(fit, v.empty() ? "" : p + "area_fraction_above_limit", "percent2") + "</td><td>" +
            figure(fit, v.empty() ? "" : p + "deepest_penetration_m", "mm2") + "</td></tr>\n";
     }
+    // Each transition's worst in-between frame (solved to equilibrium), beside the key poses.
+    const Json* transitions = lookup(fit, "/verification/transitions");
+    for (size_t t = 0; transitions && transitions->is_array() && t < transitions->size(); ++t) {
+      const std::string q = "/verification/transitions/" + std::to_string(t);
+      if (!lookup(fit, q + "/worst_frame")) continue;
+      const std::string w = q + "/worst_frame/";
+      tables += "<tr class=\"in-between\"><td></td><td>" + figure(fit, q + "/from", "text") + " to " +
+           figure(fit, q + "/to", "text") + ": worst of " + figure(fit, q + "/frames_solved", "integer") +
+           " in-between frames (at " + figure(fit, w + "t", "fixed3") + "; " + figure(fit, q + "/frames_failed", "integer") +
+           " fail)</td><td>" + figure(fit, q + "/verdict", "text") + "</td><td>" + figure(fit, w + "max_stretch", "fixed3") +
+           "</td><td>" + figure(fit, w + "p99_stretch", "fixed3") + "</td><td>" + figure(fit, w + "mean_stretch", "fixed3") +
+           "</td><td>" + figure(fit, w + "area_fraction_above_limit", "percent2") + "</td><td>" +
+           figure(fit, w + "deepest_penetration_m", "mm2") + "</td></tr>\n";
+    }
     tables += "</table>\n";
   }
   tables += "</section>\n";

@@ -100,10 +100,19 @@ TEST_CASE("in-between frames are solved to equilibrium and recorded at the strid
     CHECK(f.deepest_penetration == 0.0);
     CHECK(f.V_draped.rows() == l.mesh.V.rows());
   }
-  // The figures move with the body: the arms rise from the A-pose towards the T-pose.
   const FitVerification v = judge_run(r, o.adaptation.delta);
   REQUIRE(v.transitions.size() == 1);
   CHECK(v.transitions[0].frames.size() == 2);
+  // Observed frames leave the motion as it is: the key poses are the same bits without them.
+  MotionRunOptions unobserved = o;
+  unobserved.frame_stride = 0;
+  const MotionRunResult u = hc::run(l, motion, l.mesh.V, unobserved);
+  CHECK(u.frames.empty());
+  REQUIRE(u.keys.size() == 2);
+  for (size_t k = 0; k < 2; ++k) CHECK(u.keys[k].V_draped == r.keys[k].V_draped);
+  // The frame between the poses is not one of them: its drape differs from both key poses'.
+  CHECK((r.frames[0].V_draped - r.keys[0].V_draped).rowwise().norm().maxCoeff() > 1e-3);
+  CHECK((r.frames[0].V_draped - r.keys[1].V_draped).rowwise().norm().maxCoeff() > 1e-3);
 
   // An adaptation frame settles and adapts there as a key pose does.
   MotionRunOptions a = hc::run_options(600);
