@@ -128,6 +128,24 @@ TEST_CASE("verification, crossings and sewn fit are read where the stages write 
   CHECK(!mentions(checks, CheckLevel::not_checked, "Sewn fit"));
 }
 
+TEST_CASE("a transition whose in-between frame fails is a failed check naming the transition", "[report]") {
+  FitRun run = small_run();
+  Json transition = {{"transition", 0}, {"from", "apose"}, {"to", "tpose"}, {"frames_solved", 5},
+                     {"frames_failed", 0}, {"verdict", "pass"},
+                     {"worst_frame", {{"t", 0.4}, {"failures", Json::array()}}}};
+  run.fit.json["verification"] = {{"verdict", "pass"}, {"transitions", Json::array({transition})}};
+  CHECK(!mentions(fit_checks(run), CheckLevel::fail, "in-between"));
+  transition["verdict"] = "fail";
+  transition["frames_failed"] = 2;
+  transition["worst_frame"]["t"] = 0.6;
+  transition["worst_frame"]["failures"] = {"p99 stretch 1.1400 above 1.1200"};
+  run.fit.json["verification"] = {{"verdict", "fail"}, {"transitions", Json::array({transition})}};
+  const std::vector<Check> checks = fit_checks(run);
+  CHECK(mentions(checks, CheckLevel::fail,
+                 "Between apose and tpose, 2 of 5 in-between frames fail; the worst, at 0.60 of the way, p99 stretch "
+                 "1.1400 above 1.1200."));
+}
+
 TEST_CASE("a design that passes between body parts with no room is named where", "[report]") {
   FitRun run = small_run();
   run.garment.file = "garment/report.json";
