@@ -43,8 +43,8 @@ deps-stages:
 
 define CONFIGURE
 	@if [ ! -f $(BUILD)/CMakeCache.txt ]; then \
-	  echo "cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=$(CMAKE_BUILD_TYPE)"; \
-	  cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=$(CMAKE_BUILD_TYPE) >/dev/null; \
+	  echo "cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=$(CMAKE_BUILD_TYPE) -DGP_UNITY_BUILD=ON"; \
+	  cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=$(CMAKE_BUILD_TYPE) -DGP_UNITY_BUILD=ON >/dev/null; \
 	fi
 endef
 

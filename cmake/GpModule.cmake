@@ -21,6 +21,13 @@ function(gp_module)
   target_link_libraries(gp_${M_NAME} ${scope} ${M_DEPS})
   if(sources)
     target_link_libraries(gp_${M_NAME} PRIVATE gp_warnings)
+    if(GP_UNITY_BUILD)
+      set_target_properties(gp_${M_NAME} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+      # GCC warns of a class that holds a type of its file's anonymous
+      # namespace wherever that file is not the unit's main file, which in a
+      # unity build none is.
+      target_compile_options(gp_${M_NAME} PRIVATE -Wno-subobject-linkage)
+    endif()
   endif()
 
   file(GLOB tests CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/tests/*.cpp")
@@ -39,4 +46,21 @@ function(gp_tool)
   cmake_parse_arguments(T "" "NAME" "DEPS" ${ARGN})
   add_executable(${T_NAME} "${CMAKE_CURRENT_SOURCE_DIR}/main.cpp")
   target_link_libraries(${T_NAME} PRIVATE ${T_DEPS} gp_warnings)
+  gp_cold_code(${T_NAME})
+endfunction()
+
+# gp_cold_code(<target>)
+#   Compiles <target> at -O1 instead of the build type's -O3: for code that
+#   runs once per stage (the command line, reading specs, writing the report
+#   page), whose compile time -O3 doubles for nothing. CLI11's header alone
+#   costs 7 s of CPU per unit at -O3 (its validators are global objects built
+#   in every unit) and 4 s at -O1. The results are the same bits: GCC
+#   reorders no floating-point operation at any level (no -ffast-math, and
+#   -ffp-contract=off), as the goldens and the demo's outputs, compared byte
+#   for byte, show (BENCHMARKS.md, "Build time of the stages"). Hot loops stay
+#   in the rooms built at -O3.
+function(gp_cold_code target)
+  if(CMAKE_BUILD_TYPE MATCHES "^(Release|RelWithDebInfo)$")
+    target_compile_options(${target} PRIVATE -O1)
+  endif()
 endfunction()

@@ -170,52 +170,61 @@ std::string write_held_sheet(const HeldPose& h, const render::ColourScale& stret
   return file;
 }
 
-}  // namespace
+// The meshes of a report: the pose set, the design, the rest shape and the
+// drapes of every key pose (adapted, and as designed where fit-noadapt/ ran).
+struct FitMeshes {
+  PoseSet poses;
+  Mesh design, rest;
+  std::vector<Drape> drapes, drapes_no_adapt;
+};
 
-fs::path default_three_dir() { return GP_THREE_DIR; }
-
-FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& options, const fs::path& folder) {
-  FitReportResult result;
-  auto t = Clock::now();
-  const fs::path three = options.three_dir.empty() ? default_three_dir() : options.three_dir;
-  for (const auto& [from, to] : kThreeFiles)
-    if (!fs::is_regular_file(three / from))
-      throw InputError("three.js is not installed (run `make deps`, which installs it from npm)", (three / from).string());
-  const render::Font font(options.font.empty() ? render::default_font_path() : options.font);
-
-  // Meshes.
-  const PoseSet poses = load_pose_set(run.poses_manifest);
-  const Mesh design = read_mesh(run.design_mesh).mesh;
-  const Mesh rest = read_mesh(run.rest_mesh).mesh;
-  if (rest.F != design.F)
+FitMeshes load_meshes(const FitRun& run) {
+  FitMeshes m;
+  m.poses = load_pose_set(run.poses_manifest);
+  m.design = read_mesh(run.design_mesh).mesh;
+  m.rest = read_mesh(run.rest_mesh).mesh;
+  if (m.rest.F != m.design.F)
     throw GeometryError("the rest shape does not have the designed garment's triangles", run.rest_mesh.string());
-  const Eigen::MatrixXi& F = design.F;
+  const Eigen::MatrixXi& F = m.design.F;
   auto drapes_of = [&](const std::vector<KeyPoseRun>& keys, const Eigen::MatrixXd& V_rest) {
     std::vector<Drape> out;
     for (const KeyPoseRun& k : keys) {
       Drape d = read_drape(k.shown_mesh(), F, V_rest);
-      d.body_pose = poses.index_of(k.pose, k.shown_mesh().string());
+      d.body_pose = m.poses.index_of(k.pose, k.shown_mesh().string());
       out.push_back(std::move(d));
     }
     return out;
   };
-  const std::vector<Drape> drapes = drapes_of(run.keys, rest.V);
-  const std::vector<Drape> drapes_no_adapt = drapes_of(run.keys_no_adapt, design.V);
-  result.load_seconds = seconds_since(t);
+  m.drapes = drapes_of(run.keys, m.rest.V);
+  m.drapes_no_adapt = drapes_of(run.keys_no_adapt, m.design.V);
+  return m;
+}
 
-  // Pictures: one frame for every pose, so that they compare at a glance.
-  t = Clock::now();
-  fs::create_directories(folder / "renders");
-  fs::create_directories(folder / "models");
-  fs::create_directories(folder / "three");
-  const render::ColourScale stretch = render::stretch_scale(run.delta);
+// Each face's area on the rest shape over its area on the design (1 where the design's is 0).
+Eigen::VectorXd face_growth_of(const FitMeshes& m) {
+  const Eigen::MatrixXi& F = m.design.F;
+  const Eigen::VectorXd area_design = face_areas(m.design.V, F);
+  const Eigen::VectorXd area_rest = face_areas(m.rest.V, F);
+  Eigen::VectorXd face_growth(F.rows());
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    face_growth(f) = area_design(f) > 0.0 ? area_rest(f) / area_design(f) : 1.0;
+  return face_growth;
+}
+
+// The sheet of every key pose, and its before/after sheet where fit-noadapt/
+// ran: one frame for every pose, so that they compare at a glance. Fills
+// files.poses.
+void write_pose_sheets(const FitRun& run, const FitMeshes& m, const FitReportOptions& options,
+                       const render::ColourScale& stretch, const render::Font& font, const fs::path& folder,
+                       ReportFiles& files) {
+  const Eigen::MatrixXi& F = m.design.F;
   const render::Rgb body_grey = render::body_colour();
   auto garment_row = [&](const std::string& label, const Drape& d, const Eigen::MatrixXf& colours) {
     SheetRow row;
     row.label = label;
     render::MeshLayer body;
-    body.V = &poses.V[static_cast<size_t>(d.body_pose)];
-    body.F = &poses.F;
+    body.V = &m.poses.V[static_cast<size_t>(d.body_pose)];
+    body.F = &m.poses.F;
     body.colour = body_grey;
     render::MeshLayer cloth;
     cloth.V = &d.V;
@@ -224,31 +233,25 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
     row.layers = {body, cloth};
     return row;
   };
-  ReportFiles files;
-  {
-    std::ostringstream front;
-    front << options.sheet.front.x() << "," << options.sheet.front.y() << "," << options.sheet.front.z();
-    files.front = front.str();
-  }
   // Every view of every pose in one parallel batch: the adapted garment's
   // views serve both its own sheet and the before/after sheet.
   const size_t n = run.keys.size();
   std::vector<Eigen::MatrixXf> colours, colours_before;
-  for (const Drape& d : drapes) colours.push_back(face_colours(d.stretch, stretch));
-  for (const Drape& d : drapes_no_adapt) colours_before.push_back(face_colours(d.stretch, stretch));
+  for (const Drape& d : m.drapes) colours.push_back(face_colours(d.stretch, stretch));
+  for (const Drape& d : m.drapes_no_adapt) colours_before.push_back(face_colours(d.stretch, stretch));
   // Each pose framed on its garment (with the design's drape, where there is
   // one), so that the cloth fills the views.
   std::vector<SheetRow> rows;
   std::vector<std::vector<render::OrthoCamera>> cameras;
   for (size_t i = 0; i < n; ++i) {
-    Eigen::AlignedBox3d box = box_of(drapes[i].V);
-    if (!drapes_no_adapt.empty()) box.extend(box_of(drapes_no_adapt[i].V));
+    Eigen::AlignedBox3d box = box_of(m.drapes[i].V);
+    if (!m.drapes_no_adapt.empty()) box.extend(box_of(m.drapes_no_adapt[i].V));
     cameras.push_back(frame_views(box, options.sheet));
-    rows.push_back(garment_row("adapted", drapes[i], colours[i]));
+    rows.push_back(garment_row("adapted", m.drapes[i], colours[i]));
   }
-  for (size_t i = 0; i < drapes_no_adapt.size(); ++i) {
+  for (size_t i = 0; i < m.drapes_no_adapt.size(); ++i) {
     cameras.push_back(cameras[i]);
-    rows.push_back(garment_row("as designed", drapes_no_adapt[i], colours_before[i]));
+    rows.push_back(garment_row("as designed", m.drapes_no_adapt[i], colours_before[i]));
   }
   const std::vector<Views> views = render_views(rows, cameras, options.sheet);
   const std::string limit = format_fixed(1.0 + run.delta, 2);
@@ -269,7 +272,7 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
     const std::string shown = k.verified_pointer.empty() ? "adapted" : "adapted, verified (simulated afresh)";
     render::write_png(folder / pf.sheet, compose_sheet(title + " (" + figures_of(run.fit, k) + ")",
                                                        {{shown, &views[i]}}, stretch, font));
-    if (!drapes_no_adapt.empty()) {
+    if (!m.drapes_no_adapt.empty()) {
       pf.before_after = "renders/before_after_" + std::string(id) + ".png";
       render::write_png(folder / pf.before_after,
                         compose_sheet(title + ": the design and the adapted garment",
@@ -280,37 +283,37 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
     }
     files.poses.push_back(pf);
   }
-  if (run.held) files.held_sheet = write_held_sheet(*run.held, stretch, font, options.sheet, folder);
-  const std::vector<std::string> sewn_sheets = write_sewn_sheets(run, poses, F, font, options.sheet, folder);
-  for (size_t i = 0; i < n; ++i) files.poses[i].sewn_sheet = sewn_sheets[i];
-  // The rest shape off the body, against the design, at their own frame.
-  const render::ColourScale growth = render::growth_scale();
-  const Eigen::VectorXd area_design = face_areas(design.V, F);
-  const Eigen::VectorXd area_rest = face_areas(rest.V, F);
-  Eigen::VectorXd face_growth(F.rows());
-  for (Eigen::Index f = 0; f < F.rows(); ++f)
-    face_growth(f) = area_design(f) > 0.0 ? area_rest(f) / area_design(f) : 1.0;
-  {
-    Eigen::AlignedBox3d rest_box = box_of(design.V);
-    rest_box.extend(box_of(rest.V));
-    const Eigen::MatrixXf rest_colours = face_colours(face_growth, growth);
-    render::MeshLayer d_layer{&design.V, &F, nullptr, nullptr, render::Rgb{0.86f, 0.86f, 0.80f}};
-    render::MeshLayer r_layer{&rest.V, &F, &rest_colours, nullptr, {}};
-    files.rest_sheet = "renders/rest_vs_design.png";
-    const double total_growth = area_rest.sum() / std::max(area_design.sum(), 1e-300);
-    render::write_png(folder / files.rest_sheet,
-                      picture_sheet("The rest shape against the design (area x" + format_fixed(total_growth, 3) + ")",
-                                    {SheetRow{"as designed", {d_layer}}, SheetRow{"adapted rest shape", {r_layer}}},
-                                    frame_views(rest_box, options.sheet), growth, font, options.sheet));
-  }
-  result.render_seconds = seconds_since(t);
+}
 
-  // glTF: body and garment per key pose; the rest shape and the design.
-  t = Clock::now();
-  std::vector<std::string> scripts = {"three/three.min.js", "three/GLTFLoader.js", "three/OrbitControls.js"};
-  for (size_t i = 0; i < n; ++i) {
-    const Drape& d = drapes[i];
-    const std::vector<GltfMesh> meshes = {plain_mesh("body", poses.V[static_cast<size_t>(d.body_pose)], poses.F, body_grey),
+// The rest shape off the body, against the design, at their own frame.
+void write_rest_sheet(const FitMeshes& m, const Eigen::VectorXd& face_growth, const FitReportOptions& options,
+                      const render::Font& font, const fs::path& folder, ReportFiles& files) {
+  const Eigen::MatrixXi& F = m.design.F;
+  const render::ColourScale growth = render::growth_scale();
+  const Eigen::VectorXd area_design = face_areas(m.design.V, F);
+  const Eigen::VectorXd area_rest = face_areas(m.rest.V, F);
+  Eigen::AlignedBox3d rest_box = box_of(m.design.V);
+  rest_box.extend(box_of(m.rest.V));
+  const Eigen::MatrixXf rest_colours = face_colours(face_growth, growth);
+  render::MeshLayer d_layer{&m.design.V, &F, nullptr, nullptr, render::Rgb{0.86f, 0.86f, 0.80f}};
+  render::MeshLayer r_layer{&m.rest.V, &F, &rest_colours, nullptr, {}};
+  files.rest_sheet = "renders/rest_vs_design.png";
+  const double total_growth = area_rest.sum() / std::max(area_design.sum(), 1e-300);
+  render::write_png(folder / files.rest_sheet,
+                    picture_sheet("The rest shape against the design (area x" + format_fixed(total_growth, 3) + ")",
+                                  {SheetRow{"as designed", {d_layer}}, SheetRow{"adapted rest shape", {r_layer}}},
+                                  frame_views(rest_box, options.sheet), growth, font, options.sheet));
+}
+
+// glTF: body and garment per key pose (with the same bytes in base64 for the
+// page, which adds their scripts to `scripts`); the rest shape and the design.
+void write_models(const FitMeshes& m, const Eigen::VectorXd& face_growth, const render::ColourScale& stretch,
+                  const fs::path& folder, ReportFiles& files, std::vector<std::string>& scripts) {
+  const Eigen::MatrixXi& F = m.design.F;
+  const render::Rgb body_grey = render::body_colour();
+  for (size_t i = 0; i < files.poses.size(); ++i) {
+    const Drape& d = m.drapes[i];
+    const std::vector<GltfMesh> meshes = {plain_mesh("body", m.poses.V[static_cast<size_t>(d.body_pose)], m.poses.F, body_grey),
                                           split_by_face("garment", d.V, F, d.stretch, stretch, "MAX_STRETCH")};
     const std::vector<std::uint8_t> bytes = glb_bytes(meshes, kGenerator);
     const std::string& glb = files.poses[i].glb;
@@ -323,18 +326,18 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
   }
   files.rest_glb = "models/rest_shape.glb";
   files.design_glb = "models/design.glb";
-  write_glb(folder / files.rest_glb, {split_by_face("rest_shape", rest.V, F, face_growth, growth, "AREA_GROWTH")},
-            kGenerator);
-  write_glb(folder / files.design_glb, {plain_mesh("design", design.V, F, render::Rgb{0.86f, 0.86f, 0.80f})}, kGenerator);
-  result.model_seconds = seconds_since(t);
+  write_glb(folder / files.rest_glb,
+            {split_by_face("rest_shape", m.rest.V, F, face_growth, render::growth_scale(), "AREA_GROWTH")}, kGenerator);
+  write_glb(folder / files.design_glb, {plain_mesh("design", m.design.V, F, render::Rgb{0.86f, 0.86f, 0.80f})}, kGenerator);
+}
 
-  // The pattern.
-  t = Clock::now();
+// The pattern and its picture, and the shop floor's files where export-rest
+// and make-marker wrote them, copied beside the page.
+void copy_pattern_files(const FitRun& run, const FitReportOptions& options, const fs::path& folder, ReportFiles& files) {
   files.pattern_svg = "pattern.svg";
   files.pattern_png = "pattern.png";
   copy_into(run.pattern_svg, folder / files.pattern_svg);
   svg_to_png(run.pattern_svg, folder / files.pattern_png, options.pattern_width);
-  // The shop floor's files, where export-rest and make-marker wrote them.
   const std::pair<const char*, const char*> shop_files[] = {
       {"pattern/pattern.dxf", "pattern CAD (Gerber AccuMark, Lectra, Optitex, CLO): DXF, ASTM D6673 or as export-rest's --dxf-profile chose"},
       {"pattern/pattern-a4.pdf", "home printer, A4: tiled pages, cover with test square and page map"},
@@ -352,6 +355,62 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
     files.downloads.push_back({to, what});
     if (fs::path(from).filename() == "marker.svg") files.marker_svg = to;
   }
+}
+
+// The garment's name on the page: the spec's name, else the fit folder's,
+// with the fabric the spec chose (the paper's default is not named).
+std::string page_title(const FitRun& run, FitReportResult& result) {
+  std::string title = lookup(run.garment, "/options/effective_spec/name") &&
+                              lookup(run.garment, "/options/effective_spec/name")->is_string()
+                          ? lookup(run.garment, "/options/effective_spec/name")->get<std::string>()
+                          : run.dir.filename().string();
+  const Json* fabric = lookup(run.garment, "/options/effective_spec/material/fabric");
+  if (fabric && fabric->is_string()) result.fabric = fabric->get<std::string>();
+  if (!result.fabric.empty() && result.fabric != "paper") title += " in " + result.fabric;
+  return title;
+}
+
+}  // namespace
+
+fs::path default_three_dir() { return GP_THREE_DIR; }
+
+FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& options, const fs::path& folder) {
+  FitReportResult result;
+  auto t = Clock::now();
+  const fs::path three = options.three_dir.empty() ? default_three_dir() : options.three_dir;
+  for (const auto& [from, to] : kThreeFiles)
+    if (!fs::is_regular_file(three / from))
+      throw InputError("three.js is not installed (run `make deps`, which installs it from npm)", (three / from).string());
+  const render::Font font(options.font.empty() ? render::default_font_path() : options.font);
+  const FitMeshes meshes = load_meshes(run);
+  result.load_seconds = seconds_since(t);
+
+  t = Clock::now();
+  fs::create_directories(folder / "renders");
+  fs::create_directories(folder / "models");
+  fs::create_directories(folder / "three");
+  const render::ColourScale stretch = render::stretch_scale(run.delta);
+  ReportFiles files;
+  {
+    std::ostringstream front;
+    front << options.sheet.front.x() << "," << options.sheet.front.y() << "," << options.sheet.front.z();
+    files.front = front.str();
+  }
+  write_pose_sheets(run, meshes, options, stretch, font, folder, files);
+  if (run.held) files.held_sheet = write_held_sheet(*run.held, stretch, font, options.sheet, folder);
+  const std::vector<std::string> sewn_sheets = write_sewn_sheets(run, meshes.poses, meshes.design.F, font, options.sheet, folder);
+  for (size_t i = 0; i < run.keys.size(); ++i) files.poses[i].sewn_sheet = sewn_sheets[i];
+  const Eigen::VectorXd face_growth = face_growth_of(meshes);
+  write_rest_sheet(meshes, face_growth, options, font, folder, files);
+  result.render_seconds = seconds_since(t);
+
+  t = Clock::now();
+  std::vector<std::string> scripts = {"three/three.min.js", "three/GLTFLoader.js", "three/OrbitControls.js"};
+  write_models(meshes, face_growth, stretch, folder, files, scripts);
+  result.model_seconds = seconds_since(t);
+
+  t = Clock::now();
+  copy_pattern_files(run, options, folder, files);
   result.pattern_seconds = seconds_since(t);
 
   for (const auto& [from, to] : kThreeFiles) copy_into(three / from, folder / "three" / to);
@@ -362,15 +421,7 @@ FitReportResult write_fit_report(const FitRun& run, const FitReportOptions& opti
   files.scripts = scripts;
 
   result.checks = fit_checks(run);
-  std::string title = lookup(run.garment, "/options/effective_spec/name") &&
-                              lookup(run.garment, "/options/effective_spec/name")->is_string()
-                          ? lookup(run.garment, "/options/effective_spec/name")->get<std::string>()
-                          : run.dir.filename().string();
-  // The header names a fabric the spec chose (common/fabric); the paper's default is not named.
-  const Json* fabric = lookup(run.garment, "/options/effective_spec/material/fabric");
-  if (fabric && fabric->is_string()) result.fabric = fabric->get<std::string>();
-  if (!result.fabric.empty() && result.fabric != "paper") title += " in " + result.fabric;
-  write_text(folder / "index.html", html_report(run, files, result.checks, title));
+  write_text(folder / "index.html", html_report(run, files, result.checks, page_title(run, result)));
 
   for (const auto& entry : fs::recursive_directory_iterator(folder))
     if (entry.is_regular_file()) result.files.push_back(fs::relative(entry.path(), folder).generic_string());
