@@ -52,7 +52,7 @@ std::string rest_drape_name(const adapt::KeyPoseResult& k) {
 }
 
 // "settled_02_armsup.ply": the sewn garment settled at key pose 2 alone from
-// the reference drape (--drape-settled).
+// the reference drape (the default; not with --drape-after-motion).
 std::string settled_drape_name(const adapt::KeyPoseResult& k) {
   char name[256];
   std::snprintf(name, sizeof(name), "settled_%02d_%s.ply", k.key, k.pose.c_str());
@@ -377,7 +377,7 @@ void reference_drapes(const ExportRestOptions& options, PoseInterpolator& interp
   }
 }
 
-// --drape-settled: the sewn garment (and the rest shape, the floor) settled
+// Settled (the default): the sewn garment (and the rest shape, the floor) settled
 // at each key pose alone from the reference drape, and those distances.
 void settled_drapes(const ExportRestOptions& options, PoseInterpolator& interpolator, const MotionSpec& motion,
                     const std::vector<Eigen::MatrixXd>& reference, ExportRestResult& result) {
@@ -431,7 +431,7 @@ void run_sewn_fit(const ExportRestOptions& options, const Mesh& design, ExportRe
   std::vector<Eigen::MatrixXd> reference;
   std::vector<std::string> names;
   reference_drapes(options, interpolator, motion, design, result, reference, names);
-  // With --drape-settled the bounds judge the settled distances, and the
+  // By default the bounds judge the settled distances, and the
   // distance after the whole motion is reported unbounded.
   const DrapeCriteria motion_bounds = options.drape_settled ? DrapeCriteria{} : options.drape;
   if (!reference.empty()) compare_with_verified(sewn, reference, names, rest.F, motion_bounds);

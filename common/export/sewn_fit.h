@@ -80,7 +80,7 @@ struct SewnPoseWhere {
 // The distance after the whole motion is mostly the path's: a micron of
 // noise on the demo's rest shape moves its last key pose's drape by 11 mm
 // (mean); settle_from_reference measures the pattern alone
-// (export-rest --drape-settled; common/export/README.md).
+// and is what the bounds judge by default (common/export/README.md).
 struct DrapeCriteria {
   double max_mean = 0.0;  // metres: area-weighted mean distance (0: not bounded; the goal is 5 mm)
   double max_p95 = 0.0;   // metres: 95th percentile by area (0: not bounded; the goal is 15 mm)

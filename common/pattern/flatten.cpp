@@ -167,6 +167,51 @@ void measure_result(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const st
 
 }  // namespace
 
+int limit_weights(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::MatrixXd& UV,
+                  Eigen::VectorXd& face_weight, const FlattenOptions& options) {
+  if (face_weight.size() != F.rows()) face_weight = Eigen::VectorXd::Ones(F.rows());
+  const double tc = options.limit_margin * options.limit_compression;
+  const double te = options.limit_margin * options.limit_ease;
+  auto ratio = [&](const Eigen::MatrixXd& X) {
+    const DistortionStats s = distortion_stats(V, F, X);
+    return std::max(s.worst1_compression / options.limit_compression, s.worst5_ease / options.limit_ease);
+  };
+  double best = ratio(UV);
+  Eigen::MatrixXd best_UV = UV;
+  Eigen::VectorXd best_weight = face_weight;
+  int rounds = 0;
+  for (int r = 0; r < options.limit_rounds && best > 1.0; ++r) {
+    const Eigen::MatrixXd S = flattening_stretches(V, F, UV);
+    bool any = false;
+    for (int f = 0; f < F.rows(); ++f) {
+      const double excess = std::max(0.0, (1.0 - S(f, 1)) / tc - 1.0) + std::max(0.0, (S(f, 0) - 1.0) / te - 1.0);
+      if (excess <= 0.0) continue;
+      face_weight[f] = std::min(options.max_face_weight, face_weight[f] * (1.0 + excess));
+      any = true;
+    }
+    if (!any) break;
+    // Each round converged further than the cutter's plain flattenings: a
+    // reweighted piece stopped early sits where the polish (to
+    // final_tolerance, with the same weights) would not leave it, and on the
+    // demo's front the polished piece was then 5.6 % compressed, not 3.2 %.
+    FlattenOptions round = options;
+    round.tolerance = std::min(options.tolerance, options.limit_tolerance);
+    round.max_iterations = 4 * options.max_iterations;
+    arap_flatten(V, F, UV, round, false, &face_weight);
+    ++rounds;
+    if (!UV.allFinite() || count_flips(UV, F) > 0) break;
+    const double now = ratio(UV);
+    if (now < best) {
+      best = now;
+      best_UV = UV;
+      best_weight = face_weight;
+    }
+  }
+  UV = best_UV;
+  face_weight = best_weight;
+  return rounds;
+}
+
 FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                             const FlattenOptions& options, const Eigen::VectorXi* material_ids) {
   const auto loops = boundary_loops(F);
@@ -255,6 +300,12 @@ FlattenResult flatten_piece(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     }
   }
   if (!result.UV.allFinite()) throw NumericalError("the flattening produced non-finite coordinates");
+  // The tails of a plain flip-free flattening weighed towards the limit.
+  if (options.limit_rounds > 0 && result.initialization.find("injective") == std::string::npos &&
+      result.initialization.find("flips kept") == std::string::npos && count_flips(result.UV, F) == 0) {
+    result.limit_rounds = limit_weights(V, F, result.UV, result.face_weight, options);
+    result.energy = flattening_energy(V, F, result.UV, options, nullptr, &result.face_weight);
+  }
   measure_result(V, F, loop, material_ids, result);
   return result;
 }
@@ -270,7 +321,8 @@ void polish_flattening(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Flatt
   Eigen::MatrixXd UV = result.UV;
   // Plain steps (the line search would only shorten them); a polish that
   // folds the piece is not taken.
-  const ArapRun run = arap_flatten(V, F, UV, tight, false);
+  const Eigen::VectorXd* weight = result.face_weight.size() == F.rows() ? &result.face_weight : nullptr;
+  const ArapRun run = arap_flatten(V, F, UV, tight, false, weight);
   if (!UV.allFinite() || count_flips(UV, F) > 0 || !(run.energy <= result.energy)) return;
   result.UV = UV;
   result.iterations += run.iterations;

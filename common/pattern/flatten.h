@@ -39,6 +39,18 @@ struct FlattenOptions {
   double min_weight_fraction = 0.1;  // a triangle weighs its area, at least this fraction of the mean
   int anderson_window = 6;           // iterates mixed by Anderson acceleration (Peng et al. 2018); 0: none
   bool injective_fallback = true;    // flips left: rerun injectively (false: return them)
+  // Limit weighting (limit_weights below): after the plain iterations, up to
+  // this many rounds in which every triangle compressed beyond
+  // limit_margin * limit_compression (1 - s2) or eased beyond
+  // limit_margin * limit_ease (s1 - 1) weighs more, by its excess over that
+  // target relative to it, and the iterations resume. 0: off. The cutter
+  // sets the two limits from its own (DistortionLimit).
+  int limit_rounds = 0;
+  double limit_compression = 0.03;   // fraction
+  double limit_ease = 0.10;          // fraction
+  double limit_margin = 0.8;         // fraction of the limits a triangle is weighed against
+  double max_face_weight = 50.0;     // a triangle's weight grows to at most this multiple
+  double limit_tolerance = 1e-9;     // each round's iterations stop at this relative decrease (at most 4 max_iterations)
 };
 
 // The options as a report records them (spec/option_fields.h).
@@ -55,6 +67,12 @@ struct FlattenOptionFields {
     f.number("min_weight_fraction", o.min_weight_fraction, Range::between(0.0, 1.0));
     f.integer("anderson_window", o.anderson_window, Range::between(0, 1000));
     f.flag("injective_fallback", o.injective_fallback);
+    f.integer("limit_rounds", o.limit_rounds, Range::between(0, 1000));
+    f.number("limit_compression", o.limit_compression, Range::positive());
+    f.number("limit_ease", o.limit_ease, Range::positive());
+    f.number("limit_margin", o.limit_margin, Range::positive());
+    f.number("max_face_weight", o.max_face_weight, Range::between(1.0, 1e6));
+    f.number("limit_tolerance", o.limit_tolerance, Range::positive());
   }
 };
 
@@ -107,8 +125,10 @@ Eigen::MatrixXd tutte_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F
 // f(s) = (1 - s)^2 below 1, ease_weight (s - 1)^2 above; a flipped triangle
 // costs |J - R|^2, R its closest rotation) plus the boundary-length term
 // sum_e w_e (|u_i - u_j| - l_e)^2. With `gradient`, its gradient (#V by 2).
+// `face_weight` (#F, optional) multiplies each triangle's weight w_t.
 double flattening_energy(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& UV,
-                         const FlattenOptions& options, Eigen::MatrixXd* gradient = nullptr);
+                         const FlattenOptions& options, Eigen::MatrixXd* gradient = nullptr,
+                         const Eigen::VectorXd* face_weight = nullptr);
 
 struct ArapRun {
   int iterations = 0;
@@ -117,8 +137,25 @@ struct ArapRun {
 
 // Local/global iterations from UV (#V by 2, in place). With `injective`, UV
 // starts flip-free and each step is cut to 90 % of the largest flip-free one.
+// `face_weight` (#F, optional) multiplies each triangle's weight.
 ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::MatrixXd& UV,
-                     const FlattenOptions& options, bool injective);
+                     const FlattenOptions& options, bool injective, const Eigen::VectorXd* face_weight = nullptr);
+
+// The limit weighting (FlattenOptions::limit_rounds): a least-squares
+// energy spreads distortion evenly on average but leaves its tails where the
+// surface is most curved, while the cutter's limit bounds the tails (means
+// over the worst 1 % and 5 % of the area). Iteratively reweighted least
+// squares moves the minimum towards the tails' bound (Lawson's algorithm for
+// a min-max fit; the same device as the reweighting of Rabinovich et al.
+// 2017, here on the excess over a target): each round multiplies the weight
+// of a triangle over its target by 1 + (excess / target), capped at
+// max_face_weight, and resumes the plain iterations from UV (in place) and
+// `face_weight` (#F, in place; empty: all 1). Keeps the round whose worse
+// bound (worst1_compression / limit_compression, worst5_ease / limit_ease)
+// is lowest, and stops at a round within both, at one that flips a triangle
+// or after limit_rounds. Returns the rounds run.
+int limit_weights(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::MatrixXd& UV,
+                  Eigen::VectorXd& face_weight, const FlattenOptions& options);
 
 // sum_t w_t (|J|^2 + |J^-1|^2 - 4) at UV (#V by 2; w_t as in
 // flattening_energy); infinite if a triangle is flipped or degenerate.
@@ -136,6 +173,8 @@ struct FlattenResult {
   std::string initialization;  // "lscm"; "lscm, untangled, injective", "lscm, injective" or "tutte, injective" after flips
   int iterations = 0;
   double energy = 0.0;         // final energy of arap_flatten (m^2)
+  Eigen::VectorXd face_weight; // #F, the limit weighting's multipliers (empty: none)
+  int limit_rounds = 0;        // rounds of limit_weights run
   DistortionStats stats;
   bool boundary_overlaps = false;                 // the flat boundary crosses itself
   std::vector<int> overlap_vertex_ids;            // boundary vertices at a crossing

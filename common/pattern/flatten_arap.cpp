@@ -22,8 +22,8 @@ namespace gp {
 using namespace flatten_detail;
 
 double flattening_energy(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& UV,
-                         const FlattenOptions& options, Eigen::MatrixXd* gradient) {
-  const std::vector<LocalTriangle> T = weighted_triangles(V, F, options.min_weight_fraction);
+                         const FlattenOptions& options, Eigen::MatrixXd* gradient, const Eigen::VectorXd* face_weight) {
+  const std::vector<LocalTriangle> T = weighted_triangles(V, F, options.min_weight_fraction, face_weight);
   const double ease_weight = std::clamp(options.ease_weight, 0.0, 1.0);
   if (gradient) gradient->setZero(UV.rows(), 2);
   double energy = 0.0;
@@ -54,10 +54,10 @@ double flattening_energy(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, con
 }
 
 ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::MatrixXd& UV,
-                     const FlattenOptions& options, bool injective) {
+                     const FlattenOptions& options, bool injective, const Eigen::VectorXd* face_weight) {
   const int n = static_cast<int>(V.rows());
   if (UV.rows() != n || UV.cols() != 2) throw GeometryError("arap_flatten: the start has the wrong size");
-  const std::vector<LocalTriangle> T = weighted_triangles(V, F, options.min_weight_fraction);
+  const std::vector<LocalTriangle> T = weighted_triangles(V, F, options.min_weight_fraction, face_weight);
   const double ease_weight = std::clamp(options.ease_weight, 0.0, 1.0);
   // Boundary edges (i -> j, 3D length l, weight w): the term
   // w |u_i - u_j - l d|^2 with d the current unit direction of the flat edge

@@ -47,7 +47,8 @@ std::vector<LocalTriangle> local_triangles(const Eigen::MatrixXd& V, const Eigen
 // leaves where it passes close to a vertex would otherwise turn over at no
 // cost (and make LSCM's system numerically singular); a stiff small triangle
 // keeps its shape, so its share of the energy still vanishes with its size.
-std::vector<LocalTriangle> weighted_triangles(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double fraction) {
+std::vector<LocalTriangle> weighted_triangles(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double fraction,
+                                              const Eigen::VectorXd* face_weight) {
   std::vector<LocalTriangle> T = local_triangles(V, F);
   double mean = 0.0;
   int count = 0;
@@ -56,6 +57,8 @@ std::vector<LocalTriangle> weighted_triangles(const Eigen::MatrixXd& V, const Ei
   mean /= std::max(1, count);
   for (LocalTriangle& t : T)
     if (!t.degenerate) t.area = std::max(t.area, fraction * mean);
+  if (face_weight && face_weight->size() == F.rows())
+    for (int f = 0; f < F.rows(); ++f) T[static_cast<size_t>(f)].area *= (*face_weight)[f];
   return T;
 }
 

@@ -33,7 +33,9 @@ std::vector<LocalTriangle> local_triangles(const Eigen::MatrixXd& V, const Eigen
 // leaves where it passes close to a vertex would otherwise turn over at no
 // cost (and make LSCM's system numerically singular); a stiff small triangle
 // keeps its shape, so its share of the energy still vanishes with its size.
-std::vector<LocalTriangle> weighted_triangles(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double fraction);
+// `face_weight` (#F, optional) multiplies each weight (limit_weights, flatten.h).
+std::vector<LocalTriangle> weighted_triangles(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double fraction,
+                                              const Eigen::VectorXd* face_weight = nullptr);
 
 // A boundary edge i -> j of 3D length `length` and the weight of keeping it
 // (the boundary-length term of flattening_energy).

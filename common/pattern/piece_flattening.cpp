@@ -53,6 +53,9 @@ void measure_pieces(Pattern& pattern, const PatternOptions& options) {
 FlattenOptions piece_flatten_options(const PatternOptions& options, const FlattenCache& cache,
                                      const std::vector<int>& key) {
   FlattenOptions flatten = options.flatten;
+  // The limit weighting aims at the cutter's own limit.
+  flatten.limit_compression = options.limit.symmetric ? options.limit.max_limit : options.limit.compression_worst1;
+  flatten.limit_ease = options.limit.symmetric ? options.limit.max_limit : options.limit.ease_worst5;
   const auto w = cache.boundary_weight.find(key);
   if (w != cache.boundary_weight.end()) flatten.boundary_weight = w->second;
   const auto e = cache.ease_weight.find(key);

@@ -141,7 +141,7 @@ void key_pose_block(std::string& h, const FitRun& run, const ReportFiles& files,
     std::string q;
     for (size_t j = 0; sewn_keys && j < sewn_keys->size(); ++j)
       if ((*sewn_keys)[j].value("key", -1) == run.keys[i].key) q = "/sewn_fit/key_poses/" + std::to_string(j);
-    // The settled distance where export-rest measured it (--drape-settled), as the sheet shows.
+    // The settled distance where export-rest measured it (its default), as the sheet shows.
     const Json* settled = q.empty() ? nullptr : lookup(run.pattern, q + "/settled_from_reference/sewn");
     const std::string d = settled ? q + "/settled_from_reference/sewn" : q + "/distance_to_verified";
     h += "<p>Sewn from the flat pattern: " +

@@ -71,7 +71,7 @@ std::vector<std::string> write_sewn_sheets(const FitRun& run, const PoseSet& pos
     for (const Json& k : *keys)
       if (k.contains("key") && k["key"].is_number_integer() && k["key"].get<int>() == run.keys[i].key) entry = &k;
     if (!entry || !entry->contains("distance_to_verified") || !(*entry)["distance_to_verified"].is_object()) continue;
-    // Settled at the pose alone from the reference (export-rest --drape-settled)
+    // Settled at the pose alone from the reference (export-rest, by default)
     // where measured: the pattern's figure; else the drape after the motion.
     const bool settled = entry->contains("settled_from_reference") &&
                          (*entry)["settled_from_reference"].is_object() &&

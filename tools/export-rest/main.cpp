@@ -36,6 +36,8 @@ int main(int argc, char** argv) {
   app.add_option("--ease-weight", po.flatten.ease_weight,
                  "Cost of ease relative to compression in the flattening (1 is ARAP) [fraction]")
       ->capture_default_str()->check(CLI::Range(1e-3, 1.0));
+  app.add_option("--limit-rounds", po.flatten.limit_rounds, "Rounds in which a piece's triangles beyond 80 % of the limit "
+                 "weigh more in its flattening (0: off) [count]")->capture_default_str()->check(CLI::Range(0, 1000));
   std::string placement = "curvature";
   app.add_option("--dart-placement", placement,
                  "Dart tips at the concentration of Gaussian curvature (curvature) or of the log conformal factor (conformal)")
@@ -129,8 +131,8 @@ int main(int argc, char** argv) {
   app.add_option("--drape-p95-limit", o.drape.max_p95,
                  "Sewn-fit check: ... or farther than this on 5 % of the area (0: not bounded; the goal is 0.015) [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
-  app.add_flag("--drape-settled", o.drape_settled, "Sewn-fit check: settle the sewn garment (and the rest shape) at "
-               "each key pose alone from the reference drape; the drape limits then judge that distance");
+  app.add_flag_callback("--drape-after-motion", [&o] { o.drape_settled = false; }, "Sewn-fit check: the drape limits judge the "
+                        "sewn drape after the whole motion [default: the sewn garment settled at each key pose alone from the reference drape]");
   app.add_option("--seam-allowance", o.layout.seam_allowance, "Seam allowance around every piece [m]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.2));
   app.add_option("--notch-spacing", o.layout.notch_spacing, "Distance between notches along a seam [m]")

@@ -282,7 +282,7 @@ TEST_CASE("the sewn drape against the rest shape's own drape: close when the pat
   const fs::path fit = write_fit_report(s, " --no-verify");
   REQUIRE(read_fit_settings(fit).verified.empty());
   const std::string base = testing::tool_path("export-rest") + " --garment " + (s.dir / "garment.json").string() +
-                           " -q --fit " + fit.string() + " --drape-mean-limit 0.005 --drape-p95-limit 0.015 ";
+                           " -q --fit " + fit.string() + " --drape-after-motion --drape-mean-limit 0.005 --drape-p95-limit 0.015 ";
 
   const auto good = testing::run_command(base + (s.dir / "garment.ply").string() + " --out " + (s.dir / "good").string());
   INFO(good.err);
@@ -319,7 +319,7 @@ TEST_CASE("the sewn drape against the rest shape's own drape: close when the pat
   const fs::path verified = write_fit_report(s, "", "fit-verified");
   const auto bad = testing::run_command(testing::tool_path("export-rest") + " --garment " +
                                         (s.dir / "garment.json").string() + " -q --fit " + verified.string() +
-                                        " --drape-mean-limit 0.005 --drape-p95-limit 0.015 " +
+                                        " --drape-after-motion --drape-mean-limit 0.005 --drape-p95-limit 0.015 " +
                                         (s.dir / "eased.ply").string() + " --out " + (s.dir / "eased").string());
   INFO(bad.err);
   CHECK(bad.exit_code == 8);
@@ -344,7 +344,7 @@ TEST_CASE("settled at each key pose from the verified drape: the pattern as cut 
   const CapScene s = write_cap_scene("sewn-fit-settled");
   const fs::path fit = write_fit_report(s);
   const std::string base = testing::tool_path("export-rest") + " --garment " + (s.dir / "garment.json").string() +
-                           " -q --fit " + fit.string() + " --drape-settled --drape-mean-limit 0.005 --drape-p95-limit 0.015 ";
+                           " -q --fit " + fit.string() + " --drape-mean-limit 0.005 --drape-p95-limit 0.015 ";
   const auto good = testing::run_command(base + (s.dir / "garment.ply").string() + " --out " + (s.dir / "good").string());
   INFO(good.err);
   REQUIRE(good.exit_code == 0);

@@ -80,9 +80,12 @@ TEST_CASE("a hemisphere gets darts and seams and its distortion falls", "[flatte
   const Mesh cap = testing::make_hemisphere(4, 0.15);
   PatternOptions options;
   // Uncut, the cap is far outside the limit and still has no flipped triangle.
+  // (Flattened plainly: the limit weighting takes the uncut cap's
+  // compression over its worst 1 % down to 6.9 %.)
   PatternOptions none = options;
   none.darts.max_darts = 0;
   none.panels.max_pieces = 1;
+  none.flatten.limit_rounds = 0;
   const Pattern uncut = make_pattern(cap.V, cap.F, {}, none);
   REQUIRE(uncut.pieces.size() == 1);
   CHECK(!uncut.meets_limit);
@@ -184,6 +187,84 @@ TEST_CASE("a one-sided flattening trades compression for ease", "[flatten][energ
   CHECK(b.stats.p99_compression < 0.95 * a.stats.p99_compression);
   CHECK(b.stats.p95_stretch > 1.1 * a.stats.p95_stretch);
   CHECK(b.stats.flipped_triangles == 0);
+}
+
+TEST_CASE("the weighted energy's gradient matches finite differences", "[flatten][energy]") {
+  const Mesh g = bent_grid(6, 0.3);
+  const auto loops = boundary_loops(g.F);
+  Eigen::MatrixXd UV = lscm_flatten(g.V, g.F, loops.front());
+  for (int v = 0; v < UV.rows(); ++v) UV.row(v) = Eigen::RowVector2d(1.12 * UV(v, 0), 0.93 * UV(v, 1) + 0.03 * UV(v, 0) * UV(v, 0));
+  // Face weights as the limit weighting leaves them: uneven, some far above 1.
+  Eigen::VectorXd w(g.F.rows());
+  for (int f = 0; f < g.F.rows(); ++f) w[f] = 1.0 + 7.0 * ((f * 37) % 11) / 10.0;
+  FlattenOptions o;
+  o.ease_weight = 0.1;
+  Eigen::MatrixXd grad;
+  const double e0 = flattening_energy(g.V, g.F, UV, o, &grad, &w);
+  CHECK(e0 > flattening_energy(g.V, g.F, UV, o));  // every weight is at least 1, most above
+  const double h = 1e-7, scale = grad.cwiseAbs().maxCoeff();
+  double worst = 0.0;
+  for (int v = 0; v < UV.rows(); v += 3)
+    for (int c = 0; c < 2; ++c) {
+      Eigen::MatrixXd P = UV, M = UV;
+      P(v, c) += h;
+      M(v, c) -= h;
+      const double fd = (flattening_energy(g.V, g.F, P, o, nullptr, &w) - flattening_energy(g.V, g.F, M, o, nullptr, &w)) / (2 * h);
+      worst = std::max(worst, std::abs(fd - grad(v, c)));
+    }
+  INFO("gradient scale " << scale << ", worst difference " << worst);
+  CHECK(worst < 1e-5 * scale);
+}
+
+TEST_CASE("the limit weighting lowers a piece's tails towards the limit", "[flatten][limit]") {
+  // A cap of a sphere, uncut: the one-sided flattening leaves its worst
+  // compression at the rim and its worst ease at the pole region.
+  const Mesh cap = testing::make_hemisphere(4, 0.15);
+  Mesh part = cap;
+  {
+    // The upper half of the hemisphere (a cap of 45 degrees), so that the
+    // piece is near the limit rather than hopeless.
+    std::vector<Eigen::Vector3i> faces;
+    double top = cap.V.col(1).maxCoeff(), bottom = cap.V.col(1).minCoeff();
+    if (std::abs(top) < std::abs(bottom)) std::swap(top, bottom);
+    for (int f = 0; f < cap.F.rows(); ++f) {
+      bool keep = true;
+      for (int k = 0; k < 3; ++k) keep = keep && std::abs(cap.V(cap.F(f, k), 1) - bottom) >= 0.55 * std::abs(top - bottom);
+      if (keep) faces.push_back(cap.F.row(f));
+    }
+    part = testing::compact(cap.V, faces);
+  }
+  FlattenOptions plain = PatternOptions::default_flatten();
+  plain.limit_rounds = 0;
+  const FlattenResult a = flatten_piece(part.V, part.F, plain);
+  // Limits a little under what the plain flattening reaches.
+  FlattenOptions weighted = plain;
+  weighted.limit_rounds = 12;
+  weighted.limit_compression = 0.9 * a.stats.worst1_compression;
+  weighted.limit_ease = 0.9 * a.stats.worst5_ease;
+  const FlattenResult b = flatten_piece(part.V, part.F, weighted);
+  auto ratio = [&](const DistortionStats& s) {
+    return std::max(s.worst1_compression / weighted.limit_compression, s.worst5_ease / weighted.limit_ease);
+  };
+  INFO(part.F.rows() << " faces; plain: compression " << a.stats.worst1_compression << ", ease " << a.stats.worst5_ease
+                     << "; weighted (" << b.limit_rounds << " rounds): " << b.stats.worst1_compression << ", "
+                     << b.stats.worst5_ease << "; mean error " << a.stats.mean_error << " -> " << b.stats.mean_error);
+  CHECK(a.stats.worst1_compression > 0.005);
+  CHECK(b.limit_rounds > 0);
+  CHECK(b.face_weight.size() == part.F.rows());
+  CHECK(b.face_weight.maxCoeff() > 1.0);
+  CHECK(b.face_weight.minCoeff() == 1.0);
+  CHECK(ratio(b.stats) < ratio(a.stats) - 0.05);
+  CHECK(b.stats.flipped_triangles == 0);
+  // The tails come down at the cost of the rest: the mean distortion rises.
+  CHECK(b.stats.mean_error > a.stats.mean_error);
+  // Polishing keeps the weights: the piece stays where the weighting left it.
+  FlattenResult c = b;
+  polish_flattening(part.V, part.F, c, weighted);
+  CHECK(ratio(c.stats) < ratio(a.stats) - 0.05);
+  // Off: no weights.
+  CHECK(a.face_weight.size() == 0);
+  CHECK(a.limit_rounds == 0);
 }
 
 TEST_CASE("Anderson-accelerated iterations reach plain local/global's minimum", "[flatten]") {
