@@ -110,6 +110,14 @@ OrderedJson drape_summary(const SewnFitResult& sewn) {
   return j;
 }
 
+// The sewn garment's in-between frames, each transition as the fit's verification reports its own
+// (adapt::to_json); the sewn frames' drapes are not written.
+OrderedJson transitions_json(const adapt::FitVerification& v) {
+  OrderedJson list = OrderedJson::array();
+  for (const adapt::TransitionCheck& t : v.transitions) list.push_back(adapt::to_json(t, ""));
+  return list;
+}
+
 OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOptions& options) {
   if (!result.sewn_fit_done)
     return {{"checked", false}, {"why", "no fit report given (--fit FIT/report.json)"}};
@@ -191,7 +199,9 @@ OrderedJson sewn_fit_report(const ExportRestResult& result, const ExportRestOpti
           {"drape", drape_summary(sewn)},
           {"steps", sewn.verification.steps},
           {"rejected_steps", sewn.verification.rejected_steps},
-          {"key_poses", poses}};
+          {"frame_stride", result.fit.frame_stride},
+          {"key_poses", poses},
+          {"transitions", transitions_json(sewn.verification)}};
 }
 
 }  // namespace
@@ -418,8 +428,12 @@ void run_sewn_fit(const ExportRestOptions& options, const Mesh& design, ExportRe
   // pattern far from its rest shape can start with forces no step
   // survives): the check fails and the pattern is still written.
   try {
+    // The sewn garment through the motion, judged where the fit was: its key poses and, where the
+    // fit's verification solved them, its in-between frames.
+    adapt::MotionRunOptions sewn_run = result.fit.run;
+    sewn_run.frame_stride = result.fit.frame_stride;
     result.sewn_fit = sewn_fit_check(interpolator, motion, design.V, rest.F, result.garment, result.pattern,
-                                     result.layout, result.fit.run, result.fit.criteria, options.progress);
+                                     result.layout, sewn_run, result.fit.criteria, options.progress);
   } catch (const NumericalError& e) {
     result.sewn_fit_error = std::string("the simulation of the sewn garment failed: ") + e.what();
     result.sewn_fit.delta = result.fit.delta();

@@ -23,6 +23,7 @@ FitSettings read_fit_settings(const std::filesystem::path& report) {
   adapt::FitOptions fit;
   read_options(o, true, fit, adapt::FitOptionFields{});
   s.run = fit.motion;
+  s.frame_stride = fit.frame_stride;
   s.run.adapt = false;
   s.run.threads = 1;
   // The verification's bounds; a fit run with --no-verify has none.

@@ -19,6 +19,10 @@ struct FitSettings {
   std::string poses;                  // pose set of the fit (poses.json), as the fit was given it
   std::string motion;                 // motion spec of the fit (motion/1), as the fit was given it
   adapt::MotionRunOptions run;        // the simulation's settings; adapt is false, threads 1
+  // The fit's verification also judged every frame_stride-th in-between frame
+  // (adapt::FitOptions::frame_stride; 0: key poses only): the sewn-fit check
+  // judges the same frames.
+  int frame_stride = 0;
   adapt::FitCriteria criteria;        // the verification's bounds (the defaults when the fit skipped it)
   // The verification's drape of every key pose (verification/key_poses/*/mesh),
   // paths beside the report; empty when the fit ran without verification.

@@ -207,6 +207,7 @@ SewnFitResult sewn_fit_check(PoseInterpolator& interpolator, const MotionSpec& m
     result.rest_area += 0.5 * (b - a).cross(c - a).norm();
   }
   result.verification = adapt::verify_fit(interpolator, motion, V_start, F, garment, sewn, options, criteria, progress);
+  // The in-between frames (options.frame_stride) are judged as the key poses are.
   for (const adapt::PoseCheck& check : result.verification.poses)
     result.where.push_back(locate_sewn_pose(check, pattern, sewn, F, result.delta));
   return result;
@@ -360,6 +361,13 @@ std::string sewn_fit_failure(const SewnFitResult& result, const Pattern& pattern
       line += "; deepest inside the body in " + name(w.deepest_vertex_piece) + " (vertex " +
               std::to_string(w.deepest_vertex) + ")";
     return line;
+  }
+  for (const adapt::TransitionCheck& t : result.verification.transitions) {
+    if (t.passed()) continue;
+    const adapt::PoseCheck& w = t.frames[static_cast<size_t>(t.worst)];
+    return std::to_string(t.failed_frames()) + " of " + std::to_string(t.frames.size()) +
+           " in-between frames from " + t.from + " to " + t.to + " fail, the worst at frame " +
+           std::to_string(w.figures.frame) + " (" + w.figures.pose + "): " + w.failures.front();
   }
   return "";
 }

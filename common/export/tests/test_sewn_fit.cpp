@@ -558,3 +558,39 @@ TEST_CASE("the fit's settings are read from its report, strictly", "[sewn_fit]")
   write_json_file(dir / "r.json", report);
   CHECK_THROWS_AS(read_fit_settings(dir / "r.json"), SpecError);
 }
+
+TEST_CASE("the sewn garment is judged at the in-between frames its fit was judged at", "[sewn_fit][cli][frames]") {
+  const CapScene s = write_cap_scene("sewn-fit-frames");
+  // The fit's verification solves every 3rd of the 10 frames a -> b: frames 3, 6 and 9.
+  const fs::path fit = write_fit_report(s, " --verify-frame-stride 3");
+  CHECK(read_fit_settings(fit).frame_stride == 3);
+  const std::string base = testing::tool_path("export-rest") + " --garment " + (s.dir / "garment.json").string() +
+                           " -q --fit " + fit.string();
+  const auto good = testing::run_command(base + " " + (s.dir / "garment.ply").string() + " --out " +
+                                         (s.dir / "good").string());
+  INFO(good.err);
+  REQUIRE(good.exit_code == 0);
+  const Json sewn = read_json_file(s.dir / "good" / "report.json")["sewn_fit"];
+  CHECK(sewn["frame_stride"] == 3);
+  REQUIRE(sewn["transitions"].size() == 1);
+  const Json& t = sewn["transitions"][0];
+  CHECK(t["from"] == "a");
+  CHECK(t["to"] == "b");
+  CHECK(t["frames_solved"] == 3);
+  CHECK(t["frames_failed"] == 0);
+  CHECK(t["verdict"] == "pass");
+  CHECK(t["worst_frame"]["p99_stretch"].get<double>() < 1.06);
+
+  // The pattern 5 % too small fails between the poses too.
+  Mesh shrunk = s.cap;
+  const Eigen::RowVector3d centre = shrunk.V.colwise().mean();
+  shrunk.V = ((shrunk.V.rowwise() - centre) * 0.95).rowwise() + centre;
+  write_mesh(s.dir / "shrunk.ply", shrunk);
+  const auto bad = testing::run_command(base + " " + (s.dir / "shrunk.ply").string() + " --out " +
+                                        (s.dir / "bad").string());
+  CHECK(bad.exit_code == 8);
+  const Json failed = read_json_file(s.dir / "bad" / "report.json")["sewn_fit"]["transitions"][0];
+  CHECK(failed["verdict"] == "fail");
+  CHECK(failed["frames_failed"] == 3);
+  CHECK(failed["worst_frame"]["area_fraction_above_limit"].get<double>() > 0.5);
+}
