@@ -125,6 +125,23 @@ fs::path write_fit_report(const CapScene& s, const std::string& flags = "", cons
   return s.dir / folder / "report.json";
 }
 
+// export-rest on `rest_mesh` of scene s with the fit report `fit`, into s.dir / out.
+testing::CommandResult export_with_fit(const CapScene& s, const fs::path& fit, const fs::path& rest_mesh,
+                                       const std::string& out, const std::string& flags = "") {
+  return testing::run_command(testing::tool_path("export-rest") + " --garment " + (s.dir / "garment.json").string() +
+                              " -q --fit " + fit.string() + flags + " " + rest_mesh.string() + " --out " +
+                              (s.dir / out).string());
+}
+
+// The cap shrunk by 5 % about its centroid (every flat piece 5 % too small), written as shrunk.ply.
+fs::path write_shrunk_cap(const CapScene& s) {
+  Mesh shrunk = s.cap;
+  const Eigen::RowVector3d centre = shrunk.V.colwise().mean();
+  shrunk.V = ((shrunk.V.rowwise() - centre) * 0.95).rowwise() + centre;
+  write_mesh(s.dir / "shrunk.ply", shrunk);
+  return s.dir / "shrunk.ply";
+}
+
 }  // namespace
 
 TEST_CASE("the sewn triangles are the flat pieces' and cover every rest face", "[sewn_fit]") {
@@ -239,12 +256,7 @@ TEST_CASE("the sewn-fit check passes a good pattern and fails one shrunk by 5 %"
 
   // The rest shape shrunk by 5 % about its centroid: every flat piece is 5 %
   // too small, and sewn it stretches over the body beyond 1.04.
-  Mesh shrunk = s.cap;
-  const Eigen::RowVector3d centre = shrunk.V.colwise().mean();
-  shrunk.V = ((shrunk.V.rowwise() - centre) * 0.95).rowwise() + centre;
-  write_mesh(s.dir / "shrunk.ply", shrunk);
-  const auto bad = testing::run_command(base + " " + (s.dir / "shrunk.ply").string() + " --out " +
-                                        (s.dir / "bad").string());
+  const auto bad = export_with_fit(s, fit, write_shrunk_cap(s), "bad");
   INFO(bad.err);
   CHECK(bad.exit_code == 8);
   CHECK(bad.err.find("error[check]") != std::string::npos);
@@ -564,10 +576,7 @@ TEST_CASE("the sewn garment is judged at the in-between frames its fit was judge
   // The fit's verification solves every 3rd of the 10 frames a -> b: frames 3, 6 and 9.
   const fs::path fit = write_fit_report(s, " --verify-frame-stride 3");
   CHECK(read_fit_settings(fit).frame_stride == 3);
-  const std::string base = testing::tool_path("export-rest") + " --garment " + (s.dir / "garment.json").string() +
-                           " -q --fit " + fit.string();
-  const auto good = testing::run_command(base + " " + (s.dir / "garment.ply").string() + " --out " +
-                                         (s.dir / "good").string());
+  const auto good = export_with_fit(s, fit, s.dir / "garment.ply", "good");
   INFO(good.err);
   REQUIRE(good.exit_code == 0);
   const Json sewn = read_json_file(s.dir / "good" / "report.json")["sewn_fit"];
@@ -582,12 +591,7 @@ TEST_CASE("the sewn garment is judged at the in-between frames its fit was judge
   CHECK(t["worst_frame"]["p99_stretch"].get<double>() < 1.06);
 
   // The pattern 5 % too small fails between the poses too.
-  Mesh shrunk = s.cap;
-  const Eigen::RowVector3d centre = shrunk.V.colwise().mean();
-  shrunk.V = ((shrunk.V.rowwise() - centre) * 0.95).rowwise() + centre;
-  write_mesh(s.dir / "shrunk.ply", shrunk);
-  const auto bad = testing::run_command(base + " " + (s.dir / "shrunk.ply").string() + " --out " +
-                                        (s.dir / "bad").string());
+  const auto bad = export_with_fit(s, fit, write_shrunk_cap(s), "bad");
   CHECK(bad.exit_code == 8);
   const Json failed = read_json_file(s.dir / "bad" / "report.json")["sewn_fit"]["transitions"][0];
   CHECK(failed["verdict"] == "fail");
