@@ -36,6 +36,14 @@ std::vector<int> failed_frames(const FitVerification& v) {
   return out;
 }
 
+std::string failure_line(const TransitionCheck& t) {
+  if (t.passed()) return "";
+  const PoseCheck& w = t.frames[static_cast<size_t>(t.worst)];
+  return std::to_string(t.failed_frames()) + " of " + std::to_string(t.frames.size()) + " in-between frames from " +
+         t.from + " to " + t.to + " fail, the worst at frame " + std::to_string(w.figures.frame) + " (" +
+         w.figures.pose + "): " + w.failures.front();
+}
+
 OrderedJson to_json(const TransitionCheck& check, const std::string& mesh) {
   OrderedJson j;
   j["transition"] = check.transition;

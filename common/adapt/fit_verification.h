@@ -64,6 +64,10 @@ FitVerification judge_run(const MotionRunResult& run, double delta, const FitCri
 // further fit cycle adapts (MotionRunOptions::adapt_frames).
 std::vector<int> failed_frames(const FitVerification& v);
 
+// A failing transition in one line: how many of its frames fail, and the worst frame's first
+// failure ("2 of 5 in-between frames from apose to tpose fail, the worst at frame 6 (...): ...").
+std::string failure_line(const TransitionCheck& check);
+
 // A transition's check as the stages report it: its frames' count, how many failed, the worst
 // frame's check (to_json of a PoseCheck, with its drape's file `mesh`, "" for none) and the worst
 // value of each figure over the frames.

@@ -297,12 +297,7 @@ std::optional<std::string> fit_failure(const FitResult& fit, const OrderedJson& 
              "): " + check.failures.front();
     }
     for (const TransitionCheck& t : fit.verification->transitions) {
-      if (t.passed()) continue;
-      const PoseCheck& w = t.frames[static_cast<size_t>(t.worst)];
-      return "the verification fails in " + std::to_string(t.failed_frames()) + " of " +
-             std::to_string(t.frames.size()) + " in-between frames from " + t.from + " to " + t.to +
-             ", the worst at frame " + std::to_string(w.figures.frame) + " (" + w.figures.pose +
-             "): " + w.failures.front();
+      if (!t.passed()) return "the verification fails: " + failure_line(t);
     }
   }
   return std::nullopt;

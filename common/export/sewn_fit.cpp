@@ -363,11 +363,7 @@ std::string sewn_fit_failure(const SewnFitResult& result, const Pattern& pattern
     return line;
   }
   for (const adapt::TransitionCheck& t : result.verification.transitions) {
-    if (t.passed()) continue;
-    const adapt::PoseCheck& w = t.frames[static_cast<size_t>(t.worst)];
-    return std::to_string(t.failed_frames()) + " of " + std::to_string(t.frames.size()) +
-           " in-between frames from " + t.from + " to " + t.to + " fail, the worst at frame " +
-           std::to_string(w.figures.frame) + " (" + w.figures.pose + "): " + w.failures.front();
+    if (!t.passed()) return adapt::failure_line(t);
   }
   return "";
 }

@@ -59,6 +59,7 @@ TEST_CASE("an in-between frame over the bounds fails the verification, and is th
   CHECK(t.frames[1].failures.size() == 2);  // area above and p99
   CHECK(!v.passed());
   CHECK(failed_frames(v) == std::vector<int>{6});
+  CHECK(failure_line(t).rfind("1 of 3 in-between frames from apose to tpose fail, the worst at frame 6 (frame 6): ", 0) == 0);
   // Only the worst frame keeps its per-face figures.
   CHECK(t.frames[1].figures.face_max_stretch.size() == 100);
   CHECK(t.frames[0].figures.face_max_stretch.size() == 0);
