@@ -110,17 +110,24 @@ FitVerification verify_fit(PoseInterpolator& interpolator, const MotionSpec& mot
   return v;
 }
 
+namespace {
+
+// A key pose or an in-between frame judged by the bounds.
+PoseCheck judged(const KeyPoseResult& k, double delta, const FitCriteria& criteria) {
+  PoseCheck check;
+  check.failures = check_pose(k, delta, criteria);
+  check.area_fraction_torn = area_fraction_above(k, criteria.tear_stretch);
+  check.figures = k;
+  return check;
+}
+
+}  // namespace
+
 FitVerification judge_run(const MotionRunResult& run, double delta, const FitCriteria& criteria) {
   FitVerification v;
   v.steps = run.steps;
   v.rejected_steps = run.solver.rejected;
-  for (const KeyPoseResult& k : run.keys) {
-    PoseCheck check;
-    check.failures = check_pose(k, delta, criteria);
-    check.area_fraction_torn = area_fraction_above(k, criteria.tear_stretch);
-    check.figures = k;
-    v.poses.push_back(std::move(check));
-  }
+  for (const KeyPoseResult& k : run.keys) v.poses.push_back(judged(k, delta, criteria));
   for (const KeyPoseResult& f : run.frames) {
     if (v.transitions.empty() || v.transitions.back().transition != f.transition) {
       TransitionCheck t;
@@ -130,11 +137,7 @@ FitVerification judge_run(const MotionRunResult& run, double delta, const FitCri
       if (to < run.keys.size()) t.to = run.keys[to].pose;
       v.transitions.push_back(std::move(t));
     }
-    PoseCheck check;
-    check.failures = check_pose(f, delta, criteria);
-    check.area_fraction_torn = area_fraction_above(f, criteria.tear_stretch);
-    check.figures = f;
-    v.transitions.back().frames.push_back(std::move(check));
+    v.transitions.back().frames.push_back(judged(f, delta, criteria));
   }
   for (TransitionCheck& t : v.transitions) {
     auto worse = [](const PoseCheck& a, const PoseCheck& b) {  // a worse than b
