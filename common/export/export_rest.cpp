@@ -6,6 +6,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/sha256.h"
+#include "adapt/simulate_report.h"
 #include "core/stopwatch.h"
 #include "interp/motion_spec.h"
 #include "interp/pose_interpolator.h"
@@ -35,29 +36,13 @@ std::string pattern_title(const ExportRestResult& result) {
   return result.name;
 }
 
-
-// "sewn_02_armsup.ply": the sewn garment's drape at key pose 2.
-std::string sewn_drape_name(const adapt::KeyPoseResult& k) {
-  char name[256];
-  std::snprintf(name, sizeof(name), "sewn_%02d_%s.ply", k.key, k.pose.c_str());
-  return name;
-}
-
-// "rest_02_armsup.ply": the rest shape's own drape at key pose 2, where
-// export-rest simulated it as the reference (the fit has no verified drapes).
-std::string rest_drape_name(const adapt::KeyPoseResult& k) {
-  char name[256];
-  std::snprintf(name, sizeof(name), "rest_%02d_%s.ply", k.key, k.pose.c_str());
-  return name;
-}
-
-// "settled_02_armsup.ply": the sewn garment settled at key pose 2 alone from
-// the reference drape (the default; not with --drape-after-motion).
-std::string settled_drape_name(const adapt::KeyPoseResult& k) {
-  char name[256];
-  std::snprintf(name, sizeof(name), "settled_%02d_%s.ply", k.key, k.pose.c_str());
-  return name;
-}
+// The sewn garment's drape at key pose k ("sewn_02_armsup.ply"), the rest shape's own drape
+// where export-rest simulated it as the reference ("rest_02_armsup.ply", the fit having no
+// verified drapes), and the sewn garment settled at key pose k alone from the reference drape
+// ("settled_02_armsup.ply"; not with --drape-after-motion): simulate-adapt's naming.
+std::string sewn_drape_name(const adapt::KeyPoseResult& k) { return adapt::drape_file_name("sewn", k); }
+std::string rest_drape_name(const adapt::KeyPoseResult& k) { return adapt::drape_file_name("rest", k); }
+std::string settled_drape_name(const adapt::KeyPoseResult& k) { return adapt::drape_file_name("settled", k); }
 
 OrderedJson vector_json(const Eigen::Vector3d& x) { return OrderedJson::array({x.x(), x.y(), x.z()}); }
 
