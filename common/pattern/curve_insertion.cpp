@@ -66,103 +66,135 @@ CurvePoint snapped(const Eigen::MatrixXi& F, const CurvePoint& p) {
   return CurvePoint::on_edge(F(p.face, i), F(p.face, j), p.bary[j] / (p.bary[i] + p.bary[j]));
 }
 
-}  // namespace
+// insert_curves' phases, in order, over the state they share: the curve
+// points registered on edges and in faces, the new vertices, each curve's
+// path and chords, then each face retriangulated and the vertices renumbered.
+class CurveInserter {
+ public:
+  CurveInserter(const Eigen::MatrixXd& V_in, const Eigen::MatrixXi& F_in, const std::vector<SurfaceCurve>& input_curves)
+      : V(V_in), F(F_in), n(static_cast<int>(V_in.rows())), m(static_cast<int>(F_in.rows())), curves(input_curves) {}
 
-RefinedMesh insert_curves(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                          const std::vector<SurfaceCurve>& input_curves, const std::vector<std::vector<int>>& carried) {
-  const int n = static_cast<int>(V.rows());
-  const int m = static_cast<int>(F.rows());
-  std::vector<SurfaceCurve> curves = input_curves;
-  for (SurfaceCurve& c : curves)
-    for (CurvePoint& p : c) p = snapped(F, p);
-  // Faces of every edge.
-  std::map<EdgeKey, std::vector<int>> edge_faces;
-  for (int f = 0; f < m; ++f)
-    for (int k = 0; k < 3; ++k) edge_faces[edge_key(F(f, k), F(f, (k + 1) % 3))].push_back(f);
-  auto faces_of_edge = [&](int a, int b) -> const std::vector<int>& {
-    static const std::vector<int> none;
-    const auto it = edge_faces.find(edge_key(a, b));
-    return it == edge_faces.end() ? none : it->second;
-  };
-  const auto vf = vertex_faces(F, n);
+  RefinedMesh run(const std::vector<std::vector<int>>& carried) {
+    register_points();
+    add_vertices();
+    trace_curves();
+    carry_paths(carried);
+    triangulate_faces();
+    renumber();
+    return std::move(out);
+  }
 
+ private:
+  const Eigen::MatrixXd& V;
+  const Eigen::MatrixXi& F;
+  const int n;
+  const int m;
+  std::vector<SurfaceCurve> curves;
+  std::map<EdgeKey, std::vector<int>> edge_faces;  // faces of every edge
+  std::vector<std::vector<int>> vf;
   // New points: edge points keyed by (edge, t), then face points.
   std::map<EdgeKey, std::vector<double>> edge_t;
   std::vector<std::pair<int, Eigen::Vector3d>> face_points;  // (face, bary), in curve order
-  for (const SurfaceCurve& c : curves)
-    for (const CurvePoint& p : c) {
-      if (p.is_edge()) {
-        if (faces_of_edge(p.a, p.b).empty())
-          throw GeometryError("a curve point lies on " + std::to_string(p.a) + "-" + std::to_string(p.b) +
-                              ", which is not an edge of the mesh");
-        edge_t[edge_key(p.a, p.b)].push_back(p.t);
-      } else if (p.is_face()) {
-        if (p.face < 0 || p.face >= m) throw GeometryError("a curve point lies in a face that does not exist");
-        face_points.emplace_back(p.face, p.bary);
-      } else if (p.vertex >= n) {
-        throw GeometryError("a curve point is a vertex that does not exist");
-      }
-    }
   RefinedMesh out;
   std::vector<Eigen::Vector3d> positions;
   std::vector<SurfacePoint> origin;
-  for (int v = 0; v < n; ++v) {
-    positions.push_back(V.row(v).transpose());
-    SurfacePoint s;
-    if (!vf[static_cast<size_t>(v)].empty()) {
-      s.face = vf[static_cast<size_t>(v)].front();
-      for (int k = 0; k < 3; ++k) s.bary[k] = F(s.face, k) == v ? 1.0 : 0.0;
-    }
-    origin.push_back(s);
-  }
   std::map<EdgeKey, std::vector<EdgePoint>> on_edge;  // sorted by t, from the smaller vertex
-  for (auto& [key, ts] : edge_t) {
-    std::sort(ts.begin(), ts.end());
-    ts.erase(std::unique(ts.begin(), ts.end()), ts.end());
-    for (double t : ts) {
-      const int id = static_cast<int>(positions.size());
-      positions.push_back((1.0 - t) * V.row(key.first).transpose() + t * V.row(key.second).transpose());
+  std::map<std::pair<int, size_t>, int> face_point_id;  // (face, index in face_points) -> id
+  std::vector<std::vector<int>> points_in_face;
+  std::vector<std::vector<std::pair<int, int>>> constraints;  // per face: chords
+  // alias[id]: the point a new point coincides with (merged), else -1.
+  std::vector<int> alias;
+  std::vector<Eigen::Vector3i> faces;
+  std::vector<int> parent;
+
+  const std::vector<int>& faces_of_edge(int a, int b) const {
+    static const std::vector<int> none;
+    const auto it = edge_faces.find(edge_key(a, b));
+    return it == edge_faces.end() ? none : it->second;
+  }
+
+  // The curves' points snapped, the mesh's edge faces, and the points to add
+  // on edges and in faces.
+  void register_points() {
+    for (SurfaceCurve& c : curves)
+      for (CurvePoint& p : c) p = snapped(F, p);
+    for (int f = 0; f < m; ++f)
+      for (int k = 0; k < 3; ++k) edge_faces[edge_key(F(f, k), F(f, (k + 1) % 3))].push_back(f);
+    vf = vertex_faces(F, n);
+    for (const SurfaceCurve& c : curves)
+      for (const CurvePoint& p : c) {
+        if (p.is_edge()) {
+          if (faces_of_edge(p.a, p.b).empty())
+            throw GeometryError("a curve point lies on " + std::to_string(p.a) + "-" + std::to_string(p.b) +
+                                ", which is not an edge of the mesh");
+          edge_t[edge_key(p.a, p.b)].push_back(p.t);
+        } else if (p.is_face()) {
+          if (p.face < 0 || p.face >= m) throw GeometryError("a curve point lies in a face that does not exist");
+          face_points.emplace_back(p.face, p.bary);
+        } else if (p.vertex >= n) {
+          throw GeometryError("a curve point is a vertex that does not exist");
+        }
+      }
+  }
+
+  // The vertices: the input's, then the edge points by edge and t, then the
+  // face points; each with its origin on the input.
+  void add_vertices() {
+    for (int v = 0; v < n; ++v) {
+      positions.push_back(V.row(v).transpose());
       SurfacePoint s;
-      s.face = faces_of_edge(key.first, key.second).front();
-      for (int k = 0; k < 3; ++k)
-        s.bary[k] = F(s.face, k) == key.first ? 1.0 - t : F(s.face, k) == key.second ? t : 0.0;
+      if (!vf[static_cast<size_t>(v)].empty()) {
+        s.face = vf[static_cast<size_t>(v)].front();
+        for (int k = 0; k < 3; ++k) s.bary[k] = F(s.face, k) == v ? 1.0 : 0.0;
+      }
       origin.push_back(s);
-      on_edge[key].push_back({t, id});
+    }
+    for (auto& [key, ts] : edge_t) {
+      std::sort(ts.begin(), ts.end());
+      ts.erase(std::unique(ts.begin(), ts.end()), ts.end());
+      for (double t : ts) {
+        const int id = static_cast<int>(positions.size());
+        positions.push_back((1.0 - t) * V.row(key.first).transpose() + t * V.row(key.second).transpose());
+        SurfacePoint s;
+        s.face = faces_of_edge(key.first, key.second).front();
+        for (int k = 0; k < 3; ++k)
+          s.bary[k] = F(s.face, k) == key.first ? 1.0 - t : F(s.face, k) == key.second ? t : 0.0;
+        origin.push_back(s);
+        on_edge[key].push_back({t, id});
+      }
+    }
+    points_in_face.assign(static_cast<size_t>(m), {});
+    for (size_t i = 0; i < face_points.size(); ++i) {
+      const auto& [f, b] = face_points[i];
+      const int id = static_cast<int>(positions.size());
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 3; ++k) x += b[k] * V.row(F(f, k)).transpose();
+      positions.push_back(x);
+      origin.push_back({f, b});
+      face_point_id[{f, i}] = id;
+      points_in_face[static_cast<size_t>(f)].push_back(id);
     }
   }
-  std::map<std::pair<int, size_t>, int> face_point_id;  // (face, index in face_points) -> id
-  std::vector<std::vector<int>> points_in_face(static_cast<size_t>(m));
-  for (size_t i = 0; i < face_points.size(); ++i) {
-    const auto& [f, b] = face_points[i];
-    const int id = static_cast<int>(positions.size());
-    Eigen::Vector3d x = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k) x += b[k] * V.row(F(f, k)).transpose();
-    positions.push_back(x);
-    origin.push_back({f, b});
-    face_point_id[{f, i}] = id;
-    points_in_face[static_cast<size_t>(f)].push_back(id);
-  }
-  auto edge_point_id = [&](int a, int b, double t) {
+
+  int edge_point_id(int a, int b, double t) const {
     const EdgeKey key = edge_key(a, b);
     const double tt = a < b ? t : 1.0 - t;
     for (const EdgePoint& e : on_edge.at(key))
       if (e.t == tt) return e.id;
     throw GeometryError("internal: an edge point was not registered");
-  };
+  }
 
-  // Vertex ids of every curve's points and the face of each chord.
-  std::vector<std::vector<std::pair<int, int>>> constraints(static_cast<size_t>(m));  // per face: chords
-  size_t face_point_cursor = 0;
-  auto faces_of_point = [&](const CurvePoint& p) {
+  std::vector<int> faces_of_point(const CurvePoint& p) const {
     std::vector<int> fs;
     if (p.is_vertex()) fs = vf[static_cast<size_t>(p.vertex)];
     else if (p.is_edge()) fs = faces_of_edge(p.a, p.b);
     else fs = {p.face};
     std::sort(fs.begin(), fs.end());
     return fs;
-  };
+  }
+
   // Points of an edge strictly between two of its points (ids, in order from a to b).
-  auto between_on_edge = [&](int a, int b, int from_id, int to_id) {
+  std::vector<int> between_on_edge(int a, int b, int from_id, int to_id) const {
     // Positions along a -> b of every point of the edge, with the vertices at 0 and 1.
     std::vector<std::pair<double, int>> along{{0.0, a}, {1.0, b}};
     const auto it = on_edge.find(edge_key(a, b));
@@ -184,15 +216,10 @@ RefinedMesh insert_curves(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
         if (r->first < s0 && r->first > s1) ids.push_back(r->second);
     }
     return ids;
-  };
+  }
+
   // The mesh edge two points both lie on (vertex or edge points), or (-1, -1).
-  auto common_edge = [&](const CurvePoint& p, const CurvePoint& q) -> EdgeKey {
-    auto ends = [](const CurvePoint& x) -> std::vector<int> {
-      if (x.is_vertex()) return {x.vertex};
-      if (x.is_edge()) return {x.a, x.b};
-      return {};
-    };
-    const auto ep = ends(p), eq = ends(q);
+  EdgeKey common_edge(const CurvePoint& p, const CurvePoint& q) const {
     if (p.is_edge() && q.is_edge()) return edge_key(p.a, p.b) == edge_key(q.a, q.b) ? edge_key(p.a, p.b) : EdgeKey{-1, -1};
     if (p.is_vertex() && q.is_vertex()) {
       const auto& fs = faces_of_edge(p.vertex, q.vertex);
@@ -201,64 +228,80 @@ RefinedMesh insert_curves(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     if (p.is_vertex() && q.is_edge() && (q.a == p.vertex || q.b == p.vertex)) return edge_key(q.a, q.b);
     if (q.is_vertex() && p.is_edge() && (p.a == q.vertex || p.b == q.vertex)) return edge_key(p.a, p.b);
     return {-1, -1};
-  };
+  }
 
-  std::vector<std::vector<int>> curve_ids(curves.size());
-  for (size_t c = 0; c < curves.size(); ++c) {
-    const SurfaceCurve& curve = curves[c];
-    std::vector<int>& ids = curve_ids[c];
-    for (const CurvePoint& p : curve) {
-      if (p.is_vertex()) ids.push_back(p.vertex);
-      else if (p.is_edge()) ids.push_back(edge_point_id(p.a, p.b, p.t));
-      else ids.push_back(face_point_id.at({p.face, face_point_cursor++}));
-    }
-    std::vector<int>& path = out.paths.emplace_back();
-    for (size_t i = 0; i < curve.size(); ++i) {
-      if (i == 0) {
-        path.push_back(ids[0]);
-        continue;
+  // Vertex ids of every curve's points, its path, and the face of each chord.
+  void trace_curves() {
+    constraints.assign(static_cast<size_t>(m), {});
+    size_t face_point_cursor = 0;
+    std::vector<std::vector<int>> curve_ids(curves.size());
+    for (size_t c = 0; c < curves.size(); ++c) {
+      const SurfaceCurve& curve = curves[c];
+      std::vector<int>& ids = curve_ids[c];
+      for (const CurvePoint& p : curve) {
+        if (p.is_vertex()) ids.push_back(p.vertex);
+        else if (p.is_edge()) ids.push_back(edge_point_id(p.a, p.b, p.t));
+        else ids.push_back(face_point_id.at({p.face, face_point_cursor++}));
       }
-      const CurvePoint &p = curve[i - 1], &q = curve[i];
-      const EdgeKey along = common_edge(p, q);
-      if (along.first >= 0) {
-        // The chord runs along a mesh edge: no constraint, but the path takes
-        // every point that splits the edge between its ends.
-        for (int id : between_on_edge(along.first, along.second, ids[i - 1], ids[i])) path.push_back(id);
+      std::vector<int>& path = out.paths.emplace_back();
+      for (size_t i = 0; i < curve.size(); ++i) {
+        if (i == 0) {
+          path.push_back(ids[0]);
+          continue;
+        }
+        const CurvePoint &p = curve[i - 1], &q = curve[i];
+        const EdgeKey along = common_edge(p, q);
+        if (along.first >= 0) {
+          // The chord runs along a mesh edge: no constraint, but the path takes
+          // every point that splits the edge between its ends.
+          for (int id : between_on_edge(along.first, along.second, ids[i - 1], ids[i])) path.push_back(id);
+          path.push_back(ids[i]);
+          continue;
+        }
+        const auto fp = faces_of_point(p), fq = faces_of_point(q);
+        std::vector<int> common;
+        std::set_intersection(fp.begin(), fp.end(), fq.begin(), fq.end(), std::back_inserter(common));
+        if (common.empty())
+          throw GeometryError("curve " + std::to_string(c) + " leaves the mesh between its points " +
+                              std::to_string(i - 1) + " and " + std::to_string(i) + " (they share no face)");
+        constraints[static_cast<size_t>(common.front())].push_back({ids[i - 1], ids[i]});
         path.push_back(ids[i]);
-        continue;
       }
-      const auto fp = faces_of_point(p), fq = faces_of_point(q);
-      std::vector<int> common;
-      std::set_intersection(fp.begin(), fp.end(), fq.begin(), fq.end(), std::back_inserter(common));
-      if (common.empty())
-        throw GeometryError("curve " + std::to_string(c) + " leaves the mesh between its points " +
-                            std::to_string(i - 1) + " and " + std::to_string(i) + " (they share no face)");
-      constraints[static_cast<size_t>(common.front())].push_back({ids[i - 1], ids[i]});
-      path.push_back(ids[i]);
     }
   }
-  for (const auto& path : carried) {
-    std::vector<int>& next = out.carried.emplace_back();
-    for (size_t i = 0; i < path.size(); ++i) {
-      if (i > 0)
-        for (int id : between_on_edge(path[i - 1], path[i], path[i - 1], path[i])) next.push_back(id);
-      next.push_back(path[i]);
+
+  void carry_paths(const std::vector<std::vector<int>>& carried) {
+    for (const auto& path : carried) {
+      std::vector<int>& next = out.carried.emplace_back();
+      for (size_t i = 0; i < path.size(); ++i) {
+        if (i > 0)
+          for (int id : between_on_edge(path[i - 1], path[i], path[i - 1], path[i])) next.push_back(id);
+        next.push_back(path[i]);
+      }
     }
   }
 
   // Faces: unchanged ones copied, the others triangulated in their plane.
-  // alias[id]: the point a new point coincides with (merged), else -1.
-  std::vector<int> alias(positions.size(), -1);
-  std::vector<Eigen::Vector3i> faces;
-  std::vector<int> parent;
-  for (int f = 0; f < m; ++f) {
-    bool split = !constraints[static_cast<size_t>(f)].empty() || !points_in_face[static_cast<size_t>(f)].empty();
-    for (int k = 0; k < 3 && !split; ++k) split = on_edge.count(edge_key(F(f, k), F(f, (k + 1) % 3))) > 0;
-    if (!split) {
-      faces.push_back(F.row(f).transpose());
-      parent.push_back(f);
-      continue;
+  void triangulate_faces() {
+    alias.assign(positions.size(), -1);
+    for (int f = 0; f < m; ++f) {
+      bool split = !constraints[static_cast<size_t>(f)].empty() || !points_in_face[static_cast<size_t>(f)].empty();
+      for (int k = 0; k < 3 && !split; ++k) split = on_edge.count(edge_key(F(f, k), F(f, (k + 1) % 3))) > 0;
+      if (!split) {
+        faces.push_back(F.row(f).transpose());
+        parent.push_back(f);
+        continue;
+      }
+      for (const auto& t : triangulate_face(f)) {
+        faces.push_back(t);
+        parent.push_back(f);
+      }
     }
+  }
+
+  // Face f's points in its plane, constrained-triangulated with its rim and
+  // chords; the triangles inside the rim, in a canonical order.
+  std::vector<Eigen::Vector3i> triangulate_face(int f) {
     const Eigen::Vector3d p0 = V.row(F(f, 0)), p1 = V.row(F(f, 1)), p2 = V.row(F(f, 2));
     const Eigen::Vector3d e1 = p1 - p0, normal = e1.cross(p2 - p0);
     if (!(e1.norm() > 0.0) || !(normal.norm() > 1e-14 * e1.squaredNorm()))
@@ -320,6 +363,11 @@ RefinedMesh insert_curves(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     } catch (const Cdt::Intersection_of_constraints_exception&) {
       throw GeometryError("two curves cross inside face " + std::to_string(f));
     }
+    return inside_rim(cdt, rim_edges);
+  }
+
+  // The triangles of `cdt` inside the rim, each starting at its smallest id, sorted.
+  static std::vector<Eigen::Vector3i> inside_rim(const Cdt& cdt, const std::set<std::pair<int, int>>& rim_edges) {
     // Faces outside the rim (slivers where an edge point fell just outside
     // its edge in floating point) are reached from the infinite face
     // without crossing the rim.
@@ -354,43 +402,49 @@ RefinedMesh insert_curves(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     std::sort(pieces.begin(), pieces.end(), [](const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
       return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
     });
-    for (const auto& t : pieces) {
-      faces.push_back(t);
-      parent.push_back(f);
-    }
+    return pieces;
   }
+
   // Merged points leave the mesh; the others keep their order.
-  auto canonical = [&alias](int id) {
-    while (alias[static_cast<size_t>(id)] >= 0) id = alias[static_cast<size_t>(id)];
-    return id;
-  };
-  std::vector<int> renumber(positions.size(), -1);
-  int kept = 0;
-  for (size_t i = 0; i < positions.size(); ++i)
-    if (alias[i] < 0) renumber[i] = kept++;
-  auto final_id = [&](int id) { return renumber[static_cast<size_t>(canonical(id))]; };
-  auto remap_path = [&](std::vector<int>& path) {
-    std::vector<int> next;
-    for (int id : path) {
-      const int v = final_id(id);
-      if (next.empty() || next.back() != v) next.push_back(v);
+  void renumber() {
+    auto canonical = [this](int id) {
+      while (alias[static_cast<size_t>(id)] >= 0) id = alias[static_cast<size_t>(id)];
+      return id;
+    };
+    std::vector<int> kept_id(positions.size(), -1);
+    int kept = 0;
+    for (size_t i = 0; i < positions.size(); ++i)
+      if (alias[i] < 0) kept_id[i] = kept++;
+    auto final_id = [&](int id) { return kept_id[static_cast<size_t>(canonical(id))]; };
+    auto remap_path = [&](std::vector<int>& path) {
+      std::vector<int> next;
+      for (int id : path) {
+        const int v = final_id(id);
+        if (next.empty() || next.back() != v) next.push_back(v);
+      }
+      path = std::move(next);
+    };
+    for (auto& path : out.paths) remap_path(path);
+    for (auto& path : out.carried) remap_path(path);
+    out.V.resize(kept, 3);
+    out.origin.clear();
+    for (size_t i = 0; i < positions.size(); ++i) {
+      if (kept_id[i] < 0) continue;
+      out.V.row(kept_id[i]) = positions[i].transpose();
+      out.origin.push_back(origin[i]);
     }
-    path = std::move(next);
-  };
-  for (auto& path : out.paths) remap_path(path);
-  for (auto& path : out.carried) remap_path(path);
-  out.V.resize(kept, 3);
-  out.origin.clear();
-  for (size_t i = 0; i < positions.size(); ++i) {
-    if (renumber[i] < 0) continue;
-    out.V.row(renumber[i]) = positions[i].transpose();
-    out.origin.push_back(origin[i]);
+    out.F.resize(static_cast<int>(faces.size()), 3);
+    for (size_t i = 0; i < faces.size(); ++i)
+      for (int k = 0; k < 3; ++k) out.F(static_cast<int>(i), k) = final_id(faces[i][k]);
+    out.parent_face = parent;
   }
-  out.F.resize(static_cast<int>(faces.size()), 3);
-  for (size_t i = 0; i < faces.size(); ++i)
-    for (int k = 0; k < 3; ++k) out.F(static_cast<int>(i), k) = final_id(faces[i][k]);
-  out.parent_face = parent;
-  return out;
+};
+
+}  // namespace
+
+RefinedMesh insert_curves(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                          const std::vector<SurfaceCurve>& input_curves, const std::vector<std::vector<int>>& carried) {
+  return CurveInserter(V, F, input_curves).run(carried);
 }
 
 }  // namespace gp
