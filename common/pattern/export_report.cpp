@@ -160,10 +160,10 @@ Eigen::Vector3d worst_region_centroid(const std::vector<MaterialFace>& faces, do
   return sum / weight;
 }
 
-OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const PatternOptions& options,
-                           const SeamTolerance& tol) {
-  OrderedJson j;
-  const std::vector<SeamMeasure> seams = measure_seams(pattern, layout, tol);
+namespace {
+
+// The whole pattern's figures: sums and worsts over its pieces and seams.
+OrderedJson pattern_summary(const Pattern& pattern, const Layout& layout, const std::vector<SeamMeasure>& seams) {
   double area_3d = 0.0, area_2d = 0.0, worst_p95 = 0.0, worst_max = 0.0, seam_length = 0.0, added_length = 0.0;
   double worst_compression_p99 = 0.0, worst_compression = 0.0, worst_ease_p95 = 0.0, worst_ease = 0.0;
   double worst1_compression = 0.0, worst5_ease = 0.0;
@@ -199,57 +199,62 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
   for (const auto& loop : boundary_loops(pattern.mesh.F))
     for (size_t k = 0; k < loop.size(); ++k)
       boundary_length += (pattern.mesh.V.row(loop[k]) - pattern.mesh.V.row(loop[(k + 1) % loop.size()])).norm();
-  j["summary"] = {{"pieces", pattern.pieces.size()},
-                  {"seams", pattern.seams.size()},
-                  {"darts", darts},
-                  {"most_darts_in_a_piece", most_darts},
-                  {"added_cuts", std::count_if(pattern.seams.begin(), pattern.seams.end(),
-                                               [](const PatternSeam& s) { return s.kind != "user"; })},
-                  {"total_seam_length", seam_length},
-                  {"added_seam_length", added_length},
-                  {"user_seam_length", seam_length - added_length},
-                  {"boundary_length", boundary_length},
-                  {"smallest_piece_area", pattern.pieces.empty() ? 0.0 : smallest},
-                  {"area_3d", area_3d},
-                  {"area_2d", area_2d},
-                  {"worst_compression", worst1_compression},
-                  {"worst_ease", worst5_ease},
-                  {"worst_compression_p99", worst_compression_p99},
-                  {"worst_compression_max", worst_compression},
-                  {"worst_ease_p95", worst_ease_p95},
-                  {"worst_ease_max", worst_ease},
-                  {"worst_p95_error", worst_p95},
-                  {"worst_max_error", worst_max},
-                  {"meets_distortion_limit", pattern.meets_limit},
-                  {"flipped_triangles", flipped},
-                  {"overlapping_pieces", overlapping},
-                  {"seams_within_tolerance", seams_ok == static_cast<int>(seams.size())},
-                  {"seams_matched_1mm", std::count_if(seams.begin(), seams.end(),
-                                                      [](const SeamMeasure& m) { return m.mismatch <= kSeamMatch; })},
-                  {"worst_seam_mismatch", std::accumulate(seams.begin(), seams.end(), 0.0,
-                                                          [](double w, const SeamMeasure& m) { return std::max(w, m.mismatch); })},
-                  {"merged_cuts", pattern.merged_cuts.size()},
-                  {"flatten_rounds", pattern.rounds},
-                  {"flattenings", pattern.flattenings},
-                  {"sheet_width", layout.width},
-                  {"sheet_height", layout.height}};
-  // Which bound each piece exceeds: under the one-sided limit a piece over
-  // it is over on compression (cloth that the sewn garment must stretch) or
-  // on ease (cloth to spare), and the two mean different things for the fit.
-  auto bounds_exceeded = [&options](const PatternPiece& p) {
-    std::vector<std::string> over;
-    const DistortionStats& s = p.stats;
-    if (options.limit.symmetric) {
-      if (s.p95_error > options.limit.p95_limit) over.push_back("p95_error");
-      if (s.max_error > options.limit.max_limit) over.push_back("max_error");
-    } else {
-      if (s.worst1_compression > options.limit.compression_worst1) over.push_back("compression");
-      if (s.worst5_ease > options.limit.ease_worst5) over.push_back("ease");
-    }
-    if (p.flat.stats.flipped_triangles > 0) over.push_back("flips");
-    if (p.flat.boundary_overlaps) over.push_back("overlap");
-    return over;
-  };
+  return {{"pieces", pattern.pieces.size()},
+          {"seams", pattern.seams.size()},
+          {"darts", darts},
+          {"most_darts_in_a_piece", most_darts},
+          {"added_cuts", std::count_if(pattern.seams.begin(), pattern.seams.end(),
+                                       [](const PatternSeam& s) { return s.kind != "user"; })},
+          {"total_seam_length", seam_length},
+          {"added_seam_length", added_length},
+          {"user_seam_length", seam_length - added_length},
+          {"boundary_length", boundary_length},
+          {"smallest_piece_area", pattern.pieces.empty() ? 0.0 : smallest},
+          {"area_3d", area_3d},
+          {"area_2d", area_2d},
+          {"worst_compression", worst1_compression},
+          {"worst_ease", worst5_ease},
+          {"worst_compression_p99", worst_compression_p99},
+          {"worst_compression_max", worst_compression},
+          {"worst_ease_p95", worst_ease_p95},
+          {"worst_ease_max", worst_ease},
+          {"worst_p95_error", worst_p95},
+          {"worst_max_error", worst_max},
+          {"meets_distortion_limit", pattern.meets_limit},
+          {"flipped_triangles", flipped},
+          {"overlapping_pieces", overlapping},
+          {"seams_within_tolerance", seams_ok == static_cast<int>(seams.size())},
+          {"seams_matched_1mm", std::count_if(seams.begin(), seams.end(),
+                                              [](const SeamMeasure& m) { return m.mismatch <= kSeamMatch; })},
+          {"worst_seam_mismatch", std::accumulate(seams.begin(), seams.end(), 0.0,
+                                                  [](double w, const SeamMeasure& m) { return std::max(w, m.mismatch); })},
+          {"merged_cuts", pattern.merged_cuts.size()},
+          {"flatten_rounds", pattern.rounds},
+          {"flattenings", pattern.flattenings},
+          {"sheet_width", layout.width},
+          {"sheet_height", layout.height}};
+}
+
+// Which bound each piece exceeds: under the one-sided limit a piece over
+// it is over on compression (cloth that the sewn garment must stretch) or
+// on ease (cloth to spare), and the two mean different things for the fit.
+std::vector<std::string> bounds_exceeded(const PatternPiece& p, const PatternOptions& options) {
+  std::vector<std::string> over;
+  const DistortionStats& s = p.stats;
+  if (options.limit.symmetric) {
+    if (s.p95_error > options.limit.p95_limit) over.push_back("p95_error");
+    if (s.max_error > options.limit.max_limit) over.push_back("max_error");
+  } else {
+    if (s.worst1_compression > options.limit.compression_worst1) over.push_back("compression");
+    if (s.worst5_ease > options.limit.ease_worst5) over.push_back("ease");
+  }
+  if (p.flat.stats.flipped_triangles > 0) over.push_back("flips");
+  if (p.flat.boundary_overlaps) over.push_back("overlap");
+  return over;
+}
+
+// Per bound of the limit in force, the names of the pieces over it.
+OrderedJson pieces_over_limit(const Pattern& pattern, const PatternOptions& options) {
   OrderedJson over_limit = OrderedJson::object();
   for (const char* b : {"compression", "ease", "p95_error", "max_error", "flips", "overlap"}) {
     if (options.limit.symmetric ? (std::string(b) == "compression" || std::string(b) == "ease")
@@ -258,102 +263,106 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
     over_limit[b] = OrderedJson::array();
   }
   for (const PatternPiece& p : pattern.pieces)
-    for (const std::string& b : bounds_exceeded(p)) over_limit[b].push_back(p.name);
-  j["summary"]["pieces_over_limit"] = over_limit;
-  OrderedJson pieces = OrderedJson::array();
-  for (size_t i = 0; i < pattern.pieces.size(); ++i) {
-    const PatternPiece& p = pattern.pieces[i];
-    const DistortionStats& s = p.stats;
-    const LaidOutPiece& lp = layout.pieces[i];
-    std::vector<std::string> darts_here;
-    for (int d : p.dart_seams) darts_here.push_back(pattern.seams[static_cast<size_t>(d)].name);
-    // Where the piece is most compressed and most eased: where a dart or a
-    // seam would go.
-    const std::vector<MaterialFace> faces = material_faces(pattern, i);
-    auto at = [](const Eigen::Vector3d& x) { return OrderedJson::array({x.x(), x.y(), x.z()}); };
-    const OrderedJson worst_at = {{"compression_worst1_m", at(worst_region_centroid(faces, 0.01, true, options.darts.kernel_radius))},
-                                  {"ease_worst5_m", at(worst_region_centroid(faces, 0.05, false, options.darts.kernel_radius))}};
-    pieces.push_back({{"name", p.name},
-                      {"vertices", p.V.rows()},
-                      {"faces", p.F.rows()},
-                      {"area_3d", s.area_3d},
-                      {"area_2d", s.area_2d},
-                      {"outline_length", polygon_perimeter(lp.outline)},
-                      {"cutting_line_length", lp.allowance.empty() ? 0.0 : polygon_perimeter(lp.allowance.front())},
-                      {"darts", darts_here},
-                      {"distortion",
-                       {{"compression_worst1", s.worst1_compression},
-                        {"ease_worst5", s.worst5_ease},
-                        {"p99_compression", s.p99_compression},
-                        {"max_compression", s.max_compression},
-                        {"p95_ease", s.p95_stretch},
-                        {"max_ease", s.max_stretch},
-                        {"p95_error", s.p95_error},
-                        {"max_error", s.max_error},
-                        {"mean_error", s.mean_error},
-                        {"p95_compression", s.p95_compression}}},
-                      {"meets_limit", p.meets_limit},
-                      {"over_limit", bounds_exceeded(p)},
-                      {"worst_at", worst_at},
-                      {"flipped_triangles", p.flat.stats.flipped_triangles},
-                      {"boundary_overlaps", p.flat.boundary_overlaps},
-                      {"initialization", p.flat.initialization},
-                      {"arap_iterations", p.flat.iterations},
-                      {"rotation_rad", lp.rotation},
-                      {"grain", lp.grain_from_body_vertical ? "body vertical" : "longest axis"}});
+    for (const std::string& b : bounds_exceeded(p, options)) over_limit[b].push_back(p.name);
+  return over_limit;
+}
+
+// Piece i: its size, distortion, where it is worst, and its place on the sheet.
+OrderedJson piece_json(const Pattern& pattern, const Layout& layout, const PatternOptions& options, size_t i) {
+  const PatternPiece& p = pattern.pieces[i];
+  const DistortionStats& s = p.stats;
+  const LaidOutPiece& lp = layout.pieces[i];
+  std::vector<std::string> darts_here;
+  for (int d : p.dart_seams) darts_here.push_back(pattern.seams[static_cast<size_t>(d)].name);
+  // Where the piece is most compressed and most eased: where a dart or a
+  // seam would go.
+  const std::vector<MaterialFace> faces = material_faces(pattern, i);
+  auto at = [](const Eigen::Vector3d& x) { return OrderedJson::array({x.x(), x.y(), x.z()}); };
+  const OrderedJson worst_at = {{"compression_worst1_m", at(worst_region_centroid(faces, 0.01, true, options.darts.kernel_radius))},
+                                {"ease_worst5_m", at(worst_region_centroid(faces, 0.05, false, options.darts.kernel_radius))}};
+  return {{"name", p.name},
+          {"vertices", p.V.rows()},
+          {"faces", p.F.rows()},
+          {"area_3d", s.area_3d},
+          {"area_2d", s.area_2d},
+          {"outline_length", polygon_perimeter(lp.outline)},
+          {"cutting_line_length", lp.allowance.empty() ? 0.0 : polygon_perimeter(lp.allowance.front())},
+          {"darts", darts_here},
+          {"distortion",
+           {{"compression_worst1", s.worst1_compression},
+            {"ease_worst5", s.worst5_ease},
+            {"p99_compression", s.p99_compression},
+            {"max_compression", s.max_compression},
+            {"p95_ease", s.p95_stretch},
+            {"max_ease", s.max_stretch},
+            {"p95_error", s.p95_error},
+            {"max_error", s.max_error},
+            {"mean_error", s.mean_error},
+            {"p95_compression", s.p95_compression}}},
+          {"meets_limit", p.meets_limit},
+          {"over_limit", bounds_exceeded(p, options)},
+          {"worst_at", worst_at},
+          {"flipped_triangles", p.flat.stats.flipped_triangles},
+          {"boundary_overlaps", p.flat.boundary_overlaps},
+          {"initialization", p.flat.initialization},
+          {"arap_iterations", p.flat.iterations},
+          {"rotation_rad", lp.rotation},
+          {"grain", lp.grain_from_body_vertical ? "body vertical" : "longest axis"}};
+}
+
+// Each notch pair of a seam: its label, the 3D arc length, the flat arc on
+// each side and their difference (what a sewer matching the notches eases in).
+OrderedJson notch_pairs(const Layout& layout, size_t seam) {
+  OrderedJson pairs = OrderedJson::array();
+  std::map<std::string, std::pair<const Notch*, const Notch*>> by_label;
+  std::vector<std::string> order;
+  for (const Notch& n : layout.notches) {
+    if (n.seam != static_cast<int>(seam)) continue;
+    auto& pr = by_label[n.label];
+    if (!pr.first && !pr.second) order.push_back(n.label);
+    (n.side == 0 ? pr.first : pr.second) = &n;
   }
-  j["pieces"] = pieces;
+  for (const std::string& label : order) {
+    const auto& [l, r] = by_label[label];
+    OrderedJson p = {{"label", label}, {"arc_3d", (l ? l : r)->arc}};
+    p["left_flat_arc"] = l ? OrderedJson(l->flat_arc) : OrderedJson();
+    p["right_flat_arc"] = r ? OrderedJson(r->flat_arc) : OrderedJson();
+    p["difference"] = l && r ? OrderedJson(std::abs(l->flat_arc - r->flat_arc)) : OrderedJson();
+    pairs.push_back(p);
+  }
+  return pairs;
+}
+
+// Seam i: its lengths on each side, their mismatch, its notches and ends.
+OrderedJson seam_json(const Pattern& pattern, const Layout& layout, const SeamMeasure& m, size_t i) {
   auto point = [&](int v) {
     OrderedJson xyz = OrderedJson::array();
     for (int k = 0; k < 3; ++k) xyz.push_back(pattern.mesh.V(v, k));
     return xyz;
   };
-  // Each notch pair: its label, the 3D arc length, the flat arc on each side
-  // and their difference (what a sewer matching the notches eases in).
-  auto notch_pairs = [&](size_t seam) {
-    OrderedJson pairs = OrderedJson::array();
-    std::map<std::string, std::pair<const Notch*, const Notch*>> by_label;
-    std::vector<std::string> order;
-    for (const Notch& n : layout.notches) {
-      if (n.seam != static_cast<int>(seam)) continue;
-      auto& pr = by_label[n.label];
-      if (!pr.first && !pr.second) order.push_back(n.label);
-      (n.side == 0 ? pr.first : pr.second) = &n;
-    }
-    for (const std::string& label : order) {
-      const auto& [l, r] = by_label[label];
-      OrderedJson p = {{"label", label}, {"arc_3d", (l ? l : r)->arc}};
-      p["left_flat_arc"] = l ? OrderedJson(l->flat_arc) : OrderedJson();
-      p["right_flat_arc"] = r ? OrderedJson(r->flat_arc) : OrderedJson();
-      p["difference"] = l && r ? OrderedJson(std::abs(l->flat_arc - r->flat_arc)) : OrderedJson();
-      pairs.push_back(p);
-    }
-    return pairs;
-  };
-  OrderedJson seam_list = OrderedJson::array();
-  for (size_t i = 0; i < seams.size(); ++i) {
-    const SeamMeasure& m = seams[i];
-    const PatternSeam& s = pattern.seams[i];
-    int notches = 0;
-    for (const auto& n : layout.notches)
-      if (n.seam == static_cast<int>(i)) ++notches;
-    seam_list.push_back({{"name", s.name},
-                         {"kind", s.kind},
-                         {"length_3d", m.length_3d},
-                         {"left", {{"pieces", m.left_pieces}, {"length_2d", m.left_2d}}},
-                         {"right", {{"pieces", m.right_pieces}, {"length_2d", m.right_2d}}},
-                         {"mismatch", m.mismatch},
-                         {"mismatch_relative", m.length_3d > 0.0 ? m.mismatch / m.length_3d : 0.0},
-                         {"within_tolerance", m.ok},
-                         {"matched_1mm", m.mismatch <= kSeamMatch},
-                         {"intended_ease", 0.0},
-                         {"notches", notches},
-                         {"notch_pairs", notch_pairs(i)},
-                         {"smoothed", s.smoothed},
-                         {"from", point(s.vertex_ids.front())},
-                         {"to", point(s.closed ? s.vertex_ids.front() : s.vertex_ids.back())}});
-  }
-  j["seams"] = seam_list;
+  const PatternSeam& s = pattern.seams[i];
+  int notches = 0;
+  for (const auto& n : layout.notches)
+    if (n.seam == static_cast<int>(i)) ++notches;
+  return {{"name", s.name},
+          {"kind", s.kind},
+          {"length_3d", m.length_3d},
+          {"left", {{"pieces", m.left_pieces}, {"length_2d", m.left_2d}}},
+          {"right", {{"pieces", m.right_pieces}, {"length_2d", m.right_2d}}},
+          {"mismatch", m.mismatch},
+          {"mismatch_relative", m.length_3d > 0.0 ? m.mismatch / m.length_3d : 0.0},
+          {"within_tolerance", m.ok},
+          {"matched_1mm", m.mismatch <= kSeamMatch},
+          {"intended_ease", 0.0},
+          {"notches", notches},
+          {"notch_pairs", notch_pairs(layout, i)},
+          {"smoothed", s.smoothed},
+          {"from", point(s.vertex_ids.front())},
+          {"to", point(s.closed ? s.vertex_ids.front() : s.vertex_ids.back())}};
+}
+
+// The cuts the cutter added (not the user's seams), with their reasons.
+OrderedJson added_cuts(const Pattern& pattern, const std::vector<SeamMeasure>& seams) {
   OrderedJson added = OrderedJson::array();
   for (size_t i = 0; i < pattern.seams.size(); ++i)
     if (pattern.seams[i].kind != "user")
@@ -362,15 +371,35 @@ OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const P
                        {"length_3d", seams[i].length_3d},
                        {"mirror", pattern.seams[i].mirror.empty() ? OrderedJson() : OrderedJson(pattern.seams[i].mirror)},
                        {"reason", pattern.seams[i].reason}});
-  j["added_cuts"] = added;
+  return added;
+}
+
+OrderedJson limit_json(const PatternOptions& options) {
+  if (options.limit.symmetric)
+    return {{"kind", "symmetric"}, {"p95_error", options.limit.p95_limit}, {"max_error", options.limit.max_limit}};
+  return {{"kind", "one-sided"},
+          {"compression_worst1", options.limit.compression_worst1},
+          {"ease_worst5", options.limit.ease_worst5}};
+}
+
+}  // namespace
+
+OrderedJson pattern_report(const Pattern& pattern, const Layout& layout, const PatternOptions& options,
+                           const SeamTolerance& tol) {
+  OrderedJson j;
+  const std::vector<SeamMeasure> seams = measure_seams(pattern, layout, tol);
+  j["summary"] = pattern_summary(pattern, layout, seams);
+  j["summary"]["pieces_over_limit"] = pieces_over_limit(pattern, options);
+  OrderedJson pieces = OrderedJson::array();
+  for (size_t i = 0; i < pattern.pieces.size(); ++i) pieces.push_back(piece_json(pattern, layout, options, i));
+  j["pieces"] = pieces;
+  OrderedJson seam_list = OrderedJson::array();
+  for (size_t i = 0; i < seams.size(); ++i) seam_list.push_back(seam_json(pattern, layout, seams[i], i));
+  j["seams"] = seam_list;
+  j["added_cuts"] = added_cuts(pattern, seams);
   j["merged_cuts"] = pattern.merged_cuts;
   j["notes"] = pattern.notes;
-  if (options.limit.symmetric)
-    j["summary"]["limit"] = {{"kind", "symmetric"}, {"p95_error", options.limit.p95_limit}, {"max_error", options.limit.max_limit}};
-  else
-    j["summary"]["limit"] = {{"kind", "one-sided"},
-                             {"compression_worst1", options.limit.compression_worst1},
-                             {"ease_worst5", options.limit.ease_worst5}};
+  j["summary"]["limit"] = limit_json(options);
   return j;
 }
 
