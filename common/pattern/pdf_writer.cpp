@@ -227,51 +227,10 @@ void draw_pattern(Painter& p, const Pattern& pattern, const Layout& layout, cons
   }
 }
 
-}  // namespace
-
-PaperSize paper_a4() { return {"a4", 0.210, 0.297, false, false}; }
-PaperSize paper_letter() { return {"letter", 0.2159, 0.2794, true, false}; }
-PaperSize paper_a0() { return {"a0", 0.841, 1.189, false, false}; }
-PaperSize paper_roll914() { return {"roll914", 0.914, 2.5, false, true}; }
-
-std::vector<PaperSize> pdf_papers() { return {paper_a4(), paper_letter(), paper_a0(), paper_roll914()}; }
-
-PdfSummary tile_pages(const Layout& layout, const PdfOptions& options) { return best_tiling(layout, options).summary; }
-
-PdfSummary write_pdf(std::ostream& out, const Pattern& pattern, const Layout& layout,
-                     const std::vector<CutInstruction>& cut, const PdfOptions& o, const std::string& date) {
-  const Tiling t = best_tiling(layout, o);
+// The cover: title, instructions, the test square(s), the page map.
+void draw_cover(Painter& p, const Pattern& pattern, const Layout& layout, const std::vector<CutInstruction>& cut,
+                const PdfOptions& o, const Tiling& t, double cover_w, double cover_h) {
   const PdfSummary& s = t.summary;
-  // A roll's pages end where the content does (plus the margin).
-  auto page_size = [&](size_t tile) {
-    double w = t.page_w, h = t.page_h;
-    if (o.paper.roll && tile < t.windows.size()) {
-      const Window& win = t.windows[tile];
-      if (t.page_w > t.page_h) w = std::min(w, layout.width - win.x0 + 2.0 * o.margin);
-      else h = std::min(h, win.y_top + 2.0 * o.margin);
-    }
-    return std::pair{w, h};
-  };
-  // The cover is as large as the first page's paper, at least A4 for the map.
-  double cover_w = std::max(t.page_w, 0.210), cover_h = std::max(std::min(t.page_h, 1.189), 0.297);
-  // Both test squares side by side need 23 cm across: a portrait Letter
-  // cover is turned to landscape for them.
-  const double squares_w = 2.0 * std::max(o.margin, 0.01) + o.test_square + (o.paper.inches ? 0.01 + 4.0 * 0.0254 : 0.0);
-  if (squares_w > cover_w && cover_h > cover_w) std::swap(cover_w, cover_h);
-  std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface(
-      cairo_pdf_surface_create_for_stream(write_to_stream, &out, kPointsPerMetre * cover_w, kPointsPerMetre * cover_h),
-      cairo_surface_destroy);
-  if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
-    throw OutputError("cairo cannot make a PDF surface", o.paper.name);
-  cairo_pdf_surface_restrict_to_version(surface.get(), CAIRO_PDF_VERSION_1_5);
-  const std::string pdf_date = date.size() == 10 ? date + "T00:00:00Z" : "2000-01-01T00:00:00Z";
-  cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATE_DATE, pdf_date.c_str());
-  cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_TITLE, (o.title + ": sewing pattern, " + o.paper.name).c_str());
-  cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATOR, "export-rest");
-  std::unique_ptr<cairo_t, decltype(&cairo_destroy)> cr(cairo_create(surface.get()), cairo_destroy);
-  Painter p(cr.get());
-
-  // Cover: title, instructions, the test square(s), the page map.
   p.begin_page();
   const double m = std::max(o.margin, 0.01);
   p.grey(0.0);
@@ -322,64 +281,119 @@ PdfSummary write_pdf(std::ostream& out, const Pattern& pattern, const Layout& la
     }
     draw_pattern(p, pattern, layout, cut, o.title, to_map, k, false);
   }
+}
+
+// Tile i, on paper pw by ph: its part of the sheet, the overlap bands,
+// alignment marks, trim lines and the labels of it and its neighbours.
+void draw_tile(Painter& p, const Pattern& pattern, const Layout& layout, const std::vector<CutInstruction>& cut,
+               const PdfOptions& o, const Tiling& t, size_t i, double pw, double ph) {
+  const PdfSummary& s = t.summary;
+  const PdfPage& tile = s.tiles[i];
+  p.begin_page();
+  const Window& w = t.windows[i];
+  auto to_page = [&](const Eigen::Vector2d& q) { return Eigen::Vector2d(o.margin + q.x() - w.x0, o.margin + w.y_top - q.y()); };
+  const double iw = pw - 2.0 * o.margin, ih = ph - 2.0 * o.margin;  // printable part of this page
+  p.clip(o.margin, o.margin, iw, ih);
+  // Overlap bands, tinted, along the right and bottom (printed again on the
+  // next page), under the pattern.
+  p.grey(0.93);
+  if (tile.column + 1 < s.columns) p.rect(o.margin + iw - o.overlap, o.margin, o.overlap, ih, true);
+  if (tile.row + 1 < s.rows) p.rect(o.margin, o.margin + ih - o.overlap, iw, o.overlap, true);
+  draw_pattern(p, pattern, layout, cut, o.title, to_page, 1.0, true);
+  // Alignment marks: in sheet coordinates at the middle of every band
+  // (shared with the neighbour), a circle with a cross.
+  p.grey(0.0);
+  p.width(0.0003);
+  auto mark = [&](const Eigen::Vector2d& sheet) {
+    const Eigen::Vector2d q = to_page(sheet);
+    p.circle(q.x(), q.y(), 0.0035);
+    p.line(q.x() - 0.005, q.y(), q.x() + 0.005, q.y());
+    p.line(q.x(), q.y() - 0.005, q.x(), q.y() + 0.005);
+  };
+  const double mid_y = w.y_top - 0.5 * w.height, mid_x = w.x0 + 0.5 * w.width;
+  if (tile.column > 0) mark({w.x0 + 0.5 * o.overlap, mid_y});
+  if (tile.column + 1 < s.columns) mark({w.x0 + w.width - 0.5 * o.overlap, mid_y});
+  if (tile.row > 0) mark({mid_x, w.y_top - 0.5 * o.overlap});
+  if (tile.row + 1 < s.rows) mark({mid_x, w.y_top - w.height + 0.5 * o.overlap});
+  p.unclip();
+  // Trim lines along the left and top edges of the printed area (where a
+  // neighbour is), dashed, across the whole paper.
+  p.grey(0.0);
+  p.width(0.0002);
+  p.dash(0.002, 0.001);
+  if (tile.column > 0) p.line(o.margin, 0.0, o.margin, ph);
+  if (tile.row > 0) p.line(0.0, o.margin, pw, o.margin);
+  p.solid();
+  // Labels: this page's in the top right corner, the neighbours' at the edges.
+  const std::string here = tile.label;
+  p.text(pw - o.margin, o.margin - 0.002, 0.006, here + "  (" + o.title + ")", 1.0);
+  const double ts = 0.0035;
+  auto neighbour = [&](int dr, int dc) -> std::string {
+    const int r = tile.row + dr, c = tile.column + dc;
+    if (r < 0 || c < 0 || r >= s.rows || c >= s.columns) return "";
+    const PdfPage& n = s.tiles[static_cast<size_t>(r * s.columns + c)];
+    return n.label + (n.printed ? "" : " (blank)");
+  };
+  // (a quarter along each edge, clear of the alignment marks at the middle)
+  if (const std::string l = neighbour(0, -1); !l.empty()) p.text(o.margin + 0.002, o.margin + 0.25 * ih, ts, "< " + l, 0.0);
+  if (const std::string l = neighbour(0, 1); !l.empty()) p.text(pw - o.margin - 0.002, o.margin + 0.25 * ih, ts, l + " >", 1.0);
+  if (const std::string l = neighbour(-1, 0); !l.empty()) p.text(o.margin + 0.25 * iw, o.margin + 0.005, ts, "^ " + l);
+  if (const std::string l = neighbour(1, 0); !l.empty()) p.text(o.margin + 0.25 * iw, ph - o.margin - 0.002, ts, "v " + l);
+}
+
+}  // namespace
+
+PaperSize paper_a4() { return {"a4", 0.210, 0.297, false, false}; }
+PaperSize paper_letter() { return {"letter", 0.2159, 0.2794, true, false}; }
+PaperSize paper_a0() { return {"a0", 0.841, 1.189, false, false}; }
+PaperSize paper_roll914() { return {"roll914", 0.914, 2.5, false, true}; }
+
+std::vector<PaperSize> pdf_papers() { return {paper_a4(), paper_letter(), paper_a0(), paper_roll914()}; }
+
+PdfSummary tile_pages(const Layout& layout, const PdfOptions& options) { return best_tiling(layout, options).summary; }
+
+PdfSummary write_pdf(std::ostream& out, const Pattern& pattern, const Layout& layout,
+                     const std::vector<CutInstruction>& cut, const PdfOptions& o, const std::string& date) {
+  const Tiling t = best_tiling(layout, o);
+  const PdfSummary& s = t.summary;
+  // A roll's pages end where the content does (plus the margin).
+  auto page_size = [&](size_t tile) {
+    double w = t.page_w, h = t.page_h;
+    if (o.paper.roll && tile < t.windows.size()) {
+      const Window& win = t.windows[tile];
+      if (t.page_w > t.page_h) w = std::min(w, layout.width - win.x0 + 2.0 * o.margin);
+      else h = std::min(h, win.y_top + 2.0 * o.margin);
+    }
+    return std::pair{w, h};
+  };
+  // The cover is as large as the first page's paper, at least A4 for the map.
+  double cover_w = std::max(t.page_w, 0.210), cover_h = std::max(std::min(t.page_h, 1.189), 0.297);
+  // Both test squares side by side need 23 cm across: a portrait Letter
+  // cover is turned to landscape for them.
+  const double squares_w = 2.0 * std::max(o.margin, 0.01) + o.test_square + (o.paper.inches ? 0.01 + 4.0 * 0.0254 : 0.0);
+  if (squares_w > cover_w && cover_h > cover_w) std::swap(cover_w, cover_h);
+  std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface(
+      cairo_pdf_surface_create_for_stream(write_to_stream, &out, kPointsPerMetre * cover_w, kPointsPerMetre * cover_h),
+      cairo_surface_destroy);
+  if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
+    throw OutputError("cairo cannot make a PDF surface", o.paper.name);
+  cairo_pdf_surface_restrict_to_version(surface.get(), CAIRO_PDF_VERSION_1_5);
+  const std::string pdf_date = date.size() == 10 ? date + "T00:00:00Z" : "2000-01-01T00:00:00Z";
+  cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATE_DATE, pdf_date.c_str());
+  cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_TITLE, (o.title + ": sewing pattern, " + o.paper.name).c_str());
+  cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATOR, "export-rest");
+  std::unique_ptr<cairo_t, decltype(&cairo_destroy)> cr(cairo_create(surface.get()), cairo_destroy);
+  Painter p(cr.get());
+
+  draw_cover(p, pattern, layout, cut, o, t, cover_w, cover_h);
   cairo_show_page(cr.get());
 
   // The tiles.
   for (size_t i = 0; i < s.tiles.size(); ++i) {
-    const PdfPage& tile = s.tiles[i];
-    if (!tile.printed) continue;
+    if (!s.tiles[i].printed) continue;
     const auto [pw, ph] = page_size(i);
     cairo_pdf_surface_set_size(surface.get(), kPointsPerMetre * pw, kPointsPerMetre * ph);
-    p.begin_page();
-    const Window& w = t.windows[i];
-    auto to_page = [&](const Eigen::Vector2d& q) { return Eigen::Vector2d(o.margin + q.x() - w.x0, o.margin + w.y_top - q.y()); };
-    const double iw = pw - 2.0 * o.margin, ih = ph - 2.0 * o.margin;  // printable part of this page
-    p.clip(o.margin, o.margin, iw, ih);
-    // Overlap bands, tinted, along the right and bottom (printed again on the
-    // next page), under the pattern.
-    p.grey(0.93);
-    if (tile.column + 1 < s.columns) p.rect(o.margin + iw - o.overlap, o.margin, o.overlap, ih, true);
-    if (tile.row + 1 < s.rows) p.rect(o.margin, o.margin + ih - o.overlap, iw, o.overlap, true);
-    draw_pattern(p, pattern, layout, cut, o.title, to_page, 1.0, true);
-    // Alignment marks: in sheet coordinates at the middle of every band
-    // (shared with the neighbour), a circle with a cross.
-    p.grey(0.0);
-    p.width(0.0003);
-    auto mark = [&](const Eigen::Vector2d& sheet) {
-      const Eigen::Vector2d q = to_page(sheet);
-      p.circle(q.x(), q.y(), 0.0035);
-      p.line(q.x() - 0.005, q.y(), q.x() + 0.005, q.y());
-      p.line(q.x(), q.y() - 0.005, q.x(), q.y() + 0.005);
-    };
-    const double mid_y = w.y_top - 0.5 * w.height, mid_x = w.x0 + 0.5 * w.width;
-    if (tile.column > 0) mark({w.x0 + 0.5 * o.overlap, mid_y});
-    if (tile.column + 1 < s.columns) mark({w.x0 + w.width - 0.5 * o.overlap, mid_y});
-    if (tile.row > 0) mark({mid_x, w.y_top - 0.5 * o.overlap});
-    if (tile.row + 1 < s.rows) mark({mid_x, w.y_top - w.height + 0.5 * o.overlap});
-    p.unclip();
-    // Trim lines along the left and top edges of the printed area (where a
-    // neighbour is), dashed, across the whole paper.
-    p.grey(0.0);
-    p.width(0.0002);
-    p.dash(0.002, 0.001);
-    if (tile.column > 0) p.line(o.margin, 0.0, o.margin, ph);
-    if (tile.row > 0) p.line(0.0, o.margin, pw, o.margin);
-    p.solid();
-    // Labels: this page's in the top right corner, the neighbours' at the edges.
-    const std::string here = tile.label;
-    p.text(pw - o.margin, o.margin - 0.002, 0.006, here + "  (" + o.title + ")", 1.0);
-    const double ts = 0.0035;
-    auto neighbour = [&](int dr, int dc) -> std::string {
-      const int r = tile.row + dr, c = tile.column + dc;
-      if (r < 0 || c < 0 || r >= s.rows || c >= s.columns) return "";
-      const PdfPage& n = s.tiles[static_cast<size_t>(r * s.columns + c)];
-      return n.label + (n.printed ? "" : " (blank)");
-    };
-    // (a quarter along each edge, clear of the alignment marks at the middle)
-    if (const std::string l = neighbour(0, -1); !l.empty()) p.text(o.margin + 0.002, o.margin + 0.25 * ih, ts, "< " + l, 0.0);
-    if (const std::string l = neighbour(0, 1); !l.empty()) p.text(pw - o.margin - 0.002, o.margin + 0.25 * ih, ts, l + " >", 1.0);
-    if (const std::string l = neighbour(-1, 0); !l.empty()) p.text(o.margin + 0.25 * iw, o.margin + 0.005, ts, "^ " + l);
-    if (const std::string l = neighbour(1, 0); !l.empty()) p.text(o.margin + 0.25 * iw, ph - o.margin - 0.002, ts, "v " + l);
+    draw_tile(p, pattern, layout, cut, o, t, i, pw, ph);
     cairo_show_page(cr.get());
   }
   cr.reset();
