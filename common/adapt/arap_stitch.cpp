@@ -184,6 +184,54 @@ double ArapStitcher::energy(const std::vector<Eigen::Matrix2d>& targets, const E
   return e;
 }
 
+namespace {
+
+using RowMatrixX3i = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+// Largest change of an edge length between two shapes. The rest shape matters
+// to the cloth only through its triangles' shapes (intrinsic), while its 3D
+// embedding may keep drifting along nearly isometric bending modes that the
+// per-triangle energy barely sees; convergence is judged on the edges.
+double edge_change(const RowMatrixX3i& corners, const Eigen::MatrixXd& A, const Eigen::MatrixXd& C) {
+  double change = 0.0;
+  for (Eigen::Index f = 0; f < corners.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int i = corners(f, k), j = corners(f, (k + 1) % 3);
+      const Eigen::Vector3d a(A(j, 0) - A(i, 0), A(j, 1) - A(i, 1), A(j, 2) - A(i, 2));
+      const Eigen::Vector3d c(C(j, 0) - C(i, 0), C(j, 1) - C(i, 1), C(j, 2) - C(i, 2));
+      change = std::max(change, std::abs(a.norm() - c.norm()));
+    }
+  }
+  return change;
+}
+
+// Largest change of a face's principal stretches between two shapes: the
+// square roots of the eigenvalues of C's triangle metric M_C^-1 M_A, from
+// det(M_A - l M_C) = 0 (the metrics of edges x1-x0, x2-x0).
+double stretch_change(const RowMatrixX3i& corners, const Eigen::MatrixXd& A, const Eigen::MatrixXd& C) {
+  double change = 0.0;
+  for (Eigen::Index f = 0; f < corners.rows(); ++f) {
+    const int i0 = corners(f, 0), i1 = corners(f, 1), i2 = corners(f, 2);
+    const Eigen::Vector3d a(A(i1, 0) - A(i0, 0), A(i1, 1) - A(i0, 1), A(i1, 2) - A(i0, 2));
+    const Eigen::Vector3d b(A(i2, 0) - A(i0, 0), A(i2, 1) - A(i0, 1), A(i2, 2) - A(i0, 2));
+    const Eigen::Vector3d c(C(i1, 0) - C(i0, 0), C(i1, 1) - C(i0, 1), C(i1, 2) - C(i0, 2));
+    const Eigen::Vector3d d(C(i2, 0) - C(i0, 0), C(i2, 1) - C(i0, 1), C(i2, 2) - C(i0, 2));
+    const double a11 = a.dot(a), a12 = a.dot(b), a22 = b.dot(b);
+    const double c11 = c.dot(c), c12 = c.dot(d), c22 = d.dot(d);
+    const double qa = c11 * c22 - c12 * c12;
+    if (!(qa > 0.0)) return std::numeric_limits<double>::infinity();
+    const double qb = -(a11 * c22 + a22 * c11 - 2.0 * a12 * c12);
+    const double qc = a11 * a22 - a12 * a12;
+    const double root = std::sqrt(std::max(0.0, qb * qb - 4.0 * qa * qc));
+    for (double l : {(-qb + root) / (2.0 * qa), (-qb - root) / (2.0 * qa)}) {
+      change = std::max(change, std::abs(std::sqrt(std::max(l, 0.0)) - 1.0));
+    }
+  }
+  return change;
+}
+
+}  // namespace
+
 ArapReport ArapStitcher::stitch(const std::vector<Eigen::Matrix2d>& targets, Eigen::MatrixXd& V,
                                 const ArapOptions& options) const {
   if (static_cast<int>(targets.size()) != F_.rows()) throw UsageError("one ARAP target per face is needed");
@@ -208,46 +256,6 @@ ArapReport ArapStitcher::stitch(const std::vector<Eigen::Matrix2d>& targets, Eig
     }
   }
 
-  // Largest change of an edge length between two shapes. The rest shape matters
-  // to the cloth only through its triangles' shapes (intrinsic), while its 3D
-  // embedding may keep drifting along nearly isometric bending modes that the
-  // per-triangle energy barely sees; convergence is judged on the edges.
-  auto edge_change = [&](const Eigen::MatrixXd& A, const Eigen::MatrixXd& C) {
-    double change = 0.0;
-    for (int f = 0; f < F_.rows(); ++f) {
-      for (int k = 0; k < 3; ++k) {
-        const int i = corners_(f, k), j = corners_(f, (k + 1) % 3);
-        const Eigen::Vector3d a(A(j, 0) - A(i, 0), A(j, 1) - A(i, 1), A(j, 2) - A(i, 2));
-        const Eigen::Vector3d c(C(j, 0) - C(i, 0), C(j, 1) - C(i, 1), C(j, 2) - C(i, 2));
-        change = std::max(change, std::abs(a.norm() - c.norm()));
-      }
-    }
-    return change;
-  };
-  // Largest change of a face's principal stretches between two shapes: the
-  // square roots of the eigenvalues of C's triangle metric M_C^-1 M_A, from
-  // det(M_A - l M_C) = 0 (the metrics of edges x1-x0, x2-x0).
-  auto stretch_change = [&](const Eigen::MatrixXd& A, const Eigen::MatrixXd& C) {
-    double change = 0.0;
-    for (int f = 0; f < F_.rows(); ++f) {
-      const int i0 = corners_(f, 0), i1 = corners_(f, 1), i2 = corners_(f, 2);
-      const Eigen::Vector3d a(A(i1, 0) - A(i0, 0), A(i1, 1) - A(i0, 1), A(i1, 2) - A(i0, 2));
-      const Eigen::Vector3d b(A(i2, 0) - A(i0, 0), A(i2, 1) - A(i0, 1), A(i2, 2) - A(i0, 2));
-      const Eigen::Vector3d c(C(i1, 0) - C(i0, 0), C(i1, 1) - C(i0, 1), C(i1, 2) - C(i0, 2));
-      const Eigen::Vector3d d(C(i2, 0) - C(i0, 0), C(i2, 1) - C(i0, 1), C(i2, 2) - C(i0, 2));
-      const double a11 = a.dot(a), a12 = a.dot(b), a22 = b.dot(b);
-      const double c11 = c.dot(c), c12 = c.dot(d), c22 = d.dot(d);
-      const double qa = c11 * c22 - c12 * c12;
-      if (!(qa > 0.0)) return std::numeric_limits<double>::infinity();
-      const double qb = -(a11 * c22 + a22 * c11 - 2.0 * a12 * c12);
-      const double qc = a11 * a22 - a12 * a12;
-      const double root = std::sqrt(std::max(0.0, qb * qb - 4.0 * qa * qc));
-      for (double l : {(-qb + root) / (2.0 * qa), (-qb - root) / (2.0 * qa)}) {
-        change = std::max(change, std::abs(std::sqrt(std::max(l, 0.0)) - 1.0));
-      }
-    }
-    return change;
-  };
   const bool by_stretch = options.stretch_tolerance > 0.0;
   ArapReport report;
   Eigen::MatrixXd B(n_, 3), G(n_, 3), G_previous;
@@ -321,7 +329,7 @@ ArapReport ArapStitcher::stitch(const std::vector<Eigen::Matrix2d>& targets, Eig
     energy_previous = e;
     global_step(V, G);
     report.iterations = it + 1;
-    report.residual = by_stretch ? stretch_change(G, V) : edge_change(G, V) / mean_edge;
+    report.residual = by_stretch ? stretch_change(corners_, G, V) : edge_change(corners_, G, V) / mean_edge;
     if (report.residual <= (by_stretch ? options.stretch_tolerance : options.tolerance)) {
       V = G;
       report.converged = true;
