@@ -80,6 +80,46 @@ OrderedJson to_json(const SeamSpec& spec) {
   return j;
 }
 
+namespace {
+
+// Each seam cuts the rest shape: it runs off its boundary somewhere, and an open seam reaches the
+// boundary or another seam at one of its ends at least (a slit inside the shape opens nothing).
+void check_seams_cut(const Eigen::MatrixXi& F, int n, const std::vector<SeamPath>& paths) {
+  // Boundary edges and vertices of the rest shape.
+  std::set<std::pair<int, int>> boundary_edges;
+  std::vector<char> on_boundary(static_cast<size_t>(n), 0);
+  for (const auto& loop : boundary_loops(F))
+    for (size_t k = 0; k < loop.size(); ++k) {
+      const int a = loop[k], b = loop[(k + 1) % loop.size()];
+      boundary_edges.insert({std::min(a, b), std::max(a, b)});
+      on_boundary[static_cast<size_t>(a)] = 1;
+    }
+  std::map<int, std::set<size_t>> seams_at;  // vertex -> seams through it
+  for (size_t i = 0; i < paths.size(); ++i)
+    for (int v : paths[i].vertex_ids) seams_at[v].insert(i);
+  for (size_t i = 0; i < paths.size(); ++i) {
+    const SeamPath& p = paths[i];
+    const size_t edges = p.closed ? p.vertex_ids.size() : p.vertex_ids.size() - 1;
+    bool cuts = false;
+    for (size_t k = 0; k < edges; ++k) {
+      const int a = p.vertex_ids[k], b = p.vertex_ids[(k + 1) % p.vertex_ids.size()];
+      if (!boundary_edges.count({std::min(a, b), std::max(a, b)})) cuts = true;
+    }
+    if (!cuts)
+      throw GeometryError("seam '" + p.name + "' runs only along the boundary of the rest shape and cuts nothing",
+                          p.where + "/points");
+    if (p.closed) continue;
+    auto reaches = [&](int v) { return on_boundary[static_cast<size_t>(v)] || seams_at[v].size() > 1; };
+    if (!reaches(p.vertex_ids.front()) && !reaches(p.vertex_ids.back()))
+      throw GeometryError("seam '" + p.name +
+                              "' does not reach the boundary or another seam (both of its ends lie inside the "
+                              "rest shape); start or end it on an edge of the garment or on another seam",
+                          p.where + "/points");
+  }
+}
+
+}  // namespace
+
 std::vector<SeamPath> resolve_seams(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F,
                                     const SeamSpec& spec, const GarmentFile* garment,
                                     const DesignBody* body, const Eigen::MatrixXd* V_design) {
@@ -211,37 +251,7 @@ std::vector<SeamPath> resolve_seams(const Eigen::MatrixXd& V_rest, const Eigen::
     paths.push_back(path);
   }
 
-  // Boundary edges and vertices of the rest shape.
-  std::set<std::pair<int, int>> boundary_edges;
-  std::vector<char> on_boundary(static_cast<size_t>(n), 0);
-  for (const auto& loop : boundary_loops(F))
-    for (size_t k = 0; k < loop.size(); ++k) {
-      const int a = loop[k], b = loop[(k + 1) % loop.size()];
-      boundary_edges.insert({std::min(a, b), std::max(a, b)});
-      on_boundary[static_cast<size_t>(a)] = 1;
-    }
-  std::map<int, std::set<size_t>> seams_at;  // vertex -> seams through it
-  for (size_t i = 0; i < paths.size(); ++i)
-    for (int v : paths[i].vertex_ids) seams_at[v].insert(i);
-  for (size_t i = 0; i < paths.size(); ++i) {
-    const SeamPath& p = paths[i];
-    const size_t edges = p.closed ? p.vertex_ids.size() : p.vertex_ids.size() - 1;
-    bool cuts = false;
-    for (size_t k = 0; k < edges; ++k) {
-      const int a = p.vertex_ids[k], b = p.vertex_ids[(k + 1) % p.vertex_ids.size()];
-      if (!boundary_edges.count({std::min(a, b), std::max(a, b)})) cuts = true;
-    }
-    if (!cuts)
-      throw GeometryError("seam '" + p.name + "' runs only along the boundary of the rest shape and cuts nothing",
-                          p.where + "/points");
-    if (p.closed) continue;
-    auto reaches = [&](int v) { return on_boundary[static_cast<size_t>(v)] || seams_at[v].size() > 1; };
-    if (!reaches(p.vertex_ids.front()) && !reaches(p.vertex_ids.back()))
-      throw GeometryError("seam '" + p.name +
-                              "' does not reach the boundary or another seam (both of its ends lie inside the "
-                              "rest shape); start or end it on an edge of the garment or on another seam",
-                          p.where + "/points");
-  }
+  check_seams_cut(F, n, paths);
   return paths;
 }
 
