@@ -390,6 +390,86 @@ Eigen::Vector3d centre_seam_point(const PatternPiece& p, double plane_x, const E
   return on;
 }
 
+namespace {
+
+// The areas of the parts that a chain of faces leaves of piece p: faces joined across edges, not
+// through the chain's faces (each of which the seam splits between the two parts).
+std::vector<double> part_areas_apart_from(const PatternPiece& p, const std::vector<int>& chain_faces) {
+  std::vector<char> blocked(static_cast<size_t>(p.F.rows()), 0);
+  for (int f : chain_faces) blocked[static_cast<size_t>(f)] = 1;
+  std::map<std::pair<int, int>, std::vector<int>> faces_of_edge;
+  for (int f = 0; f < p.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = p.F(f, k), b = p.F(f, (k + 1) % 3);
+      faces_of_edge[{std::min(a, b), std::max(a, b)}].push_back(f);
+    }
+  auto face_area = [&](int f) {
+    const Eigen::Vector3d q0 = p.V.row(p.F(f, 0)), q1 = p.V.row(p.F(f, 1)), q2 = p.V.row(p.F(f, 2));
+    return 0.5 * (q1 - q0).cross(q2 - q0).norm();
+  };
+  std::vector<int> component(static_cast<size_t>(p.F.rows()), -1);
+  std::vector<double> part;
+  for (int f0 = 0; f0 < p.F.rows(); ++f0) {
+    if (blocked[static_cast<size_t>(f0)] || component[static_cast<size_t>(f0)] >= 0) continue;
+    const int id = static_cast<int>(part.size());
+    part.push_back(0.0);
+    std::vector<int> stack{f0};
+    component[static_cast<size_t>(f0)] = id;
+    while (!stack.empty()) {
+      const int f = stack.back();
+      stack.pop_back();
+      part.back() += face_area(f);
+      for (int k = 0; k < 3; ++k) {
+        const int a = p.F(f, k), b = p.F(f, (k + 1) % 3);
+        for (int g : faces_of_edge[{std::min(a, b), std::max(a, b)}])
+          if (!blocked[static_cast<size_t>(g)] && component[static_cast<size_t>(g)] < 0) {
+            component[static_cast<size_t>(g)] = id;
+            stack.push_back(g);
+          }
+      }
+    }
+  }
+  return part;
+}
+
+// A snapped chain can come back to a vertex it passed (around a vertex on the plane) or touch the
+// outline at a vertex between its ends (a symmetric mesh has vertices on the plane): a cut that
+// touches itself or the outline is no seam. Loops are erased, and of the parts between outline
+// vertices the longest is returned (fewer than two points: none).
+SurfaceCurve simple_cut(const PatternPiece& p, const SurfaceCurve& cut) {
+  const int n = static_cast<int>(p.V.rows());
+  SurfaceCurve simple;
+  for (const CurvePoint& q : cut) {
+    if (q.is_vertex()) {
+      const auto seen = std::find_if(simple.begin(), simple.end(), [&](const CurvePoint& r) {
+        return r.is_vertex() && r.vertex == q.vertex;
+      });
+      if (seen != simple.end()) {
+        simple.erase(seen + 1, simple.end());
+        continue;
+      }
+    }
+    simple.push_back(q);
+  }
+  std::vector<char> outline(static_cast<size_t>(n), 0);
+  for (int v : p.boundary) outline[static_cast<size_t>(v)] = 1;
+  SurfaceCurve longest, run;
+  auto close_run = [&]() {
+    if (run.size() >= 2 && curve_length(p.V, p.F, run) > curve_length(p.V, p.F, longest)) longest = run;
+  };
+  for (size_t i = 0; i < simple.size(); ++i) {
+    run.push_back(simple[i]);
+    if (i > 0 && i + 1 < simple.size() && simple[i].is_vertex() && outline[static_cast<size_t>(simple[i].vertex)]) {
+      close_run();
+      run = {simple[i]};
+    }
+  }
+  close_run();
+  return longest;
+}
+
+}  // namespace
+
 std::optional<SurfaceCurve> centre_seam_curve(const Pattern& pattern, size_t c, double plane_x,
                                               const Eigen::Vector3d& near, const PatternOptions& options) {
   const PatternPiece& p = pattern.pieces[c];
@@ -485,78 +565,12 @@ std::optional<SurfaceCurve> centre_seam_curve(const Pattern& pattern, size_t c, 
     if (!best || chain.distance < best->distance) best = chain;
   }
   if (!best) return std::nullopt;
-  // The parts the chain leaves: faces joined across edges, not through the
-  // chain's faces (each of which the seam splits between the two parts).
-  std::vector<char> blocked(static_cast<size_t>(p.F.rows()), 0);
-  for (int f : best->faces) blocked[static_cast<size_t>(f)] = 1;
-  std::map<std::pair<int, int>, std::vector<int>> faces_of_edge;
-  for (int f = 0; f < p.F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a = p.F(f, k), b = p.F(f, (k + 1) % 3);
-      faces_of_edge[{std::min(a, b), std::max(a, b)}].push_back(f);
-    }
-  auto face_area = [&](int f) {
-    const Eigen::Vector3d q0 = p.V.row(p.F(f, 0)), q1 = p.V.row(p.F(f, 1)), q2 = p.V.row(p.F(f, 2));
-    return 0.5 * (q1 - q0).cross(q2 - q0).norm();
-  };
-  std::vector<int> component(static_cast<size_t>(p.F.rows()), -1);
-  std::vector<double> part;
-  for (int f0 = 0; f0 < p.F.rows(); ++f0) {
-    if (blocked[static_cast<size_t>(f0)] || component[static_cast<size_t>(f0)] >= 0) continue;
-    const int id = static_cast<int>(part.size());
-    part.push_back(0.0);
-    std::vector<int> stack{f0};
-    component[static_cast<size_t>(f0)] = id;
-    while (!stack.empty()) {
-      const int f = stack.back();
-      stack.pop_back();
-      part.back() += face_area(f);
-      for (int k = 0; k < 3; ++k) {
-        const int a = p.F(f, k), b = p.F(f, (k + 1) % 3);
-        for (int g : faces_of_edge[{std::min(a, b), std::max(a, b)}])
-          if (!blocked[static_cast<size_t>(g)] && component[static_cast<size_t>(g)] < 0) {
-            component[static_cast<size_t>(g)] = id;
-            stack.push_back(g);
-          }
-      }
-    }
-  }
+  const std::vector<double> part = part_areas_apart_from(p, best->faces);
   if (part.size() < 2 || *std::min_element(part.begin(), part.end()) < options.panels.min_piece_area) return std::nullopt;
   SurfaceCurve cut;
   for (const auto& ce : best->edges) cut.push_back(point_on(ce));
   cut = snap_to_vertices(cut, std::max(options.seams.smoothing.trace.min_edge_fraction, options.seams.smoothing.trace.snap_fraction));
-  // Snapped, the chain can come back to a vertex it passed (around a vertex
-  // on the plane) or touch the outline at a vertex between its ends (a
-  // symmetric mesh has vertices on the plane): a cut that touches itself or
-  // the outline is no seam. Loops are erased, and of the parts between
-  // outline vertices the longest is kept.
-  SurfaceCurve simple;
-  for (const CurvePoint& q : cut) {
-    if (q.is_vertex()) {
-      const auto seen = std::find_if(simple.begin(), simple.end(), [&](const CurvePoint& r) {
-        return r.is_vertex() && r.vertex == q.vertex;
-      });
-      if (seen != simple.end()) {
-        simple.erase(seen + 1, simple.end());
-        continue;
-      }
-    }
-    simple.push_back(q);
-  }
-  std::vector<char> outline(static_cast<size_t>(n), 0);
-  for (int v : p.boundary) outline[static_cast<size_t>(v)] = 1;
-  SurfaceCurve longest, run;
-  auto close_run = [&]() {
-    if (run.size() >= 2 && curve_length(p.V, p.F, run) > curve_length(p.V, p.F, longest)) longest = run;
-  };
-  for (size_t i = 0; i < simple.size(); ++i) {
-    run.push_back(simple[i]);
-    if (i > 0 && i + 1 < simple.size() && simple[i].is_vertex() && outline[static_cast<size_t>(simple[i].vertex)]) {
-      close_run();
-      run = {simple[i]};
-    }
-  }
-  close_run();
+  const SurfaceCurve longest = simple_cut(p, cut);
   if (longest.size() < 2) return std::nullopt;
   return longest;
 }
