@@ -53,20 +53,25 @@ double flattening_energy(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, con
   return energy;
 }
 
-ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::MatrixXd& UV,
-                     const FlattenOptions& options, bool injective, const Eigen::VectorXd* face_weight) {
-  const int n = static_cast<int>(V.rows());
-  if (UV.rows() != n || UV.cols() != 2) throw GeometryError("arap_flatten: the start has the wrong size");
-  const std::vector<LocalTriangle> T = weighted_triangles(V, F, options.min_weight_fraction, face_weight);
-  const double ease_weight = std::clamp(options.ease_weight, 0.0, 1.0);
-  // Boundary edges (i -> j, 3D length l, weight w): the term
-  // w |u_i - u_j - l d|^2 with d the current unit direction of the flat edge
-  // joins the local step (d) and the global step (a constant matrix), like the
-  // edge springs of a local/global solver (Liu et al. 2008; Bouaziz et al.
-  // 2014, projective dynamics).
-  const std::vector<BoundaryEdge> edges = boundary_edges(V, F, T, options.boundary_weight);
-  // One pinned vertex removes the translation; L is factorized once.
-  Eigen::SparseMatrix<double> L = dirichlet_matrix(T, F, n);
+namespace {
+
+// The global step's system: the cotangent (Dirichlet) matrix L of the triangles T plus the boundary
+// edges' springs, reduced to the free vertices (one pinned vertex removes the translation), with a
+// tiny proximal diagonal: A is what is factorized once.
+struct FlatSystem {
+  Eigen::SparseMatrix<double> L;  // #V by #V, the pinned vertex included
+  Eigen::SparseMatrix<double> A;  // m by m, the free vertices
+  int pin = 0;
+  std::vector<int> free_index;  // per vertex, its row in A, -1 for the pin
+  int m = 0;
+  double proximal = 0.0;
+};
+
+FlatSystem flat_system(const std::vector<LocalTriangle>& T, const Eigen::MatrixXi& F, int n,
+                       const std::vector<BoundaryEdge>& edges) {
+  FlatSystem s;
+  Eigen::SparseMatrix<double>& L = s.L;
+  L = dirichlet_matrix(T, F, n);
   if (!edges.empty()) {
     std::vector<Triplet> extra;
     for (const auto& e : edges) {
@@ -80,9 +85,10 @@ ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::
     L += E;
   }
   const auto loops = boundary_loops(F);
-  const int pin = loops.empty() ? 0 : loops.front().front();
-  std::vector<int> free_index(static_cast<size_t>(n), -1);
-  int m = 0;
+  const int pin = s.pin = loops.empty() ? 0 : loops.front().front();
+  std::vector<int>& free_index = s.free_index;
+  free_index.assign(static_cast<size_t>(n), -1);
+  int& m = s.m;
   for (int i = 0; i < n; ++i)
     if (i != pin) free_index[static_cast<size_t>(i)] = m++;
   std::vector<Triplet> trip;
@@ -97,14 +103,37 @@ ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::
   double diagonal = 0.0;
   for (const auto& t : trip)
     if (t.row() == t.col()) diagonal += t.value();
-  const double proximal = 1e-10 * diagonal / std::max(1, m);
+  const double proximal = s.proximal = 1e-10 * diagonal / std::max(1, m);
   for (int i = 0; i < m; ++i) trip.emplace_back(i, i, proximal);
-  CholmodSolver solver{kFlattenSolver};
   if (m > 0) {
-    Eigen::SparseMatrix<double> A(m, m);
-    A.setFromTriplets(trip.begin(), trip.end());
-    solver.compute(A);
+    s.A.resize(m, m);
+    s.A.setFromTriplets(trip.begin(), trip.end());
   }
+  return s;
+}
+
+}  // namespace
+
+ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::MatrixXd& UV,
+                     const FlattenOptions& options, bool injective, const Eigen::VectorXd* face_weight) {
+  const int n = static_cast<int>(V.rows());
+  if (UV.rows() != n || UV.cols() != 2) throw GeometryError("arap_flatten: the start has the wrong size");
+  const std::vector<LocalTriangle> T = weighted_triangles(V, F, options.min_weight_fraction, face_weight);
+  const double ease_weight = std::clamp(options.ease_weight, 0.0, 1.0);
+  // Boundary edges (i -> j, 3D length l, weight w): the term
+  // w |u_i - u_j - l d|^2 with d the current unit direction of the flat edge
+  // joins the local step (d) and the global step (a constant matrix), like the
+  // edge springs of a local/global solver (Liu et al. 2008; Bouaziz et al.
+  // 2014, projective dynamics).
+  const std::vector<BoundaryEdge> edges = boundary_edges(V, F, T, options.boundary_weight);
+  // One pinned vertex removes the translation; L is factorized once.
+  const FlatSystem system = flat_system(T, F, n, edges);
+  const Eigen::SparseMatrix<double>& L = system.L;
+  const int pin = system.pin, m = system.m;
+  const std::vector<int>& free_index = system.free_index;
+  const double proximal = system.proximal;
+  CholmodSolver solver{kFlattenSolver};
+  if (m > 0) solver.compute(system.A);
 
   auto energy_and_rhs = [&](const Eigen::MatrixXd& X, Eigen::MatrixXd* rhs) {
     double energy = 0.0;
