@@ -91,6 +91,57 @@ Eigen::Vector3d barycentric(const Eigen::Vector2d& a, const Eigen::Vector2d& b, 
   return s > 0.0 ? Eigen::Vector3d(w / s) : Eigen::Vector3d(1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0);
 }
 
+// The face holding a (boundary) edge point q, and the edge's local index in it; -1 when none.
+int face_of_edge(const Eigen::MatrixXi& F, const CurvePoint& q, int& local) {
+  for (int f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(f, k), b = F(f, (k + 1) % 3);
+      if (std::min(a, b) == q.a && std::max(a, b) == q.b) {
+        local = k;
+        return f;
+      }
+    }
+  return -1;
+}
+
+// The edge (local index) through which the segment pos -> q leaves `face`, not the one it came in
+// through (`entry`): q beyond it, and the segment separates its ends; in rounding trouble, the edge
+// q lies farthest beyond. -1 when q lies beyond none.
+int exit_edge(const Eigen::MatrixXd& UV, const Eigen::MatrixXi& F, int face, int entry, const Eigen::Vector2d& pos,
+              const Eigen::Vector2d& q) {
+  auto uv = [&](int v) { return Eigen::Vector2d(UV(v, 0), UV(v, 1)); };
+  int exit = -1;
+  for (int k = 0; k < 3 && exit < 0; ++k) {
+    if (k == entry) continue;
+    const Eigen::Vector2d u = uv(F(face, k)), w = uv(F(face, (k + 1) % 3));
+    const double ou = orient(pos, q, u), ow = orient(pos, q, w);
+    if (((ou >= 0.0) != (ow >= 0.0)) && orient(u, w, q) < 0.0) exit = k;
+  }
+  double best = 0.0;
+  for (int k = 0; k < 3 && exit < 0; ++k) {
+    if (k == entry) continue;
+    const Eigen::Vector2d u = uv(F(face, k)), w = uv(F(face, (k + 1) % 3));
+    const double len = (w - u).norm();
+    const double depth = len > 0.0 ? -orient(u, w, q) / len : 0.0;
+    if (depth > best) best = depth, exit = k;
+  }
+  return exit;
+}
+
+// Two consecutive crossings of one edge (the walk touched an edge and turned back) add nothing:
+// both dropped.
+SurfaceCurve without_turnbacks(const SurfaceCurve& curve) {
+  SurfaceCurve clean;
+  for (const CurvePoint& p : curve) {
+    if (!clean.empty() && p.is_edge() && clean.back().is_edge() && clean.back().a == p.a && clean.back().b == p.b) {
+      clean.pop_back();
+      continue;
+    }
+    clean.push_back(p);
+  }
+  return clean;
+}
+
 }  // namespace
 
 SurfaceCurve trace_polyline(const Eigen::MatrixXd& UV, const Eigen::MatrixXi& F, const CurvePoint& start,
@@ -103,26 +154,13 @@ SurfaceCurve trace_polyline(const Eigen::MatrixXd& UV, const Eigen::MatrixXi& F,
   const double lo = options.min_edge_fraction, hi = 1.0 - options.min_edge_fraction;
   SurfaceCurve curve{start};
   if (P.rows() < 2) return {};
-  // The face holding a (boundary) edge point, and the edge's local index in it.
-  auto face_of_edge = [&](const CurvePoint& q, int& local) {
-    for (int f = 0; f < F.rows(); ++f)
-      for (int k = 0; k < 3; ++k) {
-        const int a = F(f, k), b = F(f, (k + 1) % 3);
-        if (std::min(a, b) == q.a && std::max(a, b) == q.b) {
-          local = k;
-          return f;
-        }
-      }
-    return -1;
-  };
-
   enum class State { vertex, face };
   State state = start.is_vertex() ? State::vertex : State::face;
   int vertex = start.is_vertex() ? start.vertex : -1;
   int face = start.is_face() ? start.face : -1;
   int entry = -1;  // local edge index (k: F(face,k) -> F(face,k+1)) the walk came in through, or -1
   if (start.is_edge()) {
-    face = face_of_edge(start, entry);
+    face = face_of_edge(F, start, entry);
     if (face < 0) return {};
   }
   Eigen::Vector2d pos = P.row(0).transpose();
@@ -212,23 +250,7 @@ SurfaceCurve trace_polyline(const Eigen::MatrixXd& UV, const Eigen::MatrixXi& F,
         entry = -1;
         break;
       }
-      // The exit edge: q beyond it, and the segment pos -> q separates its
-      // ends; in rounding trouble, the edge q lies farthest beyond.
-      int exit = -1;
-      for (int k = 0; k < 3 && exit < 0; ++k) {
-        if (k == entry) continue;
-        const Eigen::Vector2d u = uv(F(face, k)), w = uv(F(face, (k + 1) % 3));
-        const double ou = orient(pos, q, u), ow = orient(pos, q, w);
-        if (((ou >= 0.0) != (ow >= 0.0)) && orient(u, w, q) < 0.0) exit = k;
-      }
-      double best = 0.0;
-      for (int k = 0; k < 3 && exit < 0; ++k) {
-        if (k == entry) continue;
-        const Eigen::Vector2d u = uv(F(face, k)), w = uv(F(face, (k + 1) % 3));
-        const double len = (w - u).norm();
-        const double depth = len > 0.0 ? -orient(u, w, q) / len : 0.0;
-        if (depth > best) best = depth, exit = k;
-      }
+      const int exit = exit_edge(UV, F, face, entry, pos, q);
       if (exit < 0) {
         if (target_vertex >= 0) return {};  // the vertex target is not ahead: give up
         pos = q;
@@ -258,17 +280,7 @@ SurfaceCurve trace_polyline(const Eigen::MatrixXd& UV, const Eigen::MatrixXi& F,
     curve.push_back(CurvePoint::in_face(face, barycentric(uv(F(face, 0)), uv(F(face, 1)), uv(F(face, 2)),
                                                           P.row(P.rows() - 1).transpose())));
   }
-  // Two consecutive crossings of one edge (the walk touched an edge and
-  // turned back) add nothing: drop both.
-  SurfaceCurve clean;
-  for (const CurvePoint& p : curve) {
-    if (!clean.empty() && p.is_edge() && clean.back().is_edge() && clean.back().a == p.a && clean.back().b == p.b) {
-      clean.pop_back();
-      continue;
-    }
-    clean.push_back(p);
-  }
-  return snap_to_vertices(clean, options.snap_fraction);
+  return snap_to_vertices(without_turnbacks(curve), options.snap_fraction);
 }
 
 SurfaceCurve snap_to_vertices(const SurfaceCurve& curve, double fraction) {
