@@ -131,6 +131,51 @@ struct StaticSolver::Impl {
     return true;
   }
 
+  // The body at the iterate X, and each free vertex's wall: the comfort offset (at most half the
+  // room in a pinch), lower only where the vertex is not outside it yet.
+  void update_walls(const StaticBody& body, const Eigen::MatrixXd& X, const Eigen::VectorXd& offsets,
+                    const Eigen::VectorXi& free_id, std::vector<VertexContact>& contact) const {
+    const double band = options.barrier_band;
+    for (Eigen::Index v = 0; v < X.rows() && body.distance; ++v) {
+      VertexContact& c = contact[static_cast<size_t>(v)];
+      if (free_id(v) < 0) continue;
+      const BodyDistance q = body.distance(static_cast<int>(v), X.row(v).transpose(), true);
+      // The barrier's band straddles the comfort offset: cloth pressed onto the body rests near it
+      // (s about 1/2), loose cloth lies on it, as the damped steps' hard offset holds them.
+      double target = offsets(v);
+      if (std::isfinite(q.room)) target = std::min(target, 0.5 * q.room);
+      target -= 0.5 * band;
+      c.distance = q.signed_distance;
+      c.outward = q.outward;
+      // The wall never falls (but with the target) and stays below the vertex: it rises to the
+      // target as a vertex that started inside the offset is pushed out.
+      const double previous = c.has_wall && c.wall < c.distance ? c.wall : -std::numeric_limits<double>::infinity();
+      // Within a fifth of the band of the surface (or inside) the signed distance decides alone.
+      c.outside = c.distance > 2.0 * kStartBelowWall * band;
+      // Outside, the distances to the body's triangles are unsigned: the wall stays above the surface.
+      const double floor = c.outside ? 0.5 * c.distance : -std::numeric_limits<double>::infinity();
+      c.wall = std::min(target, std::max({previous, c.distance - kStartBelowWall * band, floor}));
+      c.has_wall = true;
+    }
+  }
+
+  // The largest fraction of the step (vertex step lengths `step_lengths`) that cannot carry a vertex
+  // through the body: a vertex moving less than its distance to the wall stays in a ball free of it;
+  // one that could reach it moves at most max_displacement, its end checked against the wall.
+  double largest_safe_step(const StaticBody& body, const Eigen::VectorXd& step_lengths, const Eigen::VectorXi& free_id,
+                           const std::vector<VertexContact>& contact) const {
+    double alpha = 1.0;
+    for (Eigen::Index v = 0; v < step_lengths.size(); ++v) {
+      const double length = step_lengths(v);
+      if (free_id(v) < 0 || length == 0.0) continue;
+      const VertexContact& c = contact[static_cast<size_t>(v)];
+      const double room = body.distance ? c.distance - c.wall : std::numeric_limits<double>::infinity();
+      const double cap = std::max(0.9 * room, options.max_displacement);
+      if (length > cap) alpha = std::min(alpha, cap / length);
+    }
+    return alpha;
+  }
+
   // The barrier's energy at positions X over the vertices whose band they can have reached: `moved`
   // bounds how far each moved from where `contact` was measured. Infinity when a vertex is at or
   // behind its wall.
@@ -214,31 +259,8 @@ StaticSolveReport StaticSolver::resume(const ClothSimulator& sim, const StaticBo
   Eigen::MatrixXd dx(nv, 3), grad(nv, 3);
 
   for (int iteration = 0;; ++iteration) {
-    // The body at the iterate, and the walls: the comfort offset (at most half the room in a
-    // pinch), lower only where the vertex is not outside it yet.
     auto t0 = Clock::now();
-    for (Eigen::Index v = 0; v < nv && body.distance; ++v) {
-      VertexContact& c = contact[static_cast<size_t>(v)];
-      if (free_id(v) < 0) continue;
-      const BodyDistance q = body.distance(static_cast<int>(v), X.row(v).transpose(), true);
-      // The barrier's band straddles the comfort offset: cloth pressed onto the body rests near it
-      // (s about 1/2), loose cloth lies on it, as the damped steps' hard offset holds them.
-      double target = offsets(v);
-      if (std::isfinite(q.room)) target = std::min(target, 0.5 * q.room);
-      target -= 0.5 * band;
-      c.distance = q.signed_distance;
-      c.outward = q.outward;
-      // The wall never falls (but with the target) and stays below the vertex: it rises to the
-      // target as a vertex that started inside the offset is pushed out.
-      const double previous = c.has_wall && c.wall < c.distance ? c.wall : -std::numeric_limits<double>::infinity();
-      // Within a fifth of the band of the surface (or inside) the signed distance decides alone.
-      c.outside = c.distance > 2.0 * kStartBelowWall * band;
-      // Outside, the distances to the body's triangles are unsigned: the wall stays above the surface.
-      const double floor = c.outside ? 0.5 * c.distance : -std::numeric_limits<double>::infinity();
-      c.wall = std::min(target, std::max({previous, c.distance - kStartBelowWall * band, floor}));
-      c.has_wall = true;
-    }
-
+    s.update_walls(body, X, offsets, free_id, contact);
     s.times.collisions += seconds_since(t0);
     t0 = Clock::now();
     s.system.assemble(X, zero, zero, F, rest, params, 0.0, tau);  // b = tau f
@@ -296,19 +318,8 @@ StaticSolveReport StaticSolver::resume(const ClothSimulator& sim, const StaticBo
     const double slope = (grad.array() * dx.array()).sum();  // < 0: the matrix is SPD
     const Eigen::VectorXd step_lengths = dx.rowwise().norm();
 
-    // The largest step that cannot carry a vertex through the body: a vertex moving less than its
-    // distance to the wall stays in a ball free of it; one that could reach it moves at most
-    // max_displacement, its end checked against the wall.
-    double alpha = 1.0;
-    for (Eigen::Index v = 0; v < nv; ++v) {
-      const double length = step_lengths(v);
-      if (free_id(v) < 0 || length == 0.0) continue;
-      const VertexContact& c = contact[static_cast<size_t>(v)];
-      const double room = body.distance ? c.distance - c.wall : std::numeric_limits<double>::infinity();
-      const double cap = std::max(0.9 * room, o.max_displacement);
-      if (length > cap) alpha = std::min(alpha, cap / length);
-    }
-    const double alpha_max = alpha;
+    const double alpha_max = s.largest_safe_step(body, step_lengths, free_id, contact);
+    double alpha = alpha_max;
 
     t0 = Clock::now();
     bool accepted = false;
