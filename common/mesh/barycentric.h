@@ -1,5 +1,6 @@
 #pragma once
-// Barycentric coordinates of a point in the plane of a triangle.
+// Barycentric coordinates of a point in the plane of a triangle: in space, and in the plane
+// (clamped into the triangle).
 #include <Eigen/Core>
 
 namespace gp {
@@ -19,6 +20,24 @@ inline Eigen::Vector3d barycentric(const Eigen::Vector3d& x, const Eigen::Vector
   const double u = (d22 * d1 - d12 * d2) / det;
   const double v = (d11 * d2 - d12 * d1) / det;
   return Eigen::Vector3d(1.0 - u - v, u, v);
+}
+
+// The coordinates (wa, wb, wc) of a point q of the plane against the triangle a, b, c of the plane,
+// clamped into the triangle (negative ones set to 0, then normalised): the ratios of the signed
+// areas of the sub-triangles q b c, a q c, a b q to a b c's. A degenerate triangle (zero area) uses
+// the sub-triangles' areas unscaled; where all vanish, the centroid (1/3, 1/3, 1/3).
+inline Eigen::Vector3d clamped_barycentric_2d(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                              const Eigen::Vector2d& c, const Eigen::Vector2d& q) {
+  // Twice the signed area of the triangle (u, v, w), positive counter-clockwise.
+  const auto orient = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v, const Eigen::Vector2d& w) {
+    return (v.x() - u.x()) * (w.y() - u.y()) - (v.y() - u.y()) * (w.x() - u.x());
+  };
+  const double area = orient(a, b, c);
+  Eigen::Vector3d w(orient(b, c, q), orient(c, a, q), orient(a, b, q));
+  if (area != 0.0) w /= area;
+  w = w.cwiseMax(0.0);
+  const double s = w.sum();
+  return s > 0.0 ? Eigen::Vector3d(w / s) : Eigen::Vector3d(1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0);
 }
 
 }  // namespace gp

@@ -10,6 +10,7 @@
 #include <Eigen/SparseCore>
 
 #include "core/error.h"
+#include "mesh/barycentric.h"
 #include "mesh/topology.h"
 #include "pattern/flatten.h"
 
@@ -78,17 +79,6 @@ double distance_to_polyline(const Eigen::MatrixXd& P, const Eigen::Vector2d& q) 
 
 double orient(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
   return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
-}
-
-Eigen::Vector3d barycentric(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
-                            const Eigen::Vector2d& q) {
-  const double area = orient(a, b, c);
-  Eigen::Vector3d w(orient(b, c, q), orient(c, a, q), orient(a, b, q));
-  if (area != 0.0) w /= area;
-  // Clamped into the triangle (the walk only asks for points inside it).
-  w = w.cwiseMax(0.0);
-  const double s = w.sum();
-  return s > 0.0 ? Eigen::Vector3d(w / s) : Eigen::Vector3d(1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0);
 }
 
 // The face holding a (boundary) edge point q, and the edge's local index in it; -1 when none.
@@ -277,7 +267,7 @@ SurfaceCurve trace_polyline(const Eigen::MatrixXd& UV, const Eigen::MatrixXi& F,
     if (!curve.back().is_edge() || curve.back().a != end.a || curve.back().b != end.b) return {};
   } else {
     if (state != State::face) return {};
-    curve.push_back(CurvePoint::in_face(face, barycentric(uv(F(face, 0)), uv(F(face, 1)), uv(F(face, 2)),
+    curve.push_back(CurvePoint::in_face(face, clamped_barycentric_2d(uv(F(face, 0)), uv(F(face, 1)), uv(F(face, 2)),
                                                           P.row(P.rows() - 1).transpose())));
   }
   return snap_to_vertices(without_turnbacks(curve), options.snap_fraction);
