@@ -1,6 +1,6 @@
 #pragma once
 // Barycentric coordinates of a point in the plane of a triangle: in space, and in the plane
-// (clamped into the triangle).
+// (clamped into the triangle), with the plane's orientation predicate they rest on.
 #include <Eigen/Core>
 
 namespace gp {
@@ -22,18 +22,20 @@ inline Eigen::Vector3d barycentric(const Eigen::Vector3d& x, const Eigen::Vector
   return Eigen::Vector3d(1.0 - u - v, u, v);
 }
 
+// Twice the signed area of the plane triangle a, b, c: positive counter-clockwise, 0 where the
+// three are collinear (the orientation predicate, in floating point).
+inline double orient_2d(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+}
+
 // The coordinates (wa, wb, wc) of a point q of the plane against the triangle a, b, c of the plane,
 // clamped into the triangle (negative ones set to 0, then normalised): the ratios of the signed
 // areas of the sub-triangles q b c, a q c, a b q to a b c's. A degenerate triangle (zero area) uses
 // the sub-triangles' areas unscaled; where all vanish, the centroid (1/3, 1/3, 1/3).
 inline Eigen::Vector3d clamped_barycentric_2d(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                                               const Eigen::Vector2d& c, const Eigen::Vector2d& q) {
-  // Twice the signed area of the triangle (u, v, w), positive counter-clockwise.
-  const auto orient = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v, const Eigen::Vector2d& w) {
-    return (v.x() - u.x()) * (w.y() - u.y()) - (v.y() - u.y()) * (w.x() - u.x());
-  };
-  const double area = orient(a, b, c);
-  Eigen::Vector3d w(orient(b, c, q), orient(c, a, q), orient(a, b, q));
+  const double area = orient_2d(a, b, c);
+  Eigen::Vector3d w(orient_2d(b, c, q), orient_2d(c, a, q), orient_2d(a, b, q));
   if (area != 0.0) w /= area;
   w = w.cwiseMax(0.0);
   const double s = w.sum();

@@ -11,6 +11,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "core/math.h"
+#include "mesh/barycentric.h"
 #include "mesh/laplacian.h"
 #include "mesh/point_triangle.h"
 #include "mesh/topology.h"
@@ -23,10 +24,6 @@ namespace {
 double kernel(double d, double r) {
   const double s = d / r;
   return s < 1.0 ? (1.0 - s * s) * (1.0 - s * s) : 0.0;
-}
-
-double orient(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
-  return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
 }
 
 // Angle defect 2 pi - sum of corner angles per vertex, 0 on the boundary.
@@ -298,8 +295,8 @@ bool polylines_cross(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
       if (std::max(a0.x(), a1.x()) < std::min(b0.x(), b1.x()) || std::max(b0.x(), b1.x()) < std::min(a0.x(), a1.x()) ||
           std::max(a0.y(), a1.y()) < std::min(b0.y(), b1.y()) || std::max(b0.y(), b1.y()) < std::min(a0.y(), a1.y()))
         continue;
-      const double d0 = orient(a0, a1, b0), d1 = orient(a0, a1, b1);
-      const double d2 = orient(b0, b1, a0), d3 = orient(b0, b1, a1);
+      const double d0 = orient_2d(a0, a1, b0), d1 = orient_2d(a0, a1, b1);
+      const double d2 = orient_2d(b0, b1, a0), d3 = orient_2d(b0, b1, a1);
       if (((d0 <= 0.0 && d1 >= 0.0) || (d0 >= 0.0 && d1 <= 0.0)) &&
           ((d2 <= 0.0 && d3 >= 0.0) || (d2 >= 0.0 && d3 <= 0.0)))
         return true;
@@ -635,7 +632,7 @@ std::optional<SurfaceCurve> panel_curve(const Pattern& pattern, size_t c, const 
   for (int f = 0; f < p.F.rows(); ++f) {
     const Eigen::Vector3d q0 = p.V.row(p.F(f, 0)), q1 = p.V.row(p.F(f, 1)), q2 = p.V.row(p.F(f, 2));
     area += 0.5 * (q1 - q0).cross(q2 - q0).norm();
-    chart_area += 0.5 * orient(chart.row(p.F(f, 0)).transpose(), chart.row(p.F(f, 1)).transpose(),
+    chart_area += 0.5 * orient_2d(chart.row(p.F(f, 0)).transpose(), chart.row(p.F(f, 1)).transpose(),
                                chart.row(p.F(f, 2)).transpose());
   }
   const double scale = chart_area > 0.0 ? area / chart_area : 1.0;

@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/math.h"
 #include "linalg/cholmod_solver.h"
+#include "mesh/barycentric.h"
 #include "mesh/measures.h"
 #include "mesh/principal_stretches.h"
 #include "mesh/topology.h"
@@ -101,7 +102,7 @@ bool polygon_self_intersects(const Eigen::MatrixXd& P, std::vector<int>* vertex_
   const int n = static_cast<int>(P.rows());
   if (n < 4) return false;
   auto orient = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
-    const double v = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+    const double v = orient_2d(a, b, c);
     return (v > 0.0) - (v < 0.0);
   };
   auto on_segment = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {

@@ -77,10 +77,6 @@ double distance_to_polyline(const Eigen::MatrixXd& P, const Eigen::Vector2d& q) 
   return d;
 }
 
-double orient(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
-  return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
-}
-
 // The face holding a (boundary) edge point q, and the edge's local index in it; -1 when none.
 int face_of_edge(const Eigen::MatrixXi& F, const CurvePoint& q, int& local) {
   for (int f = 0; f < F.rows(); ++f)
@@ -104,15 +100,15 @@ int exit_edge(const Eigen::MatrixXd& UV, const Eigen::MatrixXi& F, int face, int
   for (int k = 0; k < 3 && exit < 0; ++k) {
     if (k == entry) continue;
     const Eigen::Vector2d u = uv(F(face, k)), w = uv(F(face, (k + 1) % 3));
-    const double ou = orient(pos, q, u), ow = orient(pos, q, w);
-    if (((ou >= 0.0) != (ow >= 0.0)) && orient(u, w, q) < 0.0) exit = k;
+    const double ou = orient_2d(pos, q, u), ow = orient_2d(pos, q, w);
+    if (((ou >= 0.0) != (ow >= 0.0)) && orient_2d(u, w, q) < 0.0) exit = k;
   }
   double best = 0.0;
   for (int k = 0; k < 3 && exit < 0; ++k) {
     if (k == entry) continue;
     const Eigen::Vector2d u = uv(F(face, k)), w = uv(F(face, (k + 1) % 3));
     const double len = (w - u).norm();
-    const double depth = len > 0.0 ? -orient(u, w, q) / len : 0.0;
+    const double depth = len > 0.0 ? -orient_2d(u, w, q) / len : 0.0;
     if (depth > best) best = depth, exit = k;
   }
   return exit;
@@ -190,14 +186,14 @@ SurfaceCurve trace_polyline(const Eigen::MatrixXd& UV, const Eigen::MatrixXi& F,
           pos = uv(vertex);
           break;
         }
-        if (orient(uv(a), uv(b), q) >= 0.0) {
+        if (orient_2d(uv(a), uv(b), q) >= 0.0) {
           // q inside this face.
           state = State::face;
           entry = -1;
           pos = q;
           break;
         }
-        const double oa = orient(pos, q, uv(a)), ob = orient(pos, q, uv(b));
+        const double oa = orient_2d(pos, q, uv(a)), ob = orient_2d(pos, q, uv(b));
         double t = (oa - ob) != 0.0 ? oa / (oa - ob) : 0.5;
         t = std::clamp(t, lo, hi);
         curve.push_back(CurvePoint::on_edge(a, b, t));
@@ -234,7 +230,7 @@ SurfaceCurve trace_polyline(const Eigen::MatrixXd& UV, const Eigen::MatrixXi& F,
       }
       bool inside = true;
       for (int k = 0; k < 3; ++k)
-        if (orient(uv(F(face, k)), uv(F(face, (k + 1) % 3)), q) < 0.0) inside = false;
+        if (orient_2d(uv(F(face, k)), uv(F(face, (k + 1) % 3)), q) < 0.0) inside = false;
       if (inside && target_vertex < 0) {
         pos = q;
         entry = -1;
@@ -248,7 +244,7 @@ SurfaceCurve trace_polyline(const Eigen::MatrixXd& UV, const Eigen::MatrixXi& F,
         break;
       }
       const int a = F(face, exit), b = F(face, (exit + 1) % 3);
-      const double oa = orient(pos, q, uv(a)), ob = orient(pos, q, uv(b));
+      const double oa = orient_2d(pos, q, uv(a)), ob = orient_2d(pos, q, uv(b));
       double t = (oa - ob) != 0.0 ? oa / (oa - ob) : 0.5;
       t = std::clamp(t, lo, hi);
       curve.push_back(CurvePoint::on_edge(a, b, t));
