@@ -272,6 +272,34 @@ HAND_WRITTEN = {
 }
 
 
+def split_sections(text):
+    """The text's level-2 sections in order: (heading, lines with the heading
+    line first); what comes before the first heading is left out."""
+    sections = []
+    for line in text.splitlines():
+        if line.startswith("## "):
+            sections.append((line[3:].strip(), [line]))
+        elif sections:
+            sections[-1][1].append(line)
+    return sections
+
+
+def carried_over(old_text, written_lines):
+    """The level-2 sections of the old BENCHMARKS.md text that the new one does
+    not write (measurements written there by hand, not by this script), in
+    their old order, each as its lines with trailing blank lines trimmed.
+    Rerunning make bench must never lose a measurement."""
+    written = {line[3:].strip() for line in written_lines if line.startswith("## ")}
+    kept = []
+    for heading, body in split_sections(old_text):
+        if heading in written:
+            continue
+        while body and not body[-1].strip():
+            body.pop()
+        kept.append(body)
+    return kept
+
+
 def hand_section(lines, folder, key):
     """The hand-written section key of HAND_WRITTEN, if its file has text."""
     name, heading, level = HAND_WRITTEN[key]
@@ -303,7 +331,8 @@ def write(path, bench, meta, plots):
         f"{' (quick mode: reduced settings)' if meta['quick'] else ''}.",
         "",
         f"Fast stages: median of {meta['repeats']} runs (min and max in the last table). Simulations: median of the "
-        "runs the time allowed (the runs column), at least one.",
+        "runs the time allowed (the runs column), at least one. Sections measured by hand (whole fits, ratios "
+        "against other binaries) are kept from the file as it was; their own text says when and how.",
         "",
     ]
     hand = os.path.join(os.path.dirname(os.path.abspath(path)), meta["plots_rel"])
@@ -316,6 +345,14 @@ def write(path, bench, meta, plots):
     export_section(lines, bench.results, plot)
     hand_section(lines, hand, "cutters")
     memory_section(lines, bench, plot)
+    # Sections written into BENCHMARKS.md by hand (whole fits, ratios against
+    # other binaries, build times) stay, before the table of runs.
+    old_text = ""
+    if os.path.exists(path):
+        with open(path) as f:
+            old_text = f.read()
+    for body in carried_over(old_text, lines + ["## Every measured run"]):
+        lines += body + [""]
     lines += ["## Every measured run", "",
               "| stage | case | threads | runs | median [s] | min [s] | max [s] | peak memory [MiB] | details |",
               "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | --- |"]
