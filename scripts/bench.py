@@ -212,6 +212,40 @@ class Bench:
 
     # --- simulation -----------------------------------------------------------
 
+    def whole_fit(self, demo):
+        """The demo's whole simulate-adapt (fit and verification, its
+        customer's flags, one worker) with the damped settling and with the
+        static solve, in interleaved pairs (the order swapped every pair), so
+        that the ratio of their CPU times is taken under the same load: issue
+        45's speed figure."""
+        pairs = 1 if self.quick else 3
+        flags = ["--verify-frame-stride", "10"]  # pipelines/customers/demo/customer.mk
+        args = [self.run.tool("simulate-adapt"), "--poses", os.path.join(demo, "poses", "poses.json"),
+                "--motion", os.path.join(CUSTOMERS, "demo", "motion.json"),
+                "--garment", os.path.join(demo, "garment", "garment.json"), "--workers", "1", *flags]
+        runs = {"dynamic": [], "static": []}
+        for pair in range(pairs):
+            order = ("dynamic", "static") if pair % 2 == 0 else ("static", "dynamic")
+            for solver in order:
+                out = self.run.path(f"whole-fit-{solver}")
+                try:
+                    wall, _ = self.run.run_once(args + ["--solver", solver], out)
+                except bench_run.StageFailed as e:
+                    self.notes.append(f"whole fit, {solver}: failed: {e}")
+                    return
+                with open(os.path.join(out, "report.json")) as f:
+                    r = json.load(f)
+                with open(os.path.join(out, "timing.json")) as f:
+                    t = json.load(f)
+                runs[solver].append({
+                    "cpu": self.run.last_cpu, "wall": wall, "steps": r["run"]["steps"],
+                    "newton": t.get("static_solve", {}).get("newton_iterations", 0),
+                    "verification_steps": r["verification"]["steps"], "rest": r["run"]["rest_area_growth"],
+                    "verdict": r["verification"]["verdict"], "cycles": len(r["cycles"])})
+            self.run.say(f"whole fit, pair {pair + 1}/{pairs}: damped {runs['dynamic'][-1]['cpu']:.1f} s, "
+                         f"static {runs['static'][-1]['cpu']:.1f} s of CPU")
+        self.results["whole_fit"] = {"runs": runs, "flags": flags, "pairs": pairs}
+
     def scenes(self, demo):
         if os.path.isdir(SHARED):
             return [
@@ -282,6 +316,7 @@ def main():
         designed = bench.make_garment()
         demo = bench.demo_fit()
         bench.export_rest(designed, demo)
+        bench.whole_fit(demo)
         bench.simulate(demo)
         plots = bench_plots.write_all(bench, args.plots)
     except bench_run.StageFailed as e:

@@ -1,6 +1,7 @@
 """BENCHMARKS.md from the results of scripts/bench.py."""
 import math
 import os
+import statistics
 
 PAPER = [(3926, 1.70), (1103, 7.82)]  # Wolff et al. 2023: garment vertices, frames/s on 12 cores at 2.7 GHz
 PHASES = [("forces_assembly", "forces + assembly"), ("factorization", "factorization"), ("solve", "solve"),
@@ -300,6 +301,33 @@ def carried_over(old_text, written_lines):
     return kept
 
 
+def whole_fit_section(lines, results):
+    """The demo's whole fit with both solvers, interleaved (bench.py, whole_fit)."""
+    w = results.get("whole_fit")
+    if not w:
+        return
+    runs = w["runs"]
+    lines += ["## simulate-adapt: a whole fit, damped settling against the static solve", "",
+              f"The demo customer's `simulate-adapt` (fit and verification, `{' '.join(w['flags'])}`, "
+              f"`--workers 1`), `--solver dynamic` and `--solver static` in {w['pairs']} interleaved pair(s), the "
+              "order swapped every pair; CPU is the process's user and system time. The ratio is the median of "
+              "the pairs' ratios (issue 45's target: 0.3).", "",
+              "| solver | runs | median CPU [s] | median wall [s] | fit: time steps | fit: Newton iterations | rest area | "
+              "cycles | verification |",
+              "| --- | ---: | ---: | ---: | ---: | ---: | --- | ---: | --- |"]
+    for solver, label in (("dynamic", "damped settling"), ("static", "static solve")):
+        rs = runs[solver]
+        med = lambda key: statistics.median(r[key] for r in rs)  # noqa: E731
+        verdicts = sorted({r["verdict"] for r in rs})
+        lines.append(f"| {label} | {len(rs)} | {med('cpu'):.1f} | {med('wall'):.1f} | {med('steps'):.0f} | "
+                     f"{med('newton'):.0f} | x{rs[-1]['rest']:.4f} | {rs[-1]['cycles']} | {', '.join(verdicts)} |")
+    ratios = [s["cpu"] / d["cpu"] for d, s in zip(runs["dynamic"], runs["static"]) if d["cpu"] > 0]
+    if ratios:
+        lines += ["", f"CPU of the static solve over the damped settling: {statistics.median(ratios):.2f} "
+                      f"(pairs: {', '.join(f'{x:.2f}' for x in ratios)})."]
+    lines.append("")
+
+
 def hand_section(lines, folder, key):
     """The hand-written section key of HAND_WRITTEN, if its file has text."""
     name, heading, level = HAND_WRITTEN[key]
@@ -340,6 +368,7 @@ def write(path, bench, meta, plots):
     hand_section(lines, hand, "changes")
     hand_section(lines, hand, "independence")
     culling_section(lines, bench.results, plot)
+    whole_fit_section(lines, bench.results)
     tradeoff_section(lines, bench.results, plot)
     interp_section(lines, bench.results, plot)
     export_section(lines, bench.results, plot)

@@ -31,6 +31,7 @@ class Measurement:
         self.name = name
         self.out_dir = out_dir
         self.times = []
+        self.cpus = []  # user + system CPU of each run's process [s]
         self.peaks_mib = []
         self.per_run = []  # what the `collect` function of measure() returned for each run
 
@@ -70,6 +71,7 @@ class Runner:
         self.t0 = time.perf_counter()
         self.budget_s = budget_s
         self.processes = 0
+        self.last_cpu = 0.0  # user + system CPU of the last run_once's process [s]
 
     def tool(self, name):
         path = os.path.join(self.bin, name)
@@ -110,6 +112,7 @@ class Runner:
                 timer.start()
             _, status, usage = os.wait4(proc.pid, 0)
             wall = time.perf_counter() - t0
+            self.last_cpu = usage.ru_utime + usage.ru_stime
             if timer is not None:
                 timer.cancel()
             proc.returncode = os.waitstatus_to_exitcode(status)
@@ -143,6 +146,7 @@ class Runner:
                     os.rename(m.out_dir, m.out_dir + "-run1")
             wall, peak = self.run_once(args, m.out_dir, timeout_s)
             m.times.append(wall)
+            m.cpus.append(self.last_cpu)
             m.peaks_mib.append(peak)
             if collect is not None:
                 m.per_run.append(collect(m.out_dir))
