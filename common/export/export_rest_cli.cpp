@@ -29,6 +29,9 @@ void add_export_rest_options(CLI::App& app, ExportRestOptions& o, ExportRestChoi
       ->capture_default_str()->check(CLI::Range(1e-3, 1.0));
   app.add_option("--limit-rounds", po.flatten.limit_rounds, "Rounds in which a piece's triangles beyond 80 % of the limit "
                  "(or of the compression budget, --weighting-budget-share) weigh more in its flattening (0: off) [count]")->capture_default_str()->check(CLI::Range(0, 1000));
+  app.add_option("--limit-patience", po.flatten.limit_patience,
+                 "The limit weighting stops after this many rounds without a better one [count]")
+      ->capture_default_str()->check(CLI::Range(1, 1000));
   app.add_option("--dart-placement", c.placement,
                  "Dart tips at the concentration of Gaussian curvature (curvature) or of the log conformal factor (conformal)")
       ->capture_default_str()->check(CLI::IsMember({"curvature", "conformal"}));
