@@ -28,7 +28,10 @@ void add_export_rest_options(CLI::App& app, ExportRestOptions& o, ExportRestChoi
                  "Cost of ease relative to compression in the flattening (1 is ARAP) [fraction]")
       ->capture_default_str()->check(CLI::Range(1e-3, 1.0));
   app.add_option("--limit-rounds", po.flatten.limit_rounds, "Rounds in which a piece's triangles beyond 80 % of the limit "
-                 "weigh more in its flattening (0: off) [count]")->capture_default_str()->check(CLI::Range(0, 1000));
+                 "(or of the compression budget, --weighting-budget-share) weigh more in its flattening (0: off) [count]")->capture_default_str()->check(CLI::Range(0, 1000));
+  app.add_option("--limit-patience", po.flatten.limit_patience,
+                 "The limit weighting stops after this many rounds without a better one [count]")
+      ->capture_default_str()->check(CLI::Range(1, 1000));
   app.add_option("--dart-placement", c.placement,
                  "Dart tips at the concentration of Gaussian curvature (curvature) or of the log conformal factor (conformal)")
       ->capture_default_str()->check(CLI::IsMember({"curvature", "conformal"}));
@@ -104,6 +107,10 @@ void add_export_rest_options(CLI::App& app, ExportRestOptions& o, ExportRestChoi
                  "A panel seam relieving less than --min-panel-relief stays, where both its pieces then meet the limit, only if "
                  "its piece was compressed by more than this share of the stretch budget (the fit's delta with --fit, else 0.10) [fraction]")
       ->capture_default_str()->check(CLI::Range(0.0, 100.0));
+  app.add_option("--weighting-budget-share", po.panels.weighting_budget_share,
+                 "The limit weighting compresses no triangle beyond this share of the stretch budget (the fit's delta with "
+                 "--fit, else 0.10), or beyond its compression without the weighting where that was more [fraction]")
+      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
   app.add_option("--max-boundary-weight", po.seams.max_boundary_weight,
                  "Pieces on a seam whose sides differ beyond the tolerance are flattened again with up to this boundary weight [dimensionless]")
       ->capture_default_str()->check(CLI::Range(0.0, 1e6));

@@ -50,7 +50,20 @@ struct FlattenOptions {
   double limit_ease = 0.10;          // fraction
   double limit_margin = 0.8;         // fraction of the limits a triangle is weighed against
   double max_face_weight = 50.0;     // a triangle's weight grows to at most this multiple
-  double limit_tolerance = 1e-9;     // each round's iterations stop at this relative decrease (at most 4 max_iterations)
+  // The rounds' iterations stop at this relative decrease, the kept round's
+  // at limit_tolerance (each at most 4 max_iterations; why: pattern README,
+  // "The limit weighting").
+  double limit_round_tolerance = 1e-8;
+  double limit_tolerance = 1e-9;
+  // The compression a round may leave in a triangle that the plain
+  // flattening compressed less: the sewn garment must stretch a flat
+  // triangle compressed by c by 1 / (1 - c) before the motion adds any. A
+  // round that compresses any triangle beyond max(this, its plain
+  // compression) is not kept, and triangles beyond it are weighed against
+  // it. The cutter sets it from the fit's stretch budget
+  // (PanelOptions::budget_share * stretch_budget). 0: no budget.
+  double compression_budget = 0.0;   // fraction
+  int limit_patience = 3;            // rounds without a better admissible one before the weighting stops
 };
 
 // The options as a report records them (spec/option_fields.h).
@@ -72,7 +85,10 @@ struct FlattenOptionFields {
     f.number("limit_ease", o.limit_ease, Range::positive());
     f.number("limit_margin", o.limit_margin, Range::positive());
     f.number("max_face_weight", o.max_face_weight, Range::between(1.0, 1e6));
+    f.number("limit_round_tolerance", o.limit_round_tolerance, Range::positive());
     f.number("limit_tolerance", o.limit_tolerance, Range::positive());
+    f.number("compression_budget", o.compression_budget, Range::between(0.0, 1.0));
+    f.integer("limit_patience", o.limit_patience, Range::between(1, 1000));
   }
 };
 
@@ -148,12 +164,19 @@ ArapRun arap_flatten(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::
 // squares moves the minimum towards the tails' bound (Lawson's algorithm for
 // a min-max fit; the same device as the reweighting of Rabinovich et al.
 // 2017, here on the excess over a target): each round multiplies the weight
-// of a triangle over its target by 1 + (excess / target), capped at
-// max_face_weight, and resumes the plain iterations from UV (in place) and
-// `face_weight` (#F, in place; empty: all 1). Keeps the round whose worse
-// bound (worst1_compression / limit_compression, worst5_ease / limit_ease)
-// is lowest, and stops at a round within both, at one that flips a triangle
-// or after limit_rounds. Returns the rounds run.
+// of a triangle over its target (limit_margin of the ease limit, or of the
+// lower of the compression limit and compression_budget) by 1 + (excess /
+// target), capped at max_face_weight, and resumes the plain iterations
+// (to limit_round_tolerance) from UV and `face_weight` (#F; empty: all 1).
+// A round counts only where no triangle is compressed beyond its ceiling,
+// max(compression_budget, its compression in the plain flattening at UV).
+// The admissible round whose worse bound (worst1_compression /
+// limit_compression, worst5_ease / limit_ease) is lowest is converged to
+// limit_tolerance and returned in UV and `face_weight` if it is still
+// admissible, flip-free and better than the plain flattening; else UV and
+// `face_weight` are left as they were. Stops at a round within both bounds,
+// at one that flips a triangle, after limit_patience rounds without
+// progress or after limit_rounds. Returns the rounds run.
 int limit_weights(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::MatrixXd& UV,
                   Eigen::VectorXd& face_weight, const FlattenOptions& options);
 

@@ -56,6 +56,9 @@ FlattenOptions piece_flatten_options(const PatternOptions& options, const Flatte
   // The limit weighting aims at the cutter's own limit.
   flatten.limit_compression = options.limit.symmetric ? options.limit.max_limit : options.limit.compression_worst1;
   flatten.limit_ease = options.limit.symmetric ? options.limit.max_limit : options.limit.ease_worst5;
+  // ... and leaves no triangle compressed beyond its share of the fit's
+  // stretch budget (PanelOptions::weighting_budget_share).
+  flatten.compression_budget = options.panels.weighting_budget_share * options.panels.stretch_budget;
   const auto w = cache.boundary_weight.find(key);
   if (w != cache.boundary_weight.end()) flatten.boundary_weight = w->second;
   const auto e = cache.ease_weight.find(key);
