@@ -166,12 +166,10 @@ void measure_result(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const st
   for (int k : at) result.overlap_vertex_ids.push_back(loop[static_cast<size_t>(k)]);
 }
 
-}  // namespace
-
-namespace {
 // Compression a kept round may leave beyond a triangle's ceiling (a tenth
 // of a percent): the converged round's rounding, not cloth to stretch out.
 constexpr double kCeilingTolerance = 1e-3;
+
 }  // namespace
 
 int limit_weights(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::MatrixXd& UV,
@@ -186,8 +184,13 @@ int limit_weights(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::Mat
   // them, and those must not end beyond what the sewn garment can stretch.
   const double tc = options.limit_margin * std::min(options.limit_compression, budget);
   const double te = options.limit_margin * options.limit_ease;
-  auto ratio = [&](const Eigen::MatrixXd& X) {
-    const DistortionStats s = distortion_stats(V, F, X);
+  const std::vector<LocalTriangle> T = local_triangles(V, F);
+  Eigen::VectorXd area(F.rows()), area_2d(F.rows());
+  for (int f = 0; f < F.rows(); ++f) area[f] = T[static_cast<size_t>(f)].area;
+  // The worse of the two bounds at X, whose stretches are S.
+  auto ratio = [&](const Eigen::MatrixXd& X, const Eigen::MatrixXd& S) {
+    for (int f = 0; f < F.rows(); ++f) area_2d[f] = signed_area_2d(X, F.row(f));
+    const DistortionStats s = distortion_stats(S, area, area_2d);
     return std::max(s.worst1_compression / options.limit_compression, s.worst5_ease / options.limit_ease);
   };
   // Each triangle's ceiling: the budget, or its plain compression where
@@ -197,27 +200,31 @@ int limit_weights(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::Mat
   for (int f = 0; f < F.rows(); ++f) ceiling[f] = std::max(budget, 1.0 - S0(f, 1)) + kCeilingTolerance;
   // The compression beyond the ceilings, summed over the triangles (3D area
   // times excess): 0 where a round is admissible.
-  const std::vector<LocalTriangle> T = local_triangles(V, F);
   auto violation = [&](const Eigen::MatrixXd& S) {
     double sum = 0.0;
-    for (int f = 0; f < F.rows(); ++f) sum += T[static_cast<size_t>(f)].area * std::max(0.0, 1.0 - S(f, 1) - ceiling[f]);
+    for (int f = 0; f < F.rows(); ++f) sum += area[f] * std::max(0.0, 1.0 - S(f, 1) - ceiling[f]);
     return sum;
   };
-  auto admissible = [&](const Eigen::MatrixXd& S) { return violation(S) <= 0.0; };
   double least_violation = std::numeric_limits<double>::infinity();
   const Eigen::MatrixXd plain_UV = UV;
-  const double plain = ratio(UV);
+  const double plain = ratio(UV, S0);
   double best = plain;
   Eigen::MatrixXd best_UV = UV;
   Eigen::VectorXd best_weight = face_weight;
   bool improved = false;
   int rounds = 0, stalled = 0;
   Eigen::MatrixXd S = S0;
+  // The plain iterations run further than the cutter's own: to `tolerance`,
+  // for at most 4 max_iterations.
+  auto converging_to = [&](double tolerance) {
+    FlattenOptions o = options;
+    o.tolerance = std::min(options.tolerance, tolerance);
+    o.max_iterations = 4 * options.max_iterations;
+    return o;
+  };
   // Each round is warm-started from the one before and stops at
   // limit_round_tolerance; only the kept one is converged further (below).
-  FlattenOptions round = options;
-  round.tolerance = std::min(options.tolerance, options.limit_round_tolerance);
-  round.max_iterations = 4 * options.max_iterations;
+  const FlattenOptions round = converging_to(options.limit_round_tolerance);
   for (int r = 0; r < options.limit_rounds && best > 1.0 && stalled < options.limit_patience; ++r) {
     bool any = false;
     for (int f = 0; f < F.rows(); ++f) {
@@ -231,7 +238,7 @@ int limit_weights(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::Mat
     ++rounds;
     if (!UV.allFinite() || count_flips(UV, F) > 0) break;
     S = flattening_stretches(V, F, UV);
-    const double now = ratio(UV);
+    const double now = ratio(UV, S);
     // A round makes progress where it is better and admissible, or, not
     // admissible, less beyond the ceilings than any round before: the
     // compression weights catch up with the ease weights over a few rounds.
@@ -257,13 +264,11 @@ int limit_weights(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::Mat
   // it (on the demo's front, rounds stopped at 1e-6 measured 3.2 % of
   // compression and polished 5.6 %). Kept only where converged it is still
   // better than the plain flattening and within the ceilings.
-  FlattenOptions last = options;
-  last.tolerance = std::min(options.tolerance, options.limit_tolerance);
-  last.max_iterations = 4 * options.max_iterations;
   Eigen::MatrixXd X = best_UV;
-  arap_flatten(V, F, X, last, false, &best_weight);
+  arap_flatten(V, F, X, converging_to(options.limit_tolerance), false, &best_weight);
   if (!X.allFinite() || count_flips(X, F) > 0) return rounds;
-  if (!(ratio(X) < plain) || !admissible(flattening_stretches(V, F, X))) return rounds;
+  const Eigen::MatrixXd SX = flattening_stretches(V, F, X);
+  if (!(ratio(X, SX) < plain) || violation(SX) > 0.0) return rounds;
   UV = X;
   face_weight = best_weight;
   return rounds;
