@@ -31,7 +31,6 @@ class Measurement:
         self.name = name
         self.out_dir = out_dir
         self.times = []
-        self.cpus = []  # user + system CPU of each run's process [s]
         self.peaks_mib = []
         self.per_run = []  # what the `collect` function of measure() returned for each run
 
@@ -146,7 +145,6 @@ class Runner:
                     os.rename(m.out_dir, m.out_dir + "-run1")
             wall, peak = self.run_once(args, m.out_dir, timeout_s)
             m.times.append(wall)
-            m.cpus.append(self.last_cpu)
             m.peaks_mib.append(peak)
             if collect is not None:
                 m.per_run.append(collect(m.out_dir))

@@ -280,14 +280,7 @@ TEST_CASE("the limit weighting compresses no triangle beyond the budget", "[flat
   // left within it ends beyond it. A smaller cap (460 faces), which the
   // weighting brings within the limit.
   const Mesh part = upper_cap(0.8);
-  const std::vector<double> area = [&] {
-    std::vector<double> a;
-    for (int f = 0; f < part.F.rows(); ++f) {
-      const Eigen::Vector3d p = part.V.row(part.F(f, 0)), q = part.V.row(part.F(f, 1)), r = part.V.row(part.F(f, 2));
-      a.push_back(0.5 * (q - p).cross(r - p).norm());
-    }
-    return a;
-  }();
+  const Eigen::VectorXd area = face_areas(part.V, part.F);
   FlattenOptions plain = PatternOptions::default_flatten();
   plain.limit_rounds = 0;
   const FlattenResult a = flatten_piece(part.V, part.F, plain);
@@ -310,9 +303,9 @@ TEST_CASE("the limit weighting compresses no triangle beyond the budget", "[flat
     const Eigen::MatrixXd S = flattening_stretches(part.V, part.F, r.UV);
     double moved = 0.0, total = 0.0, worst = 0.0;
     for (int f = 0; f < part.F.rows(); ++f) {
-      total += area[static_cast<size_t>(f)];
+      total += area[f];
       if (1.0 - Sa(f, 1) > budget || 1.0 - S(f, 1) <= budget) continue;
-      moved += area[static_cast<size_t>(f)];
+      moved += area[f];
       worst = std::max(worst, 1.0 - S(f, 1));
     }
     return std::make_pair(moved / total, worst);
