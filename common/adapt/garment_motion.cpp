@@ -21,12 +21,6 @@ namespace gp::adapt {
 namespace {
 
 
-// A vertex within this distance [m] above the comfort offset touches it (the
-// position projection leaves vertices at the offset up to rounding).
-constexpr double kTouchTolerance = 1e-6;
-// Largest speed [m/s] at which a contact constraint pushes a vertex back out to
-// the offset.
-constexpr double kMaxCorrectionSpeed = 0.5;
 // The room reported in front of cloth the body holds is sought this far [m].
 constexpr double kHeldGapRadius = 0.05;
 
@@ -59,9 +53,7 @@ void check_options(const MotionRunOptions& options) {
   if (!(options.settle_damping >= 0.0) || !std::isfinite(options.settle_damping)) {
     throw UsageError("settle_damping must be finite and non-negative");
   }
-  if (!(options.pin_clearance >= 0.0 && options.pin_clearance <= 1.0)) {
-    throw UsageError("pin_clearance must be within [0, 1] (a fraction of the comfort offset)");
-  }
+  check_options(options.contact);
   if (options.frame_stride < 0) {
     throw UsageError("frame_stride must be non-negative, got " + std::to_string(options.frame_stride));
   }
@@ -119,17 +111,14 @@ struct GarmentMotion::Impl {
   std::vector<int> pin_hints;  // warm starts of the pin targets' body queries
 
   Eigen::MatrixXd V_body, targets;  // the current body stage
-  collision::ContactSurface surface;  // the body and its hand hulls, as the cloth meets them
-  std::optional<collision::BodyCollider> collider;
-  std::optional<collision::ContinuousContact> contact;
+  // The body as the cloth meets it: the body and its hand hulls, the
+  // collider, the continuous contact and the per-vertex offsets (a vertex
+  // that starts inside the garment's offset is pushed out at
+  // initial_push_speed: a push of centimetres in one step tears the cloth in
+  // concave regions, armpits, between arm and torso).
+  std::optional<BodyContact> body;
   std::optional<cloth::ClothSimulator> sim;
   std::optional<cloth::StaticSolver> static_solver;  // Equilibrium::static_solve
-  // Per-vertex comfort offsets [m]: a vertex that starts closer to the body
-  // than the garment's offset starts at its own distance and grows to the
-  // offset at initial_push_speed (a push of centimetres in one step tears the
-  // cloth in concave regions: armpits, between arm and torso).
-  Eigen::VectorXd offsets;
-  bool ramp_done = false;
 
   std::vector<int> adapt_frames;  // options.adapt_frames, sorted
 
@@ -209,41 +198,33 @@ struct GarmentMotion::Impl {
     // The hulls from the pose the garment was designed (and cleared) on.
     const std::vector<std::string>& names = interpolator.pose_names();
     const auto design = std::find(names.begin(), names.end(), garment.body.design_pose);
-    surface = collision::contact_surface(
+    collision::ContactSurface surface = collision::contact_surface(
         design != names.end() ? interpolator.pose(static_cast<int>(design - names.begin())) : V_body, F_body,
-        options.contact_surface);
-    result.contact_surface = surface;
-    const Eigen::MatrixXd V_surface = surface.positions(V_body);
+        options.contact.surface);
     // The faces the garment can reach in the first frame or in any key pose:
     // a hand that hangs far from the skirt at the start comes down onto it
     // later (culled by the first frame alone, it passed through the skirt:
     // the demo-dress's hands on the thighs, 101 crossings).
-    std::vector<int> reachable = collision::reachable_body_faces(V_surface, surface.F, V_garment, options.reach);
+    std::vector<int> reachable =
+        collision::reachable_body_faces(surface.positions(V_body), surface.F, V_garment, options.contact.reach);
     std::set<int> key_poses;  // a pose the motion returns to is searched once
     for (const MotionKey& key : motion.keys) key_poses.insert(key.pose_index);
     for (int pose : key_poses) {
       const std::vector<int> more = collision::reachable_body_faces(surface.positions(interpolator.pose(pose)),
-                                                                    surface.F, V_garment, options.reach);
+                                                                    surface.F, V_garment, options.contact.reach);
       reachable.insert(reachable.end(), more.begin(), more.end());
     }
     std::sort(reachable.begin(), reachable.end());
     reachable.erase(std::unique(reachable.begin(), reachable.end()), reachable.end());
-    collider.emplace(surface.F, reachable);
-    result.culled_body_faces = collider->face_ids().size();
-    collider->set_threads(options.threads);
-    if (options.facing_gaps) {
-      collider->set_facing_gaps(true);
-      collider->set_min_pinch_offset(options.contact.thickness);
-    }
-    collider->set_body(V_surface);
-    contact.emplace(F, surface.F, collider->face_ids(), options.contact);
-    contact->set_pinned(pin_ids);
-    contact->set_threads(options.threads);
-    contact->set_body(V_surface);
+    body.emplace(std::move(surface), V_body, std::move(reachable), F, V_garment, pin_ids, garment.offset,
+                 options.contact, options.threads);
+    result.contact_surface = body->surface();
+    result.culled_body_faces = body->collider().face_ids().size();
     pin_hints.assign(pin_ids.size(), -1);
     clear_pin_targets();
-    result.initial_crossings = collision::find_crossings(V_surface, surface.F, V_garment, F);
-    result.continuous_contact = options.continuous_contact && result.initial_crossings.intersection_free();
+    result.initial_crossings = body->initial_crossings();
+    result.continuous_contact = body->continuous_active();
+    result.initial_min_distance = body->initial_min_distance();
   }
 
   void set_up_cloth(const Eigen::MatrixXd& V_garment) {
@@ -251,42 +232,7 @@ struct GarmentMotion::Impl {
     sim->set_pinned(pin_ids);
     if (!options.rest_triangles.empty()) sim->set_rest_triangles(options.rest_triangles);
 
-    offsets = Eigen::VectorXd::Constant(V_garment.rows(), garment.offset);
-    int hint = -1;
-    for (int v = 0; v < V_garment.rows(); ++v) {
-      const collision::Proximity q = collider->query(V_garment.row(v).transpose(), hint);
-      hint = q.face;
-      offsets(v) = std::min(garment.offset, q.signed_distance);
-    }
-    result.initial_min_distance = offsets.minCoeff();
-    ramp_done = offsets.minCoeff() >= garment.offset;
-
-    sim->set_collision_handler(
-        [this](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider->resolve(X, Vel, offsets); });
-    if (result.continuous_contact) {
-      sim->set_step_end_handler([this](const Eigen::MatrixXd& X_start, Eigen::MatrixXd& X_end, double s_start,
-                                       double s_end) { contact->enforce(X_start, X_end, s_start, s_end); });
-    }
-    if (options.velocity_contacts) {
-      // Contact as a velocity constraint in the solve: the normal velocity
-      // follows the body and closes any gap below the offset within the step;
-      // never pulls a vertex in the band towards the body.
-      sim->set_contact_handler(
-          [this](const Eigen::MatrixXd& X, double h, std::vector<cloth::VelocityConstraint>& out) {
-            for (const collision::Contact& c : collider->contacts(X, offsets, options.contact_band)) {
-              cloth::VelocityConstraint k;
-              k.vertex = c.vertex;
-              k.normal = c.outward;
-              // The gap closes within the step, but no faster than
-              // kMaxCorrectionSpeed (halved substeps would turn a depth into a
-              // huge speed); the position projection after the step does the rest.
-              k.normal_velocity =
-                  c.body_normal_speed + std::min(std::max(c.offset - c.signed_distance, 0.0) / h, kMaxCorrectionSpeed);
-              k.touching = c.signed_distance <= c.offset + kTouchTolerance;
-              out.push_back(k);
-            }
-          });
-    }
+    sim->set_contact(&*body);
   }
 
   void set_up_adaptation(const Eigen::MatrixXd& V_garment) {
@@ -338,9 +284,8 @@ struct GarmentMotion::Impl {
     BodyStage stage;
     stage.V = interpolator.frame(r.from, r.to, r.t);
     stage.targets = pin_targets(stage.V);
-    const Eigen::MatrixXd body_velocity = surface.positions((stage.V - V_previous) / options.solver.dt);
     stage.seconds = seconds_since(t_stage);
-    stage.frame = collider->prepare(surface.positions(stage.V), &body_velocity);
+    stage.frame = body->prepare(stage.V, V_previous, options.solver.dt);
     return stage;
   }
 
@@ -364,28 +309,19 @@ struct GarmentMotion::Impl {
   void move_to_next_stage() {
     BodyStage stage = await(next_stage);
     result.times.body += stage.seconds;
-    collider->set_body(std::move(stage.frame));
-    contact->set_body(surface.positions(stage.V));
+    body->move_to(std::move(stage.frame), stage.V);
     V_body = std::move(stage.V);
     targets = std::move(stage.targets);
     clear_pin_targets();
     request_next_stage();
   }
 
-  // The pin targets moved out to their clearance from the collider's current
-  // body (MotionRunOptions::pin_clearance).
+  // The pin targets moved out to their clearance from the current body
+  // (BodyContactOptions::pin_clearance).
   void clear_pin_targets() {
-    if (!(options.pin_clearance > 0.0)) return;
     const auto t0 = Clock::now();
-    keep_off_body(targets, *collider, options.pin_clearance * garment.offset, pin_hints, result.pins);
+    body->keep_pins_off(targets, pin_hints, result.pins);
     result.times.body += seconds_since(t0);
-  }
-
-  void advance_offsets() {
-    if (ramp_done) return;
-    const double grow = options.initial_push_speed * options.solver.dt;
-    for (int v = 0; v < offsets.size(); ++v) offsets(v) = std::min(garment.offset, offsets(v) + grow);
-    ramp_done = offsets.minCoeff() >= garment.offset;
   }
 
   void record_adaptation(const AdaptReport& r) {
@@ -444,7 +380,7 @@ struct GarmentMotion::Impl {
   // One simulation step towards the pin targets, with the adaptations it is due.
   void step() {
     sim->set_pin_targets(targets);
-    advance_offsets();
+    body->advance_offsets(options.solver.dt);
     sim->step();
     ++result.steps;
     if (result.steps >= apply_after_step) apply_adaptation();
@@ -530,7 +466,7 @@ struct GarmentMotion::Impl {
                       std::min(key.settle_steps, options.fixed_point_steps));
         report(progress, line, key.key, frame_index, key.settle_steps, false, stretch);
       }
-      if (slow && steady && fixed && ramp_done) {
+      if (slow && steady && fixed && body->offsets_grown()) {
         key.settled = true;
         break;
       }
@@ -538,7 +474,7 @@ struct GarmentMotion::Impl {
         best_stretch = stretch;
         best_since = key.settle_steps;
       }
-      if (options.held_steps > 0 && ramp_done && stretch > options.held_stretch &&
+      if (options.held_steps > 0 && body->offsets_grown() && stretch > options.held_stretch &&
           key.settle_steps - best_since >= options.held_steps) {
         key.held = true;
         break;
@@ -556,30 +492,6 @@ struct GarmentMotion::Impl {
   // and the equilibrium solved again until the rest area is a fixed point.
   // Cloth stretched beyond held_stretch at an equilibrium that the last
   // adaptation did not relieve by held_improvement is held by the body.
-  // The body as the static solve meets it (cloth/static_solve.h): the collider's distances, with
-  // the room in front of vertices near it, and the closest features within a radius. `hints`
-  // (one per cloth vertex) warm-start the distance queries and must outlive the solve.
-  cloth::StaticBody static_body(std::vector<int>& hints) {
-    hints.assign(static_cast<size_t>(sim->positions().rows()), -1);
-    const double room_within = 3.0 * garment.offset + options.statics.barrier_band;
-    cloth::StaticBody body;
-    body.features = [this](const Eigen::Vector3d& p, double radius, std::vector<cloth::BodyFeature>& out) {
-      for (const collision::BodyCollider::NearFeature& f : collider->closest_features_within(p, radius)) {
-        out.push_back({f.point, f.kind, f.edge});
-      }
-    };
-    body.distance = [this, &hints, room_within](int v, const Eigen::Vector3d& p, bool with_room) {
-      const collision::Proximity q = collider->query(p, hints[static_cast<size_t>(v)]);
-      hints[static_cast<size_t>(v)] = q.face;
-      cloth::BodyDistance d;
-      d.signed_distance = q.signed_distance;
-      d.outward = q.outward;
-      if (with_room && q.signed_distance < room_within) d.room = collider->gap(q);
-      return d;
-    };
-    return body;
-  }
-
   // adapt: adapt the rest shape on the way to the fixed point (options.adapt at a key pose or an
   // adaptation frame; an in-between frame that is only recorded is solved without).
   void settle_static(KeyPoseResult& key, size_t frame_index, const ProgressCallback& progress, bool adapt) {
@@ -587,10 +499,9 @@ struct GarmentMotion::Impl {
     key.solved_static = true;
     // The offsets are the garment's from here on: the barrier pushes a vertex
     // that is still inside its offset out gradually (its wall rises with it).
-    offsets.setConstant(garment.offset);
-    ramp_done = true;
+    body->use_garment_offsets();
     std::vector<int> hints;
-    const cloth::StaticBody body = static_body(hints);
+    const cloth::StaticBody statics = body->static_body(hints, 3.0 * garment.offset + options.statics.barrier_band);
     // With adaptation the equilibrium is sought in parts of adapt_every
     // iterations; between them, once the cloth moves less than
     // adapt_displacement or its largest stretch is steady, the rest shape is
@@ -625,7 +536,7 @@ struct GarmentMotion::Impl {
       const int left = cap - key.newton_iterations;
       const int part = phase == Phase::adapting ? std::min(options.adapt_every, left) : left;
       const Eigen::MatrixXd X_before = X;
-      const cloth::StaticSolveReport r = static_solver->resume(*sim, body, offsets, X, part);
+      const cloth::StaticSolveReport r = static_solver->resume(*sim, statics, body->vertex_offsets(), X, part);
       result.newton_iterations += r.iterations;
       result.line_search_trials += r.line_search_trials;
       sim->set_positions(X);
@@ -704,6 +615,8 @@ struct GarmentMotion::Impl {
     }
     std::vector<std::vector<int>> groups(over.size());
     for (size_t i = 0; i < over.size(); ++i) groups[static_cast<size_t>(sets.find(static_cast<int>(i)))].push_back(over[i]);
+    const collision::ContactSurface& surface = body->surface();
+    const collision::BodyCollider& collider = body->collider();
     const Eigen::MatrixXd V_surface = surface.positions(V_body);
     std::vector<HeldCloth> patches;
     for (const std::vector<int>& g : groups) {
@@ -717,14 +630,14 @@ struct GarmentMotion::Impl {
       h.max_stretch = stretch(worst);
       Eigen::Vector3d c = Eigen::Vector3d::Zero();
       for (int k = 0; k < 3; ++k) c += sim->positions().row(F(worst, k)).transpose() / 3.0;
-      const collision::Proximity q = collider->query(c);
+      const collision::Proximity q = collider.query(c);
       h.position = q.closest;
       h.surface_face = q.face;
       h.barycentric = closest_point_on_triangle(q.closest, V_surface.row(surface.F(q.face, 0)).transpose(),
                                                 V_surface.row(surface.F(q.face, 1)).transpose(),
                                                 V_surface.row(surface.F(q.face, 2)).transpose())
                           .bary;
-      h.gap = collider->facing_distance(q.closest, q.outward, kHeldGapRadius);
+      h.gap = collider.facing_distance(q.closest, q.outward, kHeldGapRadius);
       h.region = region_of(V_surface, q.face, q.closest, h.body_vertex);
       patches.push_back(std::move(h));
     }
@@ -740,6 +653,7 @@ struct GarmentMotion::Impl {
   // fifth of the body), else the nearest body vertex. Sets the nearest body
   // vertex.
   std::string region_of(const Eigen::MatrixXd& V_surface, int f, const Eigen::Vector3d& p, int& body_vertex) const {
+    const collision::ContactSurface& surface = body->surface();
     double best = std::numeric_limits<double>::infinity();
     for (int k = 0; k < 3; ++k) {
       const int v = surface.F(f, k);
@@ -765,7 +679,7 @@ struct GarmentMotion::Impl {
     stretch_figures(key.face_max_stretch, rest_areas, 1.0 + options.adaptation.delta, key);
     int hint = -1;
     for (int v = 0; v < key.V_draped.rows(); ++v) {
-      const collision::Proximity q = collider->query(key.V_draped.row(v).transpose(), hint);
+      const collision::Proximity q = body->collider().query(key.V_draped.row(v).transpose(), hint);
       hint = q.face;
       key.deepest_penetration = std::max(key.deepest_penetration, -q.signed_distance);
     }
@@ -797,9 +711,8 @@ struct GarmentMotion::Impl {
   // frames.
   void hold_frame(const MotionFrame& frame, size_t i, const ProgressCallback& progress, bool adapt) {
     const Eigen::MatrixXd X_moving = sim->positions(), V_moving = sim->velocities();
-    const Eigen::VectorXd offsets_moving = offsets;
-    const bool ramp_moving = ramp_done;
-    collider->set_body(surface.positions(V_body));
+    BodyContact::Offsets offsets_moving = body->offsets();
+    body->stand_still(V_body);
     KeyPoseResult f;
     f.key = frame.transition + 1;
     f.frame = static_cast<int>(i);
@@ -810,7 +723,6 @@ struct GarmentMotion::Impl {
                   motion.keys[static_cast<size_t>(frame.transition) + 1].pose.c_str(), frame.t);
     f.pose = name;
     if (adapt) {
-      contact->set_body(surface.positions(V_body));
       settle_pose(f, i, progress, true);
       record(f);
     } else {
@@ -818,8 +730,7 @@ struct GarmentMotion::Impl {
       record(f);
       sim->set_positions(X_moving);
       sim->set_velocities(V_moving);
-      offsets = offsets_moving;
-      ramp_done = ramp_moving;
+      body->restore(std::move(offsets_moving));
     }
     result.frames.push_back(std::move(f));
   }
@@ -854,8 +765,7 @@ struct GarmentMotion::Impl {
       }
       since_key = 0;
 
-      collider->set_body(surface.positions(V_body));
-      contact->set_body(surface.positions(V_body));
+      body->stand_still(V_body);
       KeyPoseResult key;
       key.key = frame.key;
       key.pose = motion.keys[static_cast<size_t>(frame.key)].pose;
@@ -891,7 +801,7 @@ struct GarmentMotion::Impl {
     result.times.forces_assembly = pt.forces_assembly + pt.checks;
     result.times.factorization = pt.factorization;
     result.times.solve = pt.solve;
-    result.times.collisions = pt.collisions + collider->stats().rebuild_seconds;
+    result.times.collisions = pt.collisions + body->collider_stats().rebuild_seconds;
     result.solver = sim->counters();
     if (static_solver) {
       // The static solves' work beside the steps'.
@@ -904,8 +814,8 @@ struct GarmentMotion::Impl {
       result.solver.factorizations += static_solver->counters().factorizations;
       result.solver.cg_iterations += static_solver->counters().cg_iterations;
     }
-    result.collisions = collider->stats();
-    result.contact = contact->stats();
+    result.collisions = body->collider_stats();
+    result.contact = body->continuous_stats();
     result.times.total = seconds_since(start);
     return std::move(result);
   }

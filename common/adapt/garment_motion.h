@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 
+#include "adapt/body_contact.h"
 #include "adapt/key_pose.h"
 #include "adapt/pin_targets.h"
 #include "adapt/rest_adapter.h"
@@ -115,41 +116,7 @@ struct MotionRunOptions {
   double settle_damping = 1.0;
   int fixed_point_steps = 100;        // with adaptation: window of the fixed-point test [steps]
   double fixed_point_area_change = 1e-3;  // largest relative rest-area change over that window
-  double reach = 0.15;                // m: body faces farther from the garment (at the first frame and every key pose) are culled
-  // Contact as velocity constraints inside the implicit solve (filtered CG)
-  // for vertices within the comfort offset plus contact_band [m]; false: only
-  // the position projection after each step.
-  bool velocity_contacts = true;
-  double contact_band = 5e-4;
-  // In a pinch the gap also counts the nearest body surface facing the
-  // closest point in any direction (BodyCollider::set_facing_gaps), so the
-  // offset shrinks smoothly towards a gap's rim instead of jumping where the
-  // ray along the normal leaves it, and never below the continuous contact's
-  // thickness (BodyCollider::set_min_pinch_offset). Off by default: on the
-  // slim-shirt it left the A-pose unsettled after 1,000 steps with 58
-  // crossings in the armpits (collision/README.md, "Caches and pinches").
-  bool facing_gaps = false;
-  // Intersection-free contact in both directions (collision/continuous_contact.h):
-  // body vertices and edges push the cloth out of their way, no body feature
-  // or cloth vertex passes through the other surface within a step. Active
-  // only when the design garment starts free of intersections with the body
-  // (MotionRunResult::initial_crossings), since it keeps every body feature on
-  // the side of the cloth it starts on.
-  bool continuous_contact = true;
-  collision::ContinuousContactOptions contact;
-  // What the cloth collides with: the body plus convex hulls over its hands
-  // (collision/contact_surface.h), taken in the garment's design pose (or the
-  // motion's first frame where the pose set lacks it). Penetration depths are
-  // measured against it; crossings against the body itself.
-  collision::ContactSurfaceOptions contact_surface;
-  // Pin targets kept at least this fraction of the comfort offset from the
-  // contact surface in every body frame (pin_targets.h): the continuous
-  // contact never moves a pinned vertex, so where another body part rises
-  // beside a bound point (a shoulder lifted towards the neckline) the target
-  // moves out instead of letting the body through the cloth next to it.
-  // Targets farther out follow their binding alone; 0: all of them do.
-  double pin_clearance = 0.5;
-  double initial_push_speed = 0.1;    // m/s at which vertices that start inside the offset are pushed out to it
+  BodyContactOptions contact;         // how the cloth meets the body (body_contact.h)
   // When non-empty (one per garment face): rest triangles used instead of the
   // rest shape's, e.g. a sewn pattern's flat pieces. Requires adapt == false.
   std::vector<cloth::TriangleRest> rest_triangles;

@@ -30,7 +30,7 @@ void add_solver_and_contact_options(CLI::App& app, MotionRunOptions& options, Mo
          "centred on the comfort offset, where the contact barrier acts [m]");
   option("--static-max-displacement", options.statics.max_displacement, CLI::PositiveNumber, "Static solve: largest "
          "move of a vertex near the body in one iteration, so that no step passes through a body part [m]");
-  option("--reach", options.reach, CLI::NonNegativeNumber, "Body faces farther than this from the garment are culled "
+  option("--reach", options.contact.reach, CLI::NonNegativeNumber, "Body faces farther than this from the garment are culled "
          "[m]");
   option("--linear-solver", c.linear_solver, CLI::IsMember({"pcg", "refactor"}), "Linear solver of the time steps (and of the static solve, which always factors afresh): refactor (a CHOLMOD factor every "
          "step, CG with it) or pcg (CG with a reused, rotated factor)");
@@ -45,18 +45,18 @@ void add_solver_and_contact_options(CLI::App& app, MotionRunOptions& options, Mo
          "directions: body vertices and edges push the cloth out of their way and nothing passes through the other "
          "surface within a step (on; active when the garment starts clear of the body) or cloth vertices against the "
          "body only (off)");
-  c.thickness = app.add_option("--contact-thickness", options.contact.thickness, "Separation kept between "
+  c.thickness = app.add_option("--contact-thickness", options.contact.sweep.thickness, "Separation kept between "
          "the cloth and body vertices and edges by the continuous contact, and the least offset a pinch leaves; "
          "default: the garment fabric's thickness, 1 mm where it gives none [m]")->check(CLI::PositiveNumber);
-  option("--pin-clearance", options.pin_clearance, CLI::Range(0.0, 1.0), "Keep the pinned vertices' targets at least "
+  option("--pin-clearance", options.contact.pin_clearance, CLI::Range(0.0, 1.0), "Keep the pinned vertices' targets at least "
          "this fraction of the comfort offset from the body in every frame, moving them out where another body part "
          "rises beside their bound point; 0: they follow their binding alone [fraction]");
   option("--hand-hulls", c.hand_hulls, CLI::IsMember({"on", "off"}), "Collide the cloth also with the convex hull of "
          "each hand (each thin body part at least --hull-min-extent long), so that fingers push the cloth and never "
          "hook it (on), or with the body's own surface only (off)");
-  option("--hull-thin", options.contact_surface.thin, CLI::PositiveNumber, "A body vertex is in a thin part when the "
+  option("--hull-thin", options.contact.surface.thin, CLI::PositiveNumber, "A body vertex is in a thin part when the "
          "body along its inward normal is thinner than this [m]");
-  option("--hull-min-extent", options.contact_surface.min_extent, CLI::NonNegativeNumber, "Thin parts with a shorter "
+  option("--hull-min-extent", options.contact.surface.min_extent, CLI::NonNegativeNumber, "Thin parts with a shorter "
          "bounding-box diagonal (ears, the nose) keep their own shape [m]");
   // A second thread prepares body frames and adaptations, where the machine
   // has a second core.
@@ -70,10 +70,10 @@ void add_solver_and_contact_options(CLI::App& app, MotionRunOptions& options, Mo
 
 void apply_choices(const MotionChoices& c, MotionRunOptions& options) {
   options.equilibrium = c.equilibrium == "dynamic" ? Equilibrium::dynamic : Equilibrium::static_solve;
-  options.velocity_contacts = c.contact == "velocity";
-  options.continuous_contact = c.continuous == "on";
-  options.facing_gaps = c.pinch_gaps == "facing";
-  options.contact_surface.hulls = c.hand_hulls == "on";
+  options.contact.velocity_constraints = c.contact == "velocity";
+  options.contact.continuous = c.continuous == "on";
+  options.contact.facing_gaps = c.pinch_gaps == "facing";
+  options.contact.surface.hulls = c.hand_hulls == "on";
   options.solver.strategy =
       c.linear_solver == "pcg" ? cloth::SolverStrategy::pcg_reused_factor : cloth::SolverStrategy::refactor_every_step;
 }

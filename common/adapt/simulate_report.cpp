@@ -68,7 +68,7 @@ OrderedJson held_json(const FitResult& fit, const MotionSpec& motion, PoseInterp
   if (result.held_key < 0) return nullptr;
   const KeyPoseResult& k = result.keys[static_cast<size_t>(result.held_key)];
   const int pose = motion.keys[static_cast<size_t>(k.key)].pose_index;
-  opening.contact_surface = options.contact_surface;
+  opening.contact_surface = options.contact.surface;
   const Opening o = k.held_cloth.empty() ? Opening{}
                                          : choose_opening(interpolator, pose, k.held_cloth, garment.offset, opening);
   OrderedJson held = {
@@ -257,7 +257,7 @@ std::vector<std::string> fit_warnings(const FitResult& fit, const MotionRunOptio
     warnings.push_back("a further adaptation cycle failed (" + fit.cycle_error +
                        "); the previous cycle's rest shape and its verification are the result");
   }
-  if (options.continuous_contact && !result.continuous_contact) {
+  if (options.contact.continuous && !result.continuous_contact) {
     const auto& c = result.initial_crossings;
     warnings.push_back("the garment starts through the body (" + std::to_string(c.crossings()) +
                        " edge/triangle crossings, " + std::to_string(c.cloth_vertices_inside) +

@@ -52,9 +52,8 @@ struct ClothSimulator::Impl {
   SystemSolver solver;
   ContactSet contacts;
 
-  CollisionHandler collision_handler;
-  ContactHandler contact_handler;
-  StepEndHandler step_end_handler;
+  StepContact* body = nullptr;  // set_contact
+  std::vector<VelocityConstraint> candidates;  // work buffer of body->constraints
   PhaseTimes times;
   SolverCounters counters;
 
@@ -93,7 +92,9 @@ struct ClothSimulator::Impl {
         system.assemble(X, Vel, V_prescribed, F, rest, params, damping_scale, h) + kinetic_energy(Vel, rest.masses);
     times.forces_assembly += seconds_since(t0);
     t0 = Clock::now();
-    counters.constraints += contacts.gather(contact_handler, X, h, free_id);
+    candidates.clear();
+    if (body) body->constraints(X, h, candidates);
+    counters.constraints += contacts.gather(candidates, static_cast<int>(X.rows()), free_id);
     times.collisions += seconds_since(t0);
     try {
       solve_system();
@@ -119,12 +120,12 @@ struct ClothSimulator::Impl {
     for (size_t k = 0; k < pinned_ids.size(); ++k) X_new.row(pinned_ids[k]) = pin_end.row(k);
     times.checks += seconds_since(t0);
 
-    if (collision_handler || step_end_handler) {
+    if (body) {
       t0 = Clock::now();
       const Eigen::MatrixXd X_solved = X_new;
-      if (collision_handler) collision_handler(X_new, V_new);
-      if (step_end_handler) step_end_handler(X, X_new, s_start, s_end);
-      // A vertex the handler moved gets the velocity of its actual displacement
+      body->project(X_new, V_new);
+      body->sweep(X, X_new, s_start, s_end);
+      // A vertex the body moved gets the velocity of its actual displacement
       // over the step (the velocity update of position-based dynamics, Mueller
       // et al. 2007, "Position based dynamics", sec. 3.1): keeping the solved
       // velocity left vertices pressed into a concave part of the body (an
@@ -257,17 +258,9 @@ void ClothSimulator::set_velocities(const Eigen::MatrixXd& Vel) {
   impl_->Vel = Vel;
 }
 
-void ClothSimulator::set_collision_handler(CollisionHandler handler) {
-  impl_->collision_handler = std::move(handler);
-}
-
-void ClothSimulator::set_contact_handler(ContactHandler handler) {
-  impl_->contact_handler = std::move(handler);
+void ClothSimulator::set_contact(StepContact* contact) {
+  impl_->body = contact;
   impl_->contacts.clear_history();
-}
-
-void ClothSimulator::set_step_end_handler(StepEndHandler handler) {
-  impl_->step_end_handler = std::move(handler);
 }
 
 void ClothSimulator::set_damping_scale(double scale) {

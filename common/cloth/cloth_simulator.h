@@ -28,7 +28,6 @@
 // `max_fold_halvings` halvings are folds forced by contact: accepted and counted
 // (counters().accepted_flips), since cloth may fold. With `fold_streaks`, the steps after one that
 // accepted folds start at that depth until a step accepts none.
-#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -38,6 +37,7 @@
 #include <Eigen/SparseCore>
 
 #include "cloth/cloth_model.h"
+#include "cloth/step_contact.h"
 
 namespace gp::cloth {
 
@@ -130,39 +130,6 @@ struct SolverCounters {
 // (ties by face id), at most `count`: (face, rejections).
 std::vector<std::pair<int, long>> most_inverted_faces(const SolverCounters& counters, int count);
 
-// Called after each (sub)step with the new positions and velocities (#V by 3); it may change both
-// (body collisions). A free vertex it moves gets the velocity of its displacement over the step;
-// pinned vertices are restored afterwards.
-using CollisionHandler = std::function<void(Eigen::MatrixXd& X, Eigen::MatrixXd& Vel)>;
-
-// Called after the collision handler with the positions X_start, X_end (#V by 3) at the start and
-// end of the (sub)step, which covers [s_start, s_end] of options().dt: it may move vertices of
-// X_end so the cloth does not pass through the body between them (collision::ContinuousContact).
-// Moved free vertices get the velocity of their displacement; pinned vertices are restored.
-using StepEndHandler =
-    std::function<void(const Eigen::MatrixXd& X_start, Eigen::MatrixXd& X_end, double s_start, double s_end)>;
-
-// A velocity-level contact constraint inside the implicit solve (Baraff & Witkin 1998, sec. 5.3,
-// "constraint filtering"): the solved velocity of `vertex` has normal component n . v' =
-// normal_velocity [m/s] (n unit, pointing away from the body); its tangential motion stays free.
-// Neighbours see the contact while their velocities are solved (cloth/README.md, "Contacts").
-struct VelocityConstraint {
-  int vertex = -1;
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitY();
-  double normal_velocity = 0.0;
-  // True when the vertex touches or penetrates (a new contact); false for a vertex merely near the
-  // body, constrained only while in contact since the previous (sub)step (a released one can leave).
-  bool touching = true;
-};
-// Called at the start of each (sub)step with the positions X (#V by 3) and the (sub)step size h
-// [s]; fills the candidate constraints (at most two per vertex, listed together: a vertex in a
-// crease is held along both sides' normals, the second made orthogonal to the first; pinned
-// vertices are ignored). A candidate becomes a constraint when it touches, or when its vertex was
-// constrained in the previous (sub)step and not released; a constraint whose force pulled the cloth
-// towards the body is released (Baraff & Witkin's release rule), so the cloth can leave the body.
-using ContactHandler =
-    std::function<void(const Eigen::MatrixXd& X, double h, std::vector<VelocityConstraint>& constraints)>;
-
 class ClothSimulator {
  public:
   // Rest shape V_rest (also the initial positions, at rest) and faces F. Throws GeometryError /
@@ -184,9 +151,9 @@ class ClothSimulator {
   void set_pin_targets(const Eigen::MatrixXd& targets);
   void set_positions(const Eigen::MatrixXd& X);
   void set_velocities(const Eigen::MatrixXd& Vel);
-  void set_collision_handler(CollisionHandler handler);
-  void set_contact_handler(ContactHandler handler);
-  void set_step_end_handler(StepEndHandler handler);
+  // The body the cloth meets in every (sub)step (step_contact.h), or none (nullptr). Not owned:
+  // it must outlive the steps. Forgets the contact history of the one before.
+  void set_contact(StepContact* contact);
   // Scales every damping coefficient (stretch, shear, bending) from the next step on; 1 restores
   // the material's. Relaxes the cloth to its static equilibrium while the body stands still.
   void set_damping_scale(double scale);

@@ -17,21 +17,17 @@ void ContactSet::clear_history() {
   history_.in_contact.clear();
 }
 
-long ContactSet::gather(const ContactHandler& handler, const Eigen::MatrixXd& X, double h,
-                        const Eigen::VectorXi& free_id) {
+long ContactSet::gather(std::vector<VelocityConstraint>& candidates, int vertex_count, const Eigen::VectorXi& free_id) {
   constraints_.clear();
   constraint_free_.clear();
-  if (!handler) return 0;
-  std::vector<VelocityConstraint> all;
-  handler(X, h, all);
-  std::stable_sort(all.begin(), all.end(),
+  std::stable_sort(candidates.begin(), candidates.end(),
                    [](const VelocityConstraint& a, const VelocityConstraint& c) { return a.vertex < c.vertex; });
   std::vector<char>& released = history_.released;
   std::vector<char>& in_contact = history_.in_contact;
-  if (released.size() != static_cast<size_t>(X.rows())) released.assign(X.rows(), 0);
-  if (in_contact.size() != static_cast<size_t>(X.rows())) in_contact.assign(X.rows(), 0);
-  for (const VelocityConstraint& c : all) {
-    if (c.vertex < 0 || c.vertex >= X.rows()) continue;
+  if (released.size() != static_cast<size_t>(vertex_count)) released.assign(vertex_count, 0);
+  if (in_contact.size() != static_cast<size_t>(vertex_count)) in_contact.assign(vertex_count, 0);
+  for (const VelocityConstraint& c : candidates) {
+    if (c.vertex < 0 || c.vertex >= vertex_count) continue;
     const int fi = free_id(c.vertex);
     const double len = c.normal.norm();
     if (fi < 0 || !(len > 0.0) || !std::isfinite(c.normal_velocity)) continue;

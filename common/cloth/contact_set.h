@@ -1,6 +1,6 @@
 #pragma once
 // The velocity-level contact constraints of one implicit step (Baraff & Witkin 1998, sec. 5.3,
-// "constraint filtering"): which candidates of the contact handler become constraints, the filter
+// "constraint filtering"): which candidates of the body (step_contact.h) become constraints, the filter
 // S that removes the constrained normal components (eq. 17), and the release rule that lets the
 // cloth leave the body. The contact history (released, in contact) carries over between (sub)steps.
 #include <vector>
@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include "cloth/cloth_simulator.h"
+#include "cloth/step_contact.h"
 
 namespace gp::cloth {
 
@@ -20,13 +20,13 @@ class ContactSet {
     std::vector<char> in_contact;  // constrained in the last (sub)step and not released
   };
 
-  // Forgets the history (a new contact handler).
+  // Forgets the history (another body).
   void clear_history();
-  // Collects this (sub)step's constraints from `handler` at positions X (#V by 3) and step size h
-  // [s]: free vertices only (free_id: #V, -1 for pinned), released ones skipped, in ascending vertex
-  // order, at most two per vertex (the second made orthogonal to the first). Returns how many; none
-  // and no call without a handler.
-  long gather(const ContactHandler& handler, const Eigen::MatrixXd& X, double h, const Eigen::VectorXi& free_id);
+  // This (sub)step's constraints from the body's candidates (step_contact.h, sorted here by vertex,
+  // stably) for vertex_count vertices: free vertices only (free_id: #V, -1 for pinned), released
+  // ones skipped, in ascending vertex order, at most two per vertex (the second made orthogonal to
+  // the first). Returns how many.
+  long gather(std::vector<VelocityConstraint>& candidates, int vertex_count, const Eigen::VectorXi& free_id);
   // After a solve of A sol = b (A lower triangle over the free dofs): the constraint force
   // h f_c = A sol - b on a constrained normal that points into the body by more than
   // release_fraction times the vertex's weight h m |g| releases it for the next (sub)step.

@@ -119,7 +119,7 @@ int main(int argc, char** argv) {
     const auto in = gp::adapt::read_fit_inputs(poses_path, motion_path, garment_path, fit_options.other_body);
     for (const std::string& w : in.warnings) tool.log().warning(w);
     // The cloth's own thickness keeps it off the body (the report records it).
-    if (!choices.thickness_given()) options.contact.thickness = gp::contact_thickness(in.garment.material);
+    if (!choices.thickness_given()) options.contact.sweep.thickness = gp::contact_thickness(in.garment.material);
     gp::PoseInterpolator interpolator(in.poses, {gp::InterpolationMethod::nonlinear, in.motion.anchor});
 
     // Progress: a live line on a terminal, plain lines in a log; each key

@@ -229,7 +229,7 @@ gp::adapt::MotionRunResult run_shrug(const ShrugScene& s, double pin_clearance) 
   gp::adapt::MotionRunOptions o;
   o.adapt = false;
   o.settle_max_steps = 60;
-  o.pin_clearance = pin_clearance;
+  o.contact.pin_clearance = pin_clearance;
   return gp::adapt::run_garment_motion(interpolator, motion, s.garment.V, s.garment.F, s.file, o);
 }
 

@@ -39,7 +39,7 @@ TEST_CASE("the body faces kept are those within reach of the garment in the firs
   std::vector<int> kept, first;
   for (const gp::MotionKey& key : motion.keys) {
     const std::vector<int> near = gp::collision::reachable_body_faces(
-        surface.positions(l.poses.V[static_cast<size_t>(key.pose_index)]), surface.F, l.mesh.V, o.reach);
+        surface.positions(l.poses.V[static_cast<size_t>(key.pose_index)]), surface.F, l.mesh.V, o.contact.reach);
     if (first.empty()) first = near;
     std::vector<int> merged;
     std::set_union(kept.begin(), kept.end(), near.begin(), near.end(), std::back_inserter(merged));

@@ -11,6 +11,7 @@
 #include "cloth/cloth_simulator.h"
 #include "core/error.h"
 #include "testing/test_meshes.h"
+#include "cloth/tests/function_contact.h"
 
 using namespace gp::cloth;
 
@@ -212,11 +213,13 @@ TEST_CASE("a rejected step is retried as two half steps", "[simulator]") {
   sim.set_velocities(Eigen::MatrixXd::Constant(m.V.rows(), 3, 0.0).rowwise() +
                      Eigen::RowVector3d(0.0, -1.0, 0.0));
   const ClothSimulator* observed = &sim;
-  sim.set_collision_handler([observed](Eigen::MatrixXd& X, Eigen::MatrixXd&) {
+  gp::cloth::testing::FunctionContact step_body;
+  sim.set_contact(&step_body);
+  step_body.on_project = [observed](Eigen::MatrixXd& X, Eigen::MatrixXd&) {
     if ((X - observed->positions()).rowwise().norm().maxCoeff() > 0.007) {
       X(0, 0) = std::numeric_limits<double>::quiet_NaN();
     }
-  });
+  };
   for (int s = 0; s < 5; ++s) sim.step();
   CHECK(sim.positions().allFinite());
   CHECK(sim.counters().steps == 5);
@@ -241,22 +244,24 @@ TEST_CASE("the step-end handler sees each (sub)step's start and its span of the 
   sim.set_pinned({0});
   sim.set_velocities(Eigen::MatrixXd::Constant(m.V.rows(), 3, 0.0).rowwise() + Eigen::RowVector3d(0.0, -1.0, 0.0));
   const ClothSimulator* observed = &sim;
-  sim.set_collision_handler([observed](Eigen::MatrixXd& X, Eigen::MatrixXd&) {
+  gp::cloth::testing::FunctionContact step_body;
+  sim.set_contact(&step_body);
+  step_body.on_project = [observed](Eigen::MatrixXd& X, Eigen::MatrixXd&) {
     if ((X - observed->positions()).rowwise().norm().maxCoeff() > 0.007) {
       X(1, 0) = std::numeric_limits<double>::quiet_NaN();
     }
-  });
+  };
   std::vector<std::pair<double, double>> spans;
   bool starts_match = true;
   Eigen::MatrixXd last_start, last_end;
-  sim.set_step_end_handler([&](const Eigen::MatrixXd& X_start, Eigen::MatrixXd& X_end, double s0, double s1) {
+  step_body.on_sweep = [&](const Eigen::MatrixXd& X_start, Eigen::MatrixXd& X_end, double s0, double s1) {
     spans.emplace_back(s0, s1);
     starts_match = starts_match && X_start == observed->positions();
     X_end(5, 2) += 0.001;
     X_end(0, 2) += 0.5;  // a pinned vertex: restored
     last_start = X_start;
     last_end = X_end;
-  });
+  };
   sim.set_pin_targets(m.V.topRows(1));
   sim.step();
   CHECK(starts_match);
@@ -301,12 +306,14 @@ TEST_CASE("a fold that persists in the smallest substep is accepted and counted"
   params.density = 100.0;  // heavy: the forced fold's energy stays under the explosion floor
   ClothSimulator sim(m.V, m.F, params, paper_step());
   const Eigen::Vector3i tri = m.F.row(0).transpose();
-  sim.set_collision_handler([tri](Eigen::MatrixXd& X, Eigen::MatrixXd&) {
+  gp::cloth::testing::FunctionContact step_body;
+  sim.set_contact(&step_body);
+  step_body.on_project = [tri](Eigen::MatrixXd& X, Eigen::MatrixXd&) {
     const Eigen::Vector3d a = X.row(tri(0)), b = X.row(tri(1)), c = X.row(tri(2));
     const Eigen::Vector3d e = (b - a).normalized();
     const Eigen::Vector3d d = c - a;
     X.row(tri(2)) = (a + 2.0 * d.dot(e) * e - d).transpose();  // mirror c through the line a-b
-  });
+  };
   sim.step();
   CHECK(sim.counters().steps == 1);
   CHECK(sim.counters().accepted_flips >= 1);
@@ -341,17 +348,19 @@ TEST_CASE("a fold that lasts is met with half steps from its second step on", "[
   params.density = 100.0;
   const Eigen::Vector3i tri = m.F.row(0).transpose();
   auto folding = std::make_shared<bool>(true);
+  gp::cloth::testing::FunctionContact step_body;  // both simulators meet it; it outlives them
+  step_body.on_project = [tri, folding](Eigen::MatrixXd& X, Eigen::MatrixXd&) {
+    if (!*folding) return;
+    const Eigen::Vector3d a = X.row(tri(0)), b = X.row(tri(1)), c = X.row(tri(2));
+    const Eigen::Vector3d e = (b - a).normalized();
+    const Eigen::Vector3d d = c - a;
+    X.row(tri(2)) = (a + 2.0 * d.dot(e) * e - d).transpose();
+  };
   auto make = [&](bool streaks) {
     SimulatorOptions options = paper_step();
     options.fold_streaks = streaks;
     ClothSimulator sim(m.V, m.F, params, options);
-    sim.set_collision_handler([tri, folding](Eigen::MatrixXd& X, Eigen::MatrixXd&) {
-      if (!*folding) return;
-      const Eigen::Vector3d a = X.row(tri(0)), b = X.row(tri(1)), c = X.row(tri(2));
-      const Eigen::Vector3d e = (b - a).normalized();
-      const Eigen::Vector3d d = c - a;
-      X.row(tri(2)) = (a + 2.0 * d.dot(e) * e - d).transpose();
-    });
+    sim.set_contact(&step_body);
     return sim;
   };
   ClothSimulator with = make(true), without = make(false);
@@ -424,7 +433,9 @@ TEST_CASE("rejected steps are counted by reason", "[simulator]") {
   // fails at every depth for that reason alone, and throws.
   const gp::Mesh m = hanging_square(6, 0.3);
   ClothSimulator sim(m.V, m.F, ClothParameters{}, paper_step());
-  sim.set_collision_handler([](Eigen::MatrixXd&, Eigen::MatrixXd& Vel) { Vel(3, 0) = 30.0; });
+  gp::cloth::testing::FunctionContact step_body;
+  sim.set_contact(&step_body);
+  step_body.on_project = [](Eigen::MatrixXd&, Eigen::MatrixXd& Vel) { Vel(3, 0) = 30.0; };
   CHECK_THROWS_AS(sim.step(), gp::NumericalError);
   const SolverCounters& c = sim.counters();
   CHECK(c.rejected == 5);
@@ -461,7 +472,9 @@ DrapeResult drape_over_cylinder(bool velocity_contacts, int steps) {
     if (m.V(v, 1) < 1e-9) pins.push_back(v);
   }
   sim.set_pinned(pins);
-  sim.set_collision_handler([R](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) {
+  gp::cloth::testing::FunctionContact step_body;
+  sim.set_contact(&step_body);
+  step_body.on_project = [R](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) {
     for (int v = 0; v < X.rows(); ++v) {
       const Eigen::Vector2d p(X(v, 0), X(v, 1));
       const double r = p.norm();
@@ -471,9 +484,9 @@ DrapeResult drape_over_cylinder(bool velocity_contacts, int steps) {
       const double vn = Vel.row(v).dot(n.transpose());
       if (vn < 0.0) Vel.row(v) -= vn * n.transpose();
     }
-  });
+  };
   if (velocity_contacts) {
-    sim.set_contact_handler([R](const Eigen::MatrixXd& X, double h, std::vector<VelocityConstraint>& out) {
+    step_body.on_constraints = [R](const Eigen::MatrixXd& X, double h, std::vector<VelocityConstraint>& out) {
       for (int v = 0; v < X.rows(); ++v) {
         const Eigen::Vector2d p(X(v, 0), X(v, 1));
         const double r = p.norm();
@@ -485,7 +498,7 @@ DrapeResult drape_over_cylinder(bool velocity_contacts, int steps) {
         c.touching = r <= R + 1e-6;
         out.push_back(c);
       }
-    });
+    };
   }
   for (int s = 0; s < steps; ++s) sim.step();
   const Eigen::MatrixXd& X = sim.positions();
@@ -533,7 +546,9 @@ TEST_CASE("a contact that would pull the cloth onto the body is released", "[sim
     if (m.V(v, 0) > 0.3 - 1e-9) pins.push_back(v);
   }
   sim.set_pinned(pins);
-  sim.set_contact_handler([](const Eigen::MatrixXd& X, double h, std::vector<VelocityConstraint>& out) {
+  gp::cloth::testing::FunctionContact step_body;
+  sim.set_contact(&step_body);
+  step_body.on_constraints = [](const Eigen::MatrixXd& X, double h, std::vector<VelocityConstraint>& out) {
     for (int v = 0; v < X.rows(); ++v) {
       if (X(v, 1) > 1e-4) continue;
       VelocityConstraint c;
@@ -543,7 +558,7 @@ TEST_CASE("a contact that would pull the cloth onto the body is released", "[sim
       c.touching = X(v, 1) <= 1e-6;
       out.push_back(c);
     }
-  });
+  };
   Eigen::MatrixXd targets(pins.size(), 3);
   for (int s = 1; s <= 100; ++s) {
     for (size_t k = 0; k < pins.size(); ++k) {
@@ -576,7 +591,9 @@ TEST_CASE("a vertex held in two directions meets both prescribed speeds", "[simu
   const Eigen::Vector3d n1 = Eigen::Vector3d(0.0, 0.0, 1.0);
   const Eigen::Vector3d n2 = Eigen::Vector3d(0.0, std::sin(M_PI / 3.0), std::cos(M_PI / 3.0));
   const double a1 = 0.02, a2 = -0.01;
-  sim.set_contact_handler([&](const Eigen::MatrixXd&, double, std::vector<VelocityConstraint>& out) {
+  gp::cloth::testing::FunctionContact step_body;
+  sim.set_contact(&step_body);
+  step_body.on_constraints = [&](const Eigen::MatrixXd&, double, std::vector<VelocityConstraint>& out) {
     VelocityConstraint c;
     c.vertex = v;
     c.normal = n1;
@@ -588,7 +605,7 @@ TEST_CASE("a vertex held in two directions meets both prescribed speeds", "[simu
     c.normal = (n2 + Eigen::Vector3d(0.0, 0.05, 0.0)).normalized();
     c.normal_velocity = 5.0;
     out.push_back(c);
-  });
+  };
   for (int s = 0; s < 5; ++s) {
     sim.step();
     const Eigen::Vector3d vel = sim.velocities().row(v).transpose();

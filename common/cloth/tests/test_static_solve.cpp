@@ -11,6 +11,7 @@
 #include "cloth/static_solve.h"
 #include "core/error.h"
 #include "testing/test_meshes.h"
+#include "cloth/tests/function_contact.h"
 
 using namespace gp::cloth;
 
@@ -171,7 +172,9 @@ TEST_CASE("a strip pressed onto a cylinder rests outside it at equilibrium, as t
   CHECK(force_residual(sim, X, cylinder(R), walls, o) == Approx(r.residual).epsilon(1e-6));
 
   // The damped run with velocity constraints at the radius (cloth_simulator.h) ends within 1 mm.
-  sim.set_collision_handler([R](Eigen::MatrixXd& Y, Eigen::MatrixXd& Vel) {
+  gp::cloth::testing::FunctionContact step_body;
+  sim.set_contact(&step_body);
+  step_body.on_project = [R](Eigen::MatrixXd& Y, Eigen::MatrixXd& Vel) {
     for (int v = 0; v < Y.rows(); ++v) {
       const Eigen::Vector2d p(Y(v, 0), Y(v, 1));
       if (p.norm() >= R) continue;
@@ -180,8 +183,8 @@ TEST_CASE("a strip pressed onto a cylinder rests outside it at equilibrium, as t
       const double vn = Vel.row(v).dot(n.transpose());
       if (vn < 0.0) Vel.row(v) -= vn * n.transpose();
     }
-  });
-  sim.set_contact_handler([R](const Eigen::MatrixXd& Y, double h, std::vector<VelocityConstraint>& out) {
+  };
+  step_body.on_constraints = [R](const Eigen::MatrixXd& Y, double h, std::vector<VelocityConstraint>& out) {
     for (int v = 0; v < Y.rows(); ++v) {
       const Eigen::Vector2d p(Y(v, 0), Y(v, 1));
       if (p.norm() > R + 1e-4) continue;
@@ -192,7 +195,7 @@ TEST_CASE("a strip pressed onto a cylinder rests outside it at equilibrium, as t
       c.touching = p.norm() <= R + 1e-6;
       out.push_back(c);
     }
-  });
+  };
   for (int s = 0; s < 1200; ++s) sim.step();
   const double apart = (sim.positions() - X).rowwise().norm().maxCoeff();
   INFO("largest distance to the damped contact run " << apart << " m, its speed " << sim.max_speed() << " m/s");

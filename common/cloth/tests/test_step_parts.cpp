@@ -93,11 +93,11 @@ TEST_CASE("the assembled right-hand side moves the pinned vertices' coupling ove
 }
 
 TEST_CASE("the contact set keeps touching or held vertices, a crease's second normal orthogonal", "[step_parts]") {
-  const Eigen::MatrixXd X = Eigen::MatrixXd::Zero(4, 3);
   Eigen::VectorXi free_id(4);
   free_id << 0, 1, -1, 2;  // vertex 2 pinned
   const double s45 = std::sqrt(0.5);
-  ContactHandler handler = [&](const Eigen::MatrixXd&, double, std::vector<VelocityConstraint>& out) {
+  const auto candidates = [&]() {
+    std::vector<VelocityConstraint> out;
     out.push_back(candidate(3, Eigen::Vector3d(0, 2, 0), 0.5));               // normalized
     out.push_back(candidate(0, Eigen::Vector3d(0, 1, 0), 1.0));
     out.push_back(candidate(0, Eigen::Vector3d(s45, s45, 0), 2.0));           // a crease: 45 degrees
@@ -108,10 +108,12 @@ TEST_CASE("the contact set keeps touching or held vertices, a crease's second no
     out.push_back(candidate(5, Eigen::Vector3d(0, 1, 0), 0.0));               // out of range: dropped
     out.push_back(candidate(1, Eigen::Vector3d(0, 0, 0), 0.0));               // no normal: dropped
     out.push_back(candidate(1, Eigen::Vector3d(0, 1, 0), std::nan("")));      // no speed: dropped
+    return out;
   };
   ContactSet contacts;
-  CHECK(contacts.gather(nullptr, X, 0.01, free_id) == 0);
-  REQUIRE(contacts.gather(handler, X, 0.01, free_id) == 3);
+  std::vector<VelocityConstraint> none, all = candidates();
+  CHECK(contacts.gather(none, 4, free_id) == 0);
+  REQUIRE(contacts.gather(all, 4, free_id) == 3);
   CHECK(contacts.constraint(0).vertex == 0);
   CHECK(contacts.constraint(1).vertex == 0);
   CHECK(contacts.constraint(2).vertex == 3);
@@ -142,19 +144,14 @@ TEST_CASE("a constraint whose force pulls towards the body is released for the n
   Eigen::SparseMatrix<double> A(3, 3);
   for (int i = 0; i < 3; ++i) A.insert(i, i) = m;
   A.makeCompressed();
-  const Eigen::MatrixXd X = Eigen::MatrixXd::Zero(1, 3);
   const Eigen::VectorXi free_id = Eigen::VectorXi::Zero(1);
   const Eigen::VectorXd masses = Eigen::VectorXd::Constant(1, m);
-  ContactHandler touching = [](const Eigen::MatrixXd&, double, std::vector<VelocityConstraint>& out) {
-    out.push_back(candidate(0, Eigen::Vector3d::UnitY(), 0.0));
-  };
-  ContactHandler near = [](const Eigen::MatrixXd&, double, std::vector<VelocityConstraint>& out) {
-    out.push_back(candidate(0, Eigen::Vector3d::UnitY(), 0.0, false));
-  };
+  std::vector<VelocityConstraint> touching{candidate(0, Eigen::Vector3d::UnitY(), 0.0)};
+  std::vector<VelocityConstraint> near{candidate(0, Eigen::Vector3d::UnitY(), 0.0, false)};
   const double threshold = fraction * h * m * g;
   for (const double pull : {0.5, 2.0}) {  // times the threshold
     ContactSet contacts;
-    REQUIRE(contacts.gather(touching, X, h, free_id) == 1);
+    REQUIRE(contacts.gather(touching, 1, free_id) == 1);
     const Eigen::VectorXd sol = Eigen::VectorXd::Zero(3);
     Eigen::VectorXd b = Eigen::VectorXd::Zero(3);
     b(1) = pull * threshold;  // A sol - b points into the body
@@ -162,10 +159,10 @@ TEST_CASE("a constraint whose force pulls towards the body is released for the n
     CHECK(released == (pull > 1.0 ? 1 : 0));
     CHECK(contacts.history().released[0] == (pull > 1.0 ? 1 : 0));
     // A merely near vertex stays constrained only while it was held and not released.
-    CHECK(contacts.gather(near, X, h, free_id) == (pull > 1.0 ? 0 : 1));
+    CHECK(contacts.gather(near, 1, free_id) == (pull > 1.0 ? 0 : 1));
   }
   ContactSet fresh;
-  CHECK(fresh.gather(near, X, h, free_id) == 0);
+  CHECK(fresh.gather(near, 1, free_id) == 0);
 }
 
 TEST_CASE("the step checks name the first failed check as a typed outcome", "[step_parts]") {

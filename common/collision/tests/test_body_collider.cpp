@@ -15,6 +15,7 @@
 #include "collision/body_collider.h"
 #include "core/error.h"
 #include "testing/test_meshes.h"
+#include "cloth/tests/function_contact.h"
 
 using namespace gp::collision;
 
@@ -354,7 +355,9 @@ TEST_CASE("a cloth falling on a sphere stays outside the comfort offset", "[coll
   gp::cloth::SimulatorOptions paper_step;  // the paper's 2.5 ms, which this test was written for
   paper_step.dt = 0.0025;
   gp::cloth::ClothSimulator sim(cloth.V, cloth.F, gp::cloth::ClothParameters{}, paper_step);
-  sim.set_collision_handler([&](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider.resolve(X, Vel, offset); });
+  gp::cloth::testing::FunctionContact step_body;
+  sim.set_contact(&step_body);
+  step_body.on_project = [&](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider.resolve(X, Vel, offset); };
   BodyCollider checker(sphere.F);
   checker.set_body(sphere.V);
   double worst = 1e9;
@@ -566,8 +569,10 @@ CreaseStrip press_strip_into_crease() {
   gp::cloth::SimulatorOptions options;
   options.dt = 0.01;
   gp::cloth::ClothSimulator sim(strip.V, strip.F, params, options);
-  sim.set_collision_handler([&](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider.resolve(X, Vel, offset); });
-  sim.set_contact_handler([&](const Eigen::MatrixXd& X, double h, std::vector<gp::cloth::VelocityConstraint>& out) {
+  gp::cloth::testing::FunctionContact step_body;
+  sim.set_contact(&step_body);
+  step_body.on_project = [&](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider.resolve(X, Vel, offset); };
+  step_body.on_constraints = [&](const Eigen::MatrixXd& X, double h, std::vector<gp::cloth::VelocityConstraint>& out) {
     for (const Contact& c : collider.contacts(X, offset, 5e-4)) {
       gp::cloth::VelocityConstraint k;
       k.vertex = c.vertex;
@@ -576,7 +581,7 @@ CreaseStrip press_strip_into_crease() {
       k.touching = c.signed_distance <= offset + 1e-6;
       out.push_back(k);
     }
-  });
+  };
   Eigen::MatrixXd before;
   for (int s = 0; s < 200; ++s) {
     if (s == 160) before = sim.positions();

@@ -14,6 +14,7 @@
 #include "collision/crossings.h"
 #include "core/error.h"
 #include "testing/test_meshes.h"
+#include "cloth/tests/function_contact.h"
 
 using namespace gp::collision;
 
@@ -162,11 +163,13 @@ TEST_CASE("a simulated sheet lifted by a finger: pierced with vertex contacts al
     options.dt = 0.01;
     gp::cloth::ClothSimulator sim(cloth.V, cloth.F, params, options);
     sim.set_pinned(pins);
-    sim.set_collision_handler([&](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider.resolve(X, Vel, offset); });
+    gp::cloth::testing::FunctionContact step_body;
+    sim.set_contact(&step_body);
+    step_body.on_project = [&](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider.resolve(X, Vel, offset); };
     if (two_way) {
-      sim.set_step_end_handler([&](const Eigen::MatrixXd& X0, Eigen::MatrixXd& X1, double s0, double s1) {
+      step_body.on_sweep = [&](const Eigen::MatrixXd& X0, Eigen::MatrixXd& X1, double s0, double s1) {
         contact.enforce(X0, X1, s0, s1);
-      });
+      };
     }
     long worst = 0;
     for (int step = 1; step <= 40; ++step) {

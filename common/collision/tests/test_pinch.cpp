@@ -14,6 +14,7 @@
 #include "collision/body_collider.h"
 #include "io/mesh.h"
 #include "testing/test_meshes.h"
+#include "cloth/tests/function_contact.h"
 
 using gp::collision::BodyCollider;
 
@@ -98,8 +99,10 @@ TEST_CASE("a sheet in a 3 mm gap with an 8 mm offset settles unstretched and cle
   collider.set_min_pinch_offset(0.001);
   collider.set_facing_gaps(true);
   gp::cloth::ClothSimulator sim(cloth.V, cloth.F);
-  sim.set_collision_handler([&](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider.resolve(X, Vel, offset); });
-  sim.set_contact_handler([&](const Eigen::MatrixXd& X, double h, std::vector<gp::cloth::VelocityConstraint>& out) {
+  gp::cloth::testing::FunctionContact step_body;
+  sim.set_contact(&step_body);
+  step_body.on_project = [&](Eigen::MatrixXd& X, Eigen::MatrixXd& Vel) { collider.resolve(X, Vel, offset); };
+  step_body.on_constraints = [&](const Eigen::MatrixXd& X, double h, std::vector<gp::cloth::VelocityConstraint>& out) {
     for (const gp::collision::Contact& c : collider.contacts(X, offset, 5e-4)) {
       gp::cloth::VelocityConstraint k;
       k.vertex = c.vertex;
@@ -108,7 +111,7 @@ TEST_CASE("a sheet in a 3 mm gap with an 8 mm offset settles unstretched and cle
       k.touching = c.signed_distance <= c.offset + 1e-6;
       out.push_back(k);
     }
-  });
+  };
   for (int s = 0; s < 400; ++s) sim.step();
   const Eigen::MatrixXd& X = sim.positions();
   double deepest = 0.0, in_gap_low = 1.0, in_gap_high = -1.0;
