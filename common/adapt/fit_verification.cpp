@@ -93,7 +93,7 @@ FitVerification verify_fit(PoseInterpolator& interpolator, const MotionSpec& mot
                            const std::vector<cloth::TriangleRest>& rest_triangles, MotionRunOptions options,
                            const FitCriteria& criteria, const ProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
-  options.adapt = false;
+  options.adaptation.enabled = false;
   options.rest_triangles = rest_triangles;
   options.initial_rest.resize(0, 0);
   ProgressCallback labelled;
@@ -105,7 +105,7 @@ FitVerification verify_fit(PoseInterpolator& interpolator, const MotionSpec& mot
     };
   }
   FitVerification v = judge_run(run_garment_motion(interpolator, motion, V_start, F, garment, options, labelled),
-                                options.adaptation.delta, criteria);
+                                options.adaptation.adapter.delta, criteria);
   v.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return v;
 }

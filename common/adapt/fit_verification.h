@@ -24,7 +24,7 @@ struct PoseCheck {
 };
 
 // The in-between frames of one transition (keys[transition] -> keys[transition + 1]) that the
-// run solved to equilibrium (MotionRunOptions::frame_stride), each judged by the key poses' bounds.
+// run solved to equilibrium (MotionRunOptions::schedule.frame_stride), each judged by the key poses' bounds.
 struct TransitionCheck {
   int transition = 0;
   std::string from, to;               // the key poses' names
@@ -61,7 +61,7 @@ FitVerification verify_fit(PoseInterpolator& interpolator, const MotionSpec& mot
 FitVerification judge_run(const MotionRunResult& run, double delta, const FitCriteria& criteria = {});
 
 // The in-between frames over the bounds, as frame indices of the motion (ascending): where a
-// further fit cycle adapts (MotionRunOptions::adapt_frames).
+// further fit cycle adapts (MotionRunOptions::adaptation.frames).
 std::vector<int> failed_frames(const FitVerification& v);
 
 // A failing transition in one line: how many of its frames fail, and the worst frame's first

@@ -14,10 +14,10 @@ FitResult fit_garment(PoseInterpolator& interpolator, const MotionSpec& motion, 
   MotionRunOptions run_options = options.motion;
   if (options.frame_stride < 0) throw UsageError("the verification's frame stride must be non-negative");
   // A run without adaptation is its own verification, in-between frames included.
-  if (!run_options.adapt && options.verify) run_options.frame_stride = options.frame_stride;
+  if (!run_options.adaptation.enabled && options.verify) run_options.schedule.frame_stride = options.frame_stride;
   MotionRunOptions verify_options = run_options;
-  verify_options.frame_stride = options.frame_stride;
-  verify_options.adapt_frames.clear();
+  verify_options.schedule.frame_stride = options.frame_stride;
+  verify_options.adaptation.frames.clear();
   for (int cycle = 1;; ++cycle) {
     MotionRunResult run;
     std::optional<FitVerification> verification;
@@ -36,10 +36,10 @@ FitResult fit_garment(PoseInterpolator& interpolator, const MotionSpec& motion, 
       }
       if (options.verify) {
         // A run that did not adapt is its own fresh simulation.
-        verification = run_options.adapt ? verify_fit(interpolator, motion, V_garment, F, garment,
+        verification = run_options.adaptation.enabled ? verify_fit(interpolator, motion, V_garment, F, garment,
                                                       rest_triangles_of(run.V_rest, F), verify_options,
                                                       options.criteria, progress)
-                                         : judge_run(run, run_options.adaptation.delta, options.criteria);
+                                         : judge_run(run, run_options.adaptation.adapter.delta, options.criteria);
       }
     } catch (const NumericalError& e) {
       // A further cycle that fails numerically (a runaway growth, a grown
@@ -57,12 +57,12 @@ FitResult fit_garment(PoseInterpolator& interpolator, const MotionSpec& motion, 
     fit.run = std::move(run);
     fit.verification = std::move(verification);
     fit.cycles.push_back(summary);
-    if (!options.verify || summary.verified || cycle >= options.max_cycles || !run_options.adapt) return fit;
+    if (!options.verify || summary.verified || cycle >= options.max_cycles || !run_options.adaptation.enabled) return fit;
     run_options.initial_rest = fit.run.V_rest;
     // The next cycle also adapts where an in-between frame failed, as the paper adapts during the
     // motion; the frames of earlier cycles stay.
     std::vector<int> more = failed_frames(*fit.verification);
-    std::vector<int>& frames = run_options.adapt_frames;
+    std::vector<int>& frames = run_options.adaptation.frames;
     frames.insert(frames.end(), more.begin(), more.end());
     std::sort(frames.begin(), frames.end());
     frames.erase(std::unique(frames.begin(), frames.end()), frames.end());

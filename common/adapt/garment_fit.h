@@ -29,9 +29,9 @@ struct FitOptions {
   bool verify = true;       // false: one adaptation cycle, no verification
   int max_cycles = 3;       // adaptation cycles at most
   // The verification also solves every frame_stride-th in-between frame of each transition to its
-  // static equilibrium and judges it by the key poses' bounds (MotionRunOptions::frame_stride): a
+  // static equilibrium and judges it by the key poses' bounds (MotionRunOptions::schedule.frame_stride): a
   // garment must allow the movement, not only its key poses. A further cycle adapts at the frames
-  // that failed (MotionRunOptions::adapt_frames). 0: the key poses only.
+  // that failed (MotionRunOptions::adaptation.frames). 0: the key poses only.
   int frame_stride = 0;
   // The stage's own admission rule, recorded with the fit: the pose set's
   // design pose may be another body than the garment was designed on (the
@@ -41,27 +41,27 @@ struct FitOptions {
 
 // The fit's options as its report records them and the sewn-fit check reads
 // them back (spec/option_fields.h): one flat list, keys with their units.
-// motion.threads is left out, since it changes no result.
+// motion.schedule.threads is left out, since it changes no result.
 struct FitOptionFields {
   template <class Fields>
   void operator()(FitOptions& o, Fields& f) const {
     MotionRunOptions& m = o.motion;
-    AdaptOptions& a = m.adaptation;
+    AdaptOptions& a = m.adaptation.adapter;
     cloth::SimulatorOptions& s = m.solver;
-    f.flag("adapt", m.adapt);
+    f.flag("adapt", m.adaptation.enabled);
     f.flag("other_body", o.other_body);
     f.number("dt_s", s.dt, Range::positive());
-    f.integer("substeps", m.substeps, Range::between(1, 1000));
-    f.integer("adapt_every", m.adapt_every, Range::between(1, 100000));
-    f.integer("adaptation_lag", m.adaptation_lag, Range::between(0, 99999));
+    f.integer("substeps", m.schedule.substeps, Range::between(1, 1000));
+    f.integer("adapt_every", m.adaptation.every, Range::between(1, 100000));
+    f.integer("adaptation_lag", m.schedule.adaptation_lag, Range::between(0, 99999));
     f.number("delta", a.delta, Range::between(0.0, 10.0));
     f.number("margin", a.margin, Range::between(0.0, 1.0));
     f.number("hysteresis", a.hysteresis, Range::between(0.0, 1.0));
     f.number("smoothing_length_m", a.smoothing_length, Range::non_negative());
     f.integer("adapt_rounds", a.rounds, Range::between(1, 100));
-    f.flag("adapt_during_transitions", m.adapt_during_transitions);
-    f.number("adapt_speed_m_per_s", m.adapt_speed, Range::positive());
-    f.number("max_area_growth", m.max_area_growth, Range::between(1.0, 1000.0));
+    f.flag("adapt_during_transitions", m.adaptation.during_transitions);
+    f.number("adapt_speed_m_per_s", m.adaptation.speed, Range::positive());
+    f.number("max_area_growth", m.adaptation.max_area_growth, Range::between(1.0, 1000.0));
     f.number("max_face_growth", a.max_face_growth, Range::between(1.0, 1000.0));
     f.flag("verify", o.verify);
     f.integer("max_cycles", o.max_cycles, Range::between(1, 100));
@@ -69,23 +69,23 @@ struct FitOptionFields {
     f.number("arap_tolerance", a.arap.tolerance, Range::positive());
     f.number("arap_stretch_tolerance", a.arap.stretch_tolerance, Range::non_negative());
     f.integer("arap_max_iterations", a.arap.max_iterations, Range::between(1, 1e9));
-    f.choice("equilibrium", m.equilibrium, equilibrium_names());
-    f.number("static_tolerance", m.statics.tolerance, Range::positive());
-    f.integer("static_max_iterations", m.statics.max_iterations, Range::between(1, 1e7));
-    f.number("static_adapt_displacement_m", m.statics.adapt_displacement, Range::positive());
-    f.integer("static_held_iterations", m.statics.held_iterations, Range::between(1, 1e7));
-    f.number("barrier_pressure_pa", m.statics.barrier_pressure, Range::positive());
-    f.number("barrier_band_m", m.statics.barrier_band, Range::positive());
-    f.number("static_max_displacement_m", m.statics.max_displacement, Range::positive());
-    f.number("settle_speed_m_per_s", m.settle_speed, Range::positive());
-    f.number("settle_stretch_change", m.settle_stretch_change, Range::non_negative());
-    f.integer("settle_max_steps", m.settle_max_steps, Range::between(0, 1e7));
-    f.number("settle_damping", m.settle_damping, Range::between(0.0, 1.0));
-    f.integer("held_steps", m.held_steps, Range::between(0, 1e7));
-    f.number("held_stretch", m.held_stretch, Range::between(1.0, 100.0));
-    f.number("held_improvement", m.held_improvement, Range::between(0.0, 1.0));
-    f.integer("fixed_point_steps", m.fixed_point_steps, Range::between(1, 1e9));
-    f.number("fixed_point_area_change", m.fixed_point_area_change, Range::non_negative());
+    f.choice("equilibrium", m.settle.equilibrium, equilibrium_names());
+    f.number("static_tolerance", m.settle.statics.tolerance, Range::positive());
+    f.integer("static_max_iterations", m.settle.statics.max_iterations, Range::between(1, 1e7));
+    f.number("static_adapt_displacement_m", m.settle.statics.adapt_displacement, Range::positive());
+    f.integer("static_held_iterations", m.settle.statics.held_iterations, Range::between(1, 1e7));
+    f.number("barrier_pressure_pa", m.settle.statics.barrier_pressure, Range::positive());
+    f.number("barrier_band_m", m.settle.statics.barrier_band, Range::positive());
+    f.number("static_max_displacement_m", m.settle.statics.max_displacement, Range::positive());
+    f.number("settle_speed_m_per_s", m.settle.speed, Range::positive());
+    f.number("settle_stretch_change", m.settle.stretch_change, Range::non_negative());
+    f.integer("settle_max_steps", m.settle.max_steps, Range::between(0, 1e7));
+    f.number("settle_damping", m.settle.damping, Range::between(0.0, 1.0));
+    f.integer("held_steps", m.settle.held_steps, Range::between(0, 1e7));
+    f.number("held_stretch", m.settle.held_stretch, Range::between(1.0, 100.0));
+    f.number("held_improvement", m.settle.held_improvement, Range::between(0.0, 1.0));
+    f.integer("fixed_point_steps", m.settle.fixed_point_steps, Range::between(1, 1e9));
+    f.number("fixed_point_area_change", m.settle.fixed_point_area_change, Range::non_negative());
     f.number("reach_m", m.contact.reach, Range::non_negative());
     f.names("contact", m.contact.velocity_constraints, "velocity", "projection");
     f.number("contact_band_m", m.contact.band, Range::non_negative());

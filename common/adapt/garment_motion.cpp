@@ -40,24 +40,24 @@ cloth::ClothParameters parameters_from(const Material& m) {
 }
 
 void check_options(const MotionRunOptions& options) {
-  if (options.substeps < 1 || options.adapt_every < 1 || options.settle_max_steps < 0 || options.threads < 1) {
+  if (options.schedule.substeps < 1 || options.adaptation.every < 1 || options.settle.max_steps < 0 || options.schedule.threads < 1) {
     throw UsageError("substeps, adapt_every and threads must be at least 1, settle_max_steps non-negative");
   }
-  if (options.adaptation_lag < 0) {
-    throw UsageError("the adaptation lag must be non-negative, got " + std::to_string(options.adaptation_lag));
+  if (options.schedule.adaptation_lag < 0) {
+    throw UsageError("the adaptation lag must be non-negative, got " + std::to_string(options.schedule.adaptation_lag));
   }
-  if (!(options.max_area_growth > 1.0)) throw UsageError("max_area_growth must be above 1");
-  if (!(options.adapt_speed > 0.0) || !std::isfinite(options.adapt_speed)) {
+  if (!(options.adaptation.max_area_growth > 1.0)) throw UsageError("max_area_growth must be above 1");
+  if (!(options.adaptation.speed > 0.0) || !std::isfinite(options.adaptation.speed)) {
     throw UsageError("adapt_speed must be finite and positive");
   }
-  if (!(options.settle_damping >= 0.0) || !std::isfinite(options.settle_damping)) {
+  if (!(options.settle.damping >= 0.0) || !std::isfinite(options.settle.damping)) {
     throw UsageError("settle_damping must be finite and non-negative");
   }
   check_options(options.contact);
-  if (options.frame_stride < 0) {
-    throw UsageError("frame_stride must be non-negative, got " + std::to_string(options.frame_stride));
+  if (options.schedule.frame_stride < 0) {
+    throw UsageError("frame_stride must be non-negative, got " + std::to_string(options.schedule.frame_stride));
   }
-  if (!options.rest_triangles.empty() && options.adapt) {
+  if (!options.rest_triangles.empty() && options.adaptation.enabled) {
     throw UsageError("per-face rest triangles need adapt off (the rest shape is then fixed)");
   }
 }
@@ -92,7 +92,7 @@ const std::vector<std::pair<Equilibrium, const char*>>& equilibrium_names() {
 }
 
 int applied_adaptation_lag(const MotionRunOptions& options) {
-  return std::max(0, std::min(options.adaptation_lag, options.adapt_every - 1));
+  return std::max(0, std::min(options.schedule.adaptation_lag, options.adaptation.every - 1));
 }
 
 struct GarmentMotion::Impl {
@@ -120,15 +120,15 @@ struct GarmentMotion::Impl {
   std::optional<cloth::ClothSimulator> sim;
   std::optional<cloth::StaticSolver> static_solver;  // Equilibrium::static_solve
 
-  std::vector<int> adapt_frames;  // options.adapt_frames, sorted
+  std::vector<int> adapt_frames;  // options.adaptation.frames, sorted
 
   std::optional<RestShapeAdapter> adapter;
   Eigen::MatrixXd V_rest;
   double design_area = 0.0;
   bool settling = false;  // at a key pose, the body standing still
-  bool cloth_slow = false;  // settling, and the cloth has slowed below adapt_speed
+  bool cloth_slow = false;  // settling, and the cloth has slowed below adaptation.speed
 
-  // Work beside the stepping thread (MotionRunOptions::threads): the next
+  // Work beside the stepping thread (MotionRunOptions::schedule.threads): the next
   // body stage and the lagging adaptation.
   const std::launch policy;
   const int lag;
@@ -146,11 +146,11 @@ struct GarmentMotion::Impl {
         garment(g),
         options(o),
         frames(motion_frames(m)),
-        policy(o.threads > 1 ? std::launch::async : std::launch::deferred),
+        policy(o.schedule.threads > 1 ? std::launch::async : std::launch::deferred),
         lag(applied_adaptation_lag(o)) {
     check_options(options);
     if (frames.empty()) throw SpecError("the motion has no frames");
-    adapt_frames = options.adapt_frames;
+    adapt_frames = options.adaptation.frames;
     std::sort(adapt_frames.begin(), adapt_frames.end());
     for (int f : adapt_frames) {
       if (f <= 0 || f >= static_cast<int>(frames.size()) || frames[static_cast<size_t>(f)].key >= 0) {
@@ -217,7 +217,7 @@ struct GarmentMotion::Impl {
     std::sort(reachable.begin(), reachable.end());
     reachable.erase(std::unique(reachable.begin(), reachable.end()), reachable.end());
     body.emplace(std::move(surface), V_body, std::move(reachable), F, V_garment, pin_ids, garment.offset,
-                 options.contact, options.threads);
+                 options.contact, options.schedule.threads);
     result.contact_surface = body->surface();
     result.culled_body_faces = body->collider().face_ids().size();
     pin_hints.assign(pin_ids.size(), -1);
@@ -236,7 +236,7 @@ struct GarmentMotion::Impl {
   }
 
   void set_up_adaptation(const Eigen::MatrixXd& V_garment) {
-    adapter.emplace(V_garment, F, with_fabric_limits(options.adaptation, garment.material));
+    adapter.emplace(V_garment, F, with_fabric_limits(options.adaptation.adapter, garment.material));
     design_area = mesh_area(V_garment, F);
     V_rest = V_garment;
     if (options.initial_rest.size()) {
@@ -270,8 +270,8 @@ struct GarmentMotion::Impl {
       const MotionFrame& frame = frames[i];
       const MotionFrame& previous = frames[i - 1];
       const double t_start = previous.transition == frame.transition ? previous.t : 0.0;
-      for (int s = 1; s <= options.substeps; ++s) {
-        const double w = static_cast<double>(s) / options.substeps;
+      for (int s = 1; s <= options.schedule.substeps; ++s) {
+        const double w = static_cast<double>(s) / options.schedule.substeps;
         requests.push_back({frame.from, frame.to, (1.0 - w) * t_start + w * frame.t});
       }
     }
@@ -326,12 +326,12 @@ struct GarmentMotion::Impl {
 
   void record_adaptation(const AdaptReport& r) {
     if (!r.changed) return;
-    if (r.area_after > options.max_area_growth * design_area) {
+    if (r.area_after > options.adaptation.max_area_growth * design_area) {
       char what[200];
       std::snprintf(what, sizeof(what),
                     "the rest shape grew to x%.2f the design's area (at most x%.2f): the adaptation runs away where "
                     "the cloth cannot follow its rest shape",
-                    r.area_after / design_area, options.max_area_growth);
+                    r.area_after / design_area, options.adaptation.max_area_growth);
       throw NumericalError(what, "step " + std::to_string(result.steps));
     }
     sim->set_rest_shape(V_rest);
@@ -342,7 +342,7 @@ struct GarmentMotion::Impl {
     result.arap.converged = result.arap.converged && r.arap.converged;
   }
 
-  // Lagging adaptations (MotionRunOptions::adaptation_lag): the one computed
+  // Lagging adaptations (MotionRunOptions::schedule.adaptation_lag): the one computed
   // from the positions after step k runs beside the next steps and is applied
   // after step k + lag, or before any adaptation at the end of a key pose.
   void apply_adaptation() {
@@ -384,8 +384,8 @@ struct GarmentMotion::Impl {
     sim->step();
     ++result.steps;
     if (result.steps >= apply_after_step) apply_adaptation();
-    const bool adapting = options.adapt && ((settling && cloth_slow) || options.adapt_during_transitions);
-    if (adapting && result.steps % options.adapt_every == 0) {
+    const bool adapting = options.adaptation.enabled && ((settling && cloth_slow) || options.adaptation.during_transitions);
+    if (adapting && result.steps % options.adaptation.every == 0) {
       launch_adaptation();
       if (lag == 0) apply_adaptation();
     }
@@ -398,7 +398,7 @@ struct GarmentMotion::Impl {
     // in units of the fit's 1 + delta (common/fabric/README.md, "Stretch limits").
     const Material& m = garment.material;
     if (m.has_own_limits())
-      return (1.0 + options.adaptation.delta) *
+      return (1.0 + options.adaptation.adapter.delta) *
              cloth::face_limit_stretches(sim->positions(), F, sim->rest_state(), m.stretch_limit_warp, m.stretch_limit_weft);
     return cloth::face_principal_stretches(sim->positions(), F, sim->rest_state()).col(0);
   }
@@ -423,39 +423,39 @@ struct GarmentMotion::Impl {
       double change = 0.0;
       for (auto it = area_history.rbegin(); it != area_history.rend(); ++it) {
         change = std::max(change, std::abs(now - it->second) / now);
-        if (key.settle_steps - it->first >= options.fixed_point_steps) break;
+        if (key.settle_steps - it->first >= options.settle.fixed_point_steps) break;
       }
       return change;
     };
-    sim->set_damping_scale(options.settle_damping);
+    sim->set_damping_scale(options.settle.damping);
     settling = true;
     cloth_slow = false;
-    int slow_since = 0;  // settle steps when the cloth slowed below adapt_speed
-    // Held cloth (MotionRunOptions::held_steps): the lowest largest stretch
+    int slow_since = 0;  // settle steps when the cloth slowed below adaptation.speed
+    // Held cloth (MotionRunOptions::settle.held_steps): the lowest largest stretch
     // so far and the settle step it was reached at.
     double best_stretch = previous_stretch;
     int best_since = 0;
-    while (key.settle_steps < options.settle_max_steps) {
+    while (key.settle_steps < options.settle.max_steps) {
       const Eigen::MatrixXd X_check = sim->positions();
       int window = 0;
-      for (; window < options.adapt_every && key.settle_steps < options.settle_max_steps;
+      for (; window < options.adaptation.every && key.settle_steps < options.settle.max_steps;
            ++window, ++key.settle_steps) {
         step();
       }
       key.max_net_speed = (sim->positions() - X_check).rowwise().norm().maxCoeff() / (window * options.solver.dt);
-      if (!cloth_slow && key.max_net_speed < options.adapt_speed) {
+      if (!cloth_slow && key.max_net_speed < options.adaptation.speed) {
         cloth_slow = true;
         slow_since = key.settle_steps;
       }
       const double stretch = largest_stretches().maxCoeff();
-      const bool slow = key.max_net_speed < options.settle_speed;
-      const bool steady = std::abs(stretch - previous_stretch) < options.settle_stretch_change;
+      const bool slow = key.max_net_speed < options.settle.speed;
+      const bool steady = std::abs(stretch - previous_stretch) < options.settle.stretch_change;
       const double stretch_change = std::abs(stretch - previous_stretch);
       previous_stretch = stretch;
       area_history.emplace_back(key.settle_steps, mesh_area(V_rest, F));
       key.rest_area_change = area_change_over_window();
-      const bool fixed = !options.adapt || (cloth_slow && key.settle_steps - slow_since >= options.fixed_point_steps &&
-                                            key.rest_area_change < options.fixed_point_area_change);
+      const bool fixed = !options.adaptation.enabled || (cloth_slow && key.settle_steps - slow_since >= options.settle.fixed_point_steps &&
+                                            key.rest_area_change < options.settle.fixed_point_area_change);
       if (progress && key.settle_steps % 40 == 0) {
         char line[256];
         std::snprintf(line, sizeof(line),
@@ -463,19 +463,19 @@ struct GarmentMotion::Impl {
                       "rest area change %.3f%% over the last %d steps",
                       key.pose.c_str(), key.settle_steps, sim->max_speed(), key.max_net_speed, stretch,
                       stretch_change, 100.0 * key.rest_area_change,
-                      std::min(key.settle_steps, options.fixed_point_steps));
+                      std::min(key.settle_steps, options.settle.fixed_point_steps));
         report(progress, line, key.key, frame_index, key.settle_steps, false, stretch);
       }
       if (slow && steady && fixed && body->offsets_grown()) {
         key.settled = true;
         break;
       }
-      if (stretch < (1.0 - options.held_improvement) * best_stretch) {
+      if (stretch < (1.0 - options.settle.held_improvement) * best_stretch) {
         best_stretch = stretch;
         best_since = key.settle_steps;
       }
-      if (options.held_steps > 0 && body->offsets_grown() && stretch > options.held_stretch &&
-          key.settle_steps - best_since >= options.held_steps) {
+      if (options.settle.held_steps > 0 && body->offsets_grown() && stretch > options.settle.held_stretch &&
+          key.settle_steps - best_since >= options.settle.held_steps) {
         key.held = true;
         break;
       }
@@ -483,7 +483,7 @@ struct GarmentMotion::Impl {
     sim->set_damping_scale(1.0);
     settling = false;
     cloth_slow = false;
-    if (options.settle_max_steps == 0) key.settled = sim->max_speed() < options.settle_speed;
+    if (options.settle.max_steps == 0) key.settled = sim->max_speed() < options.settle.speed;
     key.max_speed = sim->max_speed();
   }
 
@@ -492,17 +492,17 @@ struct GarmentMotion::Impl {
   // and the equilibrium solved again until the rest area is a fixed point.
   // Cloth stretched beyond held_stretch at an equilibrium that the last
   // adaptation did not relieve by held_improvement is held by the body.
-  // adapt: adapt the rest shape on the way to the fixed point (options.adapt at a key pose or an
+  // adapt: adapt the rest shape on the way to the fixed point (options.adaptation.enabled at a key pose or an
   // adaptation frame; an in-between frame that is only recorded is solved without).
   void settle_static(KeyPoseResult& key, size_t frame_index, const ProgressCallback& progress, bool adapt) {
-    if (!static_solver) static_solver.emplace(options.statics);
+    if (!static_solver) static_solver.emplace(options.settle.statics);
     key.solved_static = true;
     // The offsets are the garment's from here on: the barrier pushes a vertex
     // that is still inside its offset out gradually (its wall rises with it).
     body->use_garment_offsets();
     std::vector<int> hints;
-    const cloth::StaticBody statics = body->static_body(hints, 3.0 * garment.offset + options.statics.barrier_band);
-    // With adaptation the equilibrium is sought in parts of adapt_every
+    const cloth::StaticBody statics = body->static_body(hints, 3.0 * garment.offset + options.settle.statics.barrier_band);
+    // With adaptation the equilibrium is sought in parts of adaptation.every
     // iterations; between them, once the cloth moves less than
     // adapt_displacement or its largest stretch is steady, the rest shape is
     // adapted to the cloth there (as the dynamic settling adapts once the
@@ -518,7 +518,7 @@ struct GarmentMotion::Impl {
     enum class Phase { adapting, converging, final_solve };
     Phase phase = adapt ? Phase::adapting : Phase::final_solve;
     static_solver->restart();
-    const int cap = options.statics.max_iterations;
+    const int cap = options.settle.statics.max_iterations;
     double best_stretch = std::numeric_limits<double>::infinity();
     int best_at = 0;
     double last_change = std::numeric_limits<double>::infinity();
@@ -534,7 +534,7 @@ struct GarmentMotion::Impl {
       Eigen::MatrixXd X = sim->positions();
       for (size_t k = 0; k < pin_ids.size(); ++k) X.row(pin_ids[k]) = targets.row(static_cast<Eigen::Index>(k));
       const int left = cap - key.newton_iterations;
-      const int part = phase == Phase::adapting ? std::min(options.adapt_every, left) : left;
+      const int part = phase == Phase::adapting ? std::min(options.adaptation.every, left) : left;
       const Eigen::MatrixXd X_before = X;
       const cloth::StaticSolveReport r = static_solver->resume(*sim, statics, body->vertex_offsets(), X, part);
       result.newton_iterations += r.iterations;
@@ -553,26 +553,26 @@ struct GarmentMotion::Impl {
         std::snprintf(line, sizeof(line),
                       "solving %s: %d Newton iterations, force residual %.3g (tolerance %.3g), max stretch %.4f, "
                       "last rest area change %.3f%%",
-                      key.pose.c_str(), key.newton_iterations, r.residual, options.statics.tolerance, stretch,
+                      key.pose.c_str(), key.newton_iterations, r.residual, options.settle.statics.tolerance, stretch,
                       std::isfinite(last_change) ? 100.0 * last_change : 100.0);
         report(progress, line, key.key, frame_index, key.settle_steps, false, stretch);
       }
-      if (stretch < (1.0 - options.held_improvement) * best_stretch) {
+      if (stretch < (1.0 - options.settle.held_improvement) * best_stretch) {
         best_stretch = stretch;
         best_at = key.newton_iterations;
       }
-      if (options.held_steps > 0 && stretch > options.held_stretch &&
-          key.newton_iterations - best_at >= options.statics.held_iterations) {
+      if (options.settle.held_steps > 0 && stretch > options.settle.held_stretch &&
+          key.newton_iterations - best_at >= options.settle.statics.held_iterations) {
         key.held = true;
         break;
       }
       const double moved = (X - X_before).rowwise().norm().maxCoeff();
       // Slow, or its largest stretch steady (a sleeve may still swing into
       // place while the cloth the body stretches stays as it is).
-      const bool steady = std::abs(stretch - previous_stretch) < options.settle_stretch_change;
+      const bool steady = std::abs(stretch - previous_stretch) < options.settle.stretch_change;
       previous_stretch = stretch;
-      if (phase == Phase::adapting && (moved < options.statics.adapt_displacement || steady || r.converged)) {
-        if (adapt_and_measure() < options.fixed_point_area_change) phase = Phase::converging;
+      if (phase == Phase::adapting && (moved < options.settle.statics.adapt_displacement || steady || r.converged)) {
+        if (adapt_and_measure() < options.settle.fixed_point_area_change) phase = Phase::converging;
       } else if (phase == Phase::converging && r.converged) {
         // The fixed-point test at the converged cloth.
         const double change = adapt_and_measure();
@@ -580,7 +580,7 @@ struct GarmentMotion::Impl {
           key.settled = true;
           break;
         }
-        phase = change < options.fixed_point_area_change ? Phase::final_solve : Phase::adapting;
+        phase = change < options.settle.fixed_point_area_change ? Phase::final_solve : Phase::adapting;
       } else if (phase == Phase::final_solve && r.converged) {
         key.settled = true;
         break;
@@ -598,7 +598,7 @@ struct GarmentMotion::Impl {
   std::vector<HeldCloth> held_patches(const Eigen::VectorXd& stretch) const {
     std::vector<int> over;
     for (int f = 0; f < F.rows(); ++f) {
-      if (stretch(f) > options.held_stretch) over.push_back(f);
+      if (stretch(f) > options.settle.held_stretch) over.push_back(f);
     }
     if (over.empty()) return {};
     UnionFind sets(over.size());
@@ -676,7 +676,7 @@ struct GarmentMotion::Impl {
     key.face_max_stretch = largest_stretches();
     Eigen::VectorXd rest_areas(F.rows());
     for (int f = 0; f < F.rows(); ++f) rest_areas(f) = sim->rest_state().triangles[f].area;
-    stretch_figures(key.face_max_stretch, rest_areas, 1.0 + options.adaptation.delta, key);
+    stretch_figures(key.face_max_stretch, rest_areas, 1.0 + options.adaptation.adapter.delta, key);
     int hint = -1;
     for (int v = 0; v < key.V_draped.rows(); ++v) {
       const collision::Proximity q = body->collider().query(key.V_draped.row(v).transpose(), hint);
@@ -693,7 +693,7 @@ struct GarmentMotion::Impl {
   // The cloth settled at frame i with the body still, by the run's equilibrium, and adapted there
   // when `adapt`.
   void settle_pose(KeyPoseResult& key, size_t i, const ProgressCallback& progress, bool adapt) {
-    if (options.equilibrium == Equilibrium::static_solve) {
+    if (options.settle.equilibrium == Equilibrium::static_solve) {
       settle_static(key, i, progress, adapt);
     } else {
       settle(key, i, progress);
@@ -742,7 +742,7 @@ struct GarmentMotion::Impl {
     for (size_t i = 0; i < frames.size(); ++i) {
       const MotionFrame& frame = frames[i];
       if (i > 0) {
-        for (int s = 1; s <= options.substeps; ++s) {
+        for (int s = 1; s <= options.schedule.substeps; ++s) {
           move_to_next_stage();
           step();
         }
@@ -756,9 +756,9 @@ struct GarmentMotion::Impl {
       }
       if (frame.key < 0) {
         ++since_key;
-        const bool adapt_here = options.adapt && std::binary_search(adapt_frames.begin(), adapt_frames.end(),
+        const bool adapt_here = options.adaptation.enabled && std::binary_search(adapt_frames.begin(), adapt_frames.end(),
                                                                     static_cast<int>(i));
-        if (adapt_here || (options.frame_stride > 0 && since_key % options.frame_stride == 0)) {
+        if (adapt_here || (options.schedule.frame_stride > 0 && since_key % options.schedule.frame_stride == 0)) {
           hold_frame(frame, i, progress, adapt_here);
         }
         continue;
@@ -769,7 +769,7 @@ struct GarmentMotion::Impl {
       KeyPoseResult key;
       key.key = frame.key;
       key.pose = motion.keys[static_cast<size_t>(frame.key)].pose;
-      settle_pose(key, i, progress, options.adapt);
+      settle_pose(key, i, progress, options.adaptation.enabled);
       result.all_settled = result.all_settled && key.settled;
       record(key);
       if (progress) {
@@ -782,7 +782,7 @@ struct GarmentMotion::Impl {
                       key.settled ? "yes" : "no", key.settle_steps, key.max_stretch, key.p99_stretch,
                       100.0 * key.area_fraction_above, 1e3 * key.deepest_penetration, key.crossings.crossings(),
                       key.rest_area_growth,
-                      100.0 * key.rest_area_change, std::min(key.settle_steps, options.fixed_point_steps));
+                      100.0 * key.rest_area_change, std::min(key.settle_steps, options.settle.fixed_point_steps));
         report(progress, line, frame.key, i, key.settle_steps, true, key.max_stretch);
       }
       const bool held = key.held;

@@ -12,7 +12,7 @@
 namespace gp::adapt {
 
 // Cloth the body holds at a key pose: a patch of faces stretched beyond what
-// cloth survives (MotionRunOptions::held_stretch), where it is and how much
+// cloth survives (MotionRunOptions::settle.held_stretch), where it is and how much
 // room the body leaves there.
 struct HeldCloth {
   std::string region;                 // "left hand", "right foot" (a hull) or "body vertex <id>"
@@ -52,14 +52,14 @@ struct KeyPoseResult {
   double max_speed = 0.0;             // largest instantaneous vertex speed at the end [m/s]
   double max_net_speed = 0.0;         // largest net vertex speed over the last settle check [m/s]
   collision::CrossingReport crossings;  // the drape against the body at this pose
-  // Solved statically (MotionRunOptions::equilibrium): the Newton iterations at this pose, the force
+  // Solved statically (MotionRunOptions::settle.equilibrium): the Newton iterations at this pose, the force
   // residual at the end (cloth/static_solve.h) [mean vertex weights] and at each iterate.
   bool solved_static = false;
   int newton_iterations = 0;
   double force_residual = 0.0;
   std::vector<double> force_residuals;
   // The settling stopped early: cloth stretched beyond held_stretch stopped
-  // improving (MotionRunOptions::held_steps), the body holds it.
+  // improving (MotionRunOptions::settle.held_steps), the body holds it.
   bool held = false;
   std::vector<HeldCloth> held_cloth;  // patches beyond held_stretch, most stretched first (at most 5)
 };

@@ -14,21 +14,21 @@ void add_solver_and_contact_options(CLI::App& app, MotionRunOptions& options, Mo
          "solved by Newton's method with contact as a barrier, to --static-tolerance, the rest shape adapted every "
          "--adapt-every iterations; it keeps every cloth vertex out of the body but not yet every body edge out of "
          "the cloth, see adapt/README.md). The transitions are time-stepped either way");
-  option("--static-tolerance", options.statics.tolerance, CLI::PositiveNumber, "Static solve: force residual of an "
+  option("--static-tolerance", options.settle.statics.tolerance, CLI::PositiveNumber, "Static solve: force residual of an "
          "equilibrium, the RMS unbalanced force per free vertex in mean vertex weights [1]");
-  option("--static-max-iterations", options.statics.max_iterations, CLI::Range(1, 10000000), "Static solve: Newton "
+  option("--static-max-iterations", options.settle.statics.max_iterations, CLI::Range(1, 10000000), "Static solve: Newton "
          "iterations at most at one key pose, adaptations included [count]");
-  option("--static-adapt-displacement", options.statics.adapt_displacement, CLI::PositiveNumber, "Static solve with "
+  option("--static-adapt-displacement", options.settle.statics.adapt_displacement, CLI::PositiveNumber, "Static solve with "
          "adaptation: the rest shape is adapted every --adapt-every iterations once no vertex moved more than this "
          "over the last of them [m]");
-  option("--static-held-iterations", options.statics.held_iterations, CLI::Range(1, 10000000), "Static solve: cloth "
+  option("--static-held-iterations", options.settle.statics.held_iterations, CLI::Range(1, 10000000), "Static solve: cloth "
          "stretched beyond --held-stretch whose largest stretch has not fallen by 1 % for this many iterations is "
          "held by the body [count]");
-  option("--barrier-pressure", options.statics.barrier_pressure, CLI::PositiveNumber, "Static solve: stiffness of "
+  option("--barrier-pressure", options.settle.statics.barrier_pressure, CLI::PositiveNumber, "Static solve: stiffness of "
          "the contact barrier, about the contact pressure at half its band [Pa]");
-  option("--barrier-band", options.statics.barrier_band, CLI::PositiveNumber, "Static solve: width of the band, "
+  option("--barrier-band", options.settle.statics.barrier_band, CLI::PositiveNumber, "Static solve: width of the band, "
          "centred on the comfort offset, where the contact barrier acts [m]");
-  option("--static-max-displacement", options.statics.max_displacement, CLI::PositiveNumber, "Static solve: largest "
+  option("--static-max-displacement", options.settle.statics.max_displacement, CLI::PositiveNumber, "Static solve: largest "
          "move of a vertex near the body in one iteration, so that no step passes through a body part [m]");
   option("--reach", options.contact.reach, CLI::NonNegativeNumber, "Body faces farther than this from the garment are culled "
          "[m]");
@@ -60,8 +60,8 @@ void add_solver_and_contact_options(CLI::App& app, MotionRunOptions& options, Mo
          "bounding-box diagonal (ears, the nose) keep their own shape [m]");
   // A second thread prepares body frames and adaptations, where the machine
   // has a second core.
-  options.threads = std::thread::hardware_concurrency() >= 2 ? 2 : 1;
-  option("--workers", options.threads, CLI::Range(1, 256), "Worker threads of the run: 2 or more prepare the body "
+  options.schedule.threads = std::thread::hardware_concurrency() >= 2 ? 2 : 1;
+  option("--workers", options.schedule.threads, CLI::Range(1, 256), "Worker threads of the run: 2 or more prepare the body "
          "frames and the lagging adaptations and query half the body contacts on a second thread while the cloth "
          "steps; 1 runs everything in turn. The outputs are the same for any count. Default: 2 where the machine has "
          "two cores [count]");
@@ -69,7 +69,7 @@ void add_solver_and_contact_options(CLI::App& app, MotionRunOptions& options, Mo
 }
 
 void apply_choices(const MotionChoices& c, MotionRunOptions& options) {
-  options.equilibrium = c.equilibrium == "dynamic" ? Equilibrium::dynamic : Equilibrium::static_solve;
+  options.settle.equilibrium = c.equilibrium == "dynamic" ? Equilibrium::dynamic : Equilibrium::static_solve;
   options.contact.velocity_constraints = c.contact == "velocity";
   options.contact.continuous = c.continuous == "on";
   options.contact.facing_gaps = c.pinch_gaps == "facing";

@@ -11,7 +11,7 @@ namespace gp::adapt {
 
 // The options given by name; apply_choices() turns them into MotionRunOptions.
 struct MotionChoices {
-  std::string equilibrium = "dynamic";  // --solver: static or dynamic (MotionRunOptions::equilibrium)
+  std::string equilibrium = "dynamic";  // --solver: static or dynamic (MotionRunOptions::settle.equilibrium)
   std::string linear_solver = "refactor";  // --linear-solver: refactor or pcg (SimulatorOptions::strategy)
   std::string contact = "velocity", pinch_gaps = "ray", continuous = "on", hand_hulls = "on";
   CLI::Option* thickness = nullptr;     // --contact-thickness, to tell whether it was given

@@ -7,7 +7,7 @@
 namespace gp::adapt {
 
 MotionProgressLine::MotionProgressLine(const MotionRunOptions& options)
-    : substeps_(std::max(1, options.substeps)), settle_cap_(std::max(0, options.settle_max_steps)) {}
+    : substeps_(std::max(1, options.schedule.substeps)), settle_cap_(std::max(0, options.settle.max_steps)) {}
 
 double MotionProgressLine::seconds_left(const MotionProgress& p, double elapsed) const {
   if (p.steps <= 0) return -1.0;

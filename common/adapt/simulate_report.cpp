@@ -91,7 +91,7 @@ namespace {
 OrderedJson verification_json(const FitVerification& verification, const FitOptions& options) {
   OrderedJson poses_json = OrderedJson::array();
   for (const PoseCheck& check : verification.poses) {
-    poses_json.push_back(to_json(check, verified_drape_file_name(check.figures, options.motion.adapt)));
+    poses_json.push_back(to_json(check, verified_drape_file_name(check.figures, options.motion.adaptation.enabled)));
   }
   OrderedJson transitions_json = OrderedJson::array();
   for (const TransitionCheck& t : verification.transitions) {
@@ -278,7 +278,7 @@ std::vector<std::string> fit_warnings(const FitResult& fit, const MotionRunOptio
 std::optional<std::string> fit_failure(const FitResult& fit, const OrderedJson& held, const FitOptions& options) {
   if (!held.is_null()) {
     const KeyPoseResult& k = fit.run.keys[static_cast<size_t>(fit.run.held_key)];
-    std::string what = check_pose(k, options.motion.adaptation.delta, options.criteria).front();
+    std::string what = check_pose(k, options.motion.adaptation.adapter.delta, options.criteria).front();
     if (!held["open_suggestion"].is_null()) {
       const auto& o = held["open_suggestion"];
       char line[256];

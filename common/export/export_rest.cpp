@@ -416,7 +416,7 @@ void run_sewn_fit(const ExportRestOptions& options, const Mesh& design, ExportRe
     // The sewn garment through the motion, judged where the fit was: its key poses and, where the
     // fit's verification solved them, its in-between frames.
     adapt::MotionRunOptions sewn_run = result.fit.run;
-    sewn_run.frame_stride = result.fit.frame_stride;
+    sewn_run.schedule.frame_stride = result.fit.frame_stride;
     result.sewn_fit = sewn_fit_check(interpolator, motion, design.V, rest.F, result.garment, result.pattern,
                                      result.layout, sewn_run, result.fit.criteria, options.progress);
   } catch (const NumericalError& e) {
@@ -456,7 +456,7 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
   PatternOptions pattern_options = options.pattern;
   if (!options.fit.empty()) {
     result.fit = read_fit_settings(options.fit);
-    result.fit.run.threads = options.threads;
+    result.fit.run.schedule.threads = options.threads;
     pattern_options.panels.stretch_budget = result.fit.delta();
   }
   result.stretch_budget = pattern_options.panels.stretch_budget;

@@ -24,8 +24,8 @@ FitSettings read_fit_settings(const std::filesystem::path& report) {
   read_options(o, true, fit, adapt::FitOptionFields{});
   s.run = fit.motion;
   s.frame_stride = fit.frame_stride;
-  s.run.adapt = false;
-  s.run.threads = 1;
+  s.run.adaptation.enabled = false;
+  s.run.schedule.threads = 1;
   // The verification's bounds; a fit run with --no-verify has none.
   const Json* v = root.contains("verification") ? &root.at("verification") : nullptr;
   if (v && v->is_object()) {

@@ -33,7 +33,7 @@ struct FitSettings {
     std::filesystem::path path;
   };
   std::vector<VerifiedDrape> verified;
-  double delta() const { return run.adaptation.delta; }
+  double delta() const { return run.adaptation.adapter.delta; }
 };
 
 // Reads `report` (simulate-adapt's report.json). Throws InputError when it

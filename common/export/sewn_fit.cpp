@@ -199,7 +199,7 @@ SewnFitResult sewn_fit_check(PoseInterpolator& interpolator, const MotionSpec& m
   SewnFitResult result;
   const std::vector<cloth::TriangleRest> sewn =
       sewn_rest_triangles(pattern, layout, static_cast<int>(F.rows()), &result.faces_from_rest_shape);
-  result.delta = options.adaptation.delta;
+  result.delta = options.adaptation.adapter.delta;
   for (const cloth::TriangleRest& t : sewn) result.sewn_rest_area += t.area;
   for (int f = 0; f < F.rows(); ++f) {
     const Eigen::Vector3d a = pattern.mesh.rest_V.row(F(f, 0)), b = pattern.mesh.rest_V.row(F(f, 1)),

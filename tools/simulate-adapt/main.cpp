@@ -56,50 +56,50 @@ int main(int argc, char** argv) {
                "at the settle cap by its figures alone (by default such a pose fails: its figures are a snapshot of "
                "moving cloth)");
   option("--dt", options.solver.dt, CLI::PositiveNumber, "Simulation time step [s]");
-  option("--substeps", options.substeps, CLI::Range(1, 1000), "Simulation steps per interpolation frame [count]");
-  option("--adapt-every", options.adapt_every, CLI::Range(1, 100000), "Simulation steps between adaptations [count]");
-  option("--delta", options.adaptation.delta, CLI::Range(0.0, 10.0), "Stretch limit of the fit: the verification "
+  option("--substeps", options.schedule.substeps, CLI::Range(1, 1000), "Simulation steps per interpolation frame [count]");
+  option("--adapt-every", options.adaptation.every, CLI::Range(1, 100000), "Simulation steps between adaptations [count]");
+  option("--delta", options.adaptation.adapter.delta, CLI::Range(0.0, 10.0), "Stretch limit of the fit: the verification "
          "fails cloth above 1+delta; the adaptation clips below it (see --margin) [1]");
-  option("--margin", options.adaptation.margin, CLI::Range(0.0, 1.0), "The adaptation clips stretch at "
+  option("--margin", options.adaptation.adapter.margin, CLI::Range(0.0, 1.0), "The adaptation clips stretch at "
          "1+delta-margin, below the fit's limit, so that a fresh simulation of the rest shape stays within 1+delta "
          "(0: the paper's rule at 1+delta) [1]");
-  option("--hysteresis", options.adaptation.hysteresis, CLI::Range(0.0, 1.0), "A face stretched beyond 1+delta-margin "
+  option("--hysteresis", options.adaptation.adapter.hysteresis, CLI::Range(0.0, 1.0), "A face stretched beyond 1+delta-margin "
          "is clipped to 1+delta-margin-hysteresis, so that cloth the body holds stretched is not adapted again at "
          "every hair above the limit [1]");
-  option("--arap-tolerance", options.adaptation.arap.tolerance, CLI::PositiveNumber, "ARAP stitching tolerance: "
+  option("--arap-tolerance", options.adaptation.adapter.arap.tolerance, CLI::PositiveNumber, "ARAP stitching tolerance: "
          "largest edge-length change per iteration / mean edge length [1]");
-  option("--arap-stretch-tolerance", options.adaptation.arap.stretch_tolerance, CLI::NonNegativeNumber, "ARAP "
+  option("--arap-stretch-tolerance", options.adaptation.adapter.arap.stretch_tolerance, CLI::NonNegativeNumber, "ARAP "
          "stitching stops instead when no face's principal stretch changes by more than this in one iteration (0: the "
          "edge rule of --arap-tolerance) [1]");
-  option("--smoothing-length", options.adaptation.smoothing_length, CLI::NonNegativeNumber, "The rest shape's "
+  option("--smoothing-length", options.adaptation.adapter.smoothing_length, CLI::NonNegativeNumber, "The rest shape's "
          "stitching resists changes of its form shorter than this, so that growth makes smooth bulges rather than "
          "tucks (0: plain ARAP) [m]");
-  option("--adapt-rounds", options.adaptation.rounds, CLI::Range(1, 100), "Clip-and-stitch rounds per adaptation "
+  option("--adapt-rounds", options.adaptation.adapter.rounds, CLI::Range(1, 100), "Clip-and-stitch rounds per adaptation "
          "against the same cloth positions [count]");
-  app.add_flag("--adapt-during-transitions", options.adapt_during_transitions, "Adapt also while the body moves "
+  app.add_flag("--adapt-during-transitions", options.adaptation.during_transitions, "Adapt also while the body moves "
                "between key poses (the paper), not only while the cloth settles at a key pose");
-  option("--adaptation-lag", options.adaptation_lag, CLI::Range(0, 99999), "Steps after which an adaptation computed "
+  option("--adaptation-lag", options.schedule.adaptation_lag, CLI::Range(0, 99999), "Steps after which an adaptation computed "
          "from the current positions is applied, so that it runs beside those steps (0: at once; at most "
          "--adapt-every minus 1) [count]");
-  option("--adapt-speed", options.adapt_speed, CLI::PositiveNumber, "At a key pose, adapt once the cloth's largest "
+  option("--adapt-speed", options.adaptation.speed, CLI::PositiveNumber, "At a key pose, adapt once the cloth's largest "
          "net vertex speed over a settle check falls below this [m/s]");
-  option("--max-face-growth", options.adaptation.max_face_growth, CLI::Range(1.0, 1000.0), "A face's rest area is "
+  option("--max-face-growth", options.adaptation.adapter.max_face_growth, CLI::Range(1.0, 1000.0), "A face's rest area is "
          "kept within this multiple of its design area (where the body holds the cloth, growth cannot relieve the "
          "stretch) [1]");
-  option("--max-area-growth", options.max_area_growth, CLI::Range(1.0, 1000.0), "A run fails when the rest area "
+  option("--max-area-growth", options.adaptation.max_area_growth, CLI::Range(1.0, 1000.0), "A run fails when the rest area "
          "exceeds this multiple of the design's (a runaway adaptation) [1]");
-  option("--settle-speed", options.settle_speed, CLI::PositiveNumber, "Largest net vertex speed of a settled cloth, "
+  option("--settle-speed", options.settle.speed, CLI::PositiveNumber, "Largest net vertex speed of a settled cloth, "
          "over each settle check of --adapt-every steps [m/s]");
-  option("--settle-stretch-change", options.settle_stretch_change, CLI::PositiveNumber, "Largest change of the max "
+  option("--settle-stretch-change", options.settle.stretch_change, CLI::PositiveNumber, "Largest change of the max "
          "stretch between settle checks [1]");
-  option("--settle-max-steps", options.settle_max_steps, CLI::Range(0, 10000000), "Cap on settling steps at each key "
+  option("--settle-max-steps", options.settle.max_steps, CLI::Range(0, 10000000), "Cap on settling steps at each key "
          "pose [count]");
-  option("--settle-damping", options.settle_damping, CLI::Range(0.0, 1.0), "Damping while settling at a key pose, as "
+  option("--settle-damping", options.settle.damping, CLI::Range(0.0, 1.0), "Damping while settling at a key pose, as "
          "a fraction of the material's [1]");
-  option("--held-steps", options.held_steps, CLI::Range(0, 10000000), "A key pose whose cloth is stretched beyond "
+  option("--held-steps", options.settle.held_steps, CLI::Range(0, 10000000), "A key pose whose cloth is stretched beyond "
          "--held-stretch and has not improved by 1 % for this many settling steps is held by the body: the fit stops "
          "there, names the places and proposes an opening of the pose (0: settle to the cap) [count]");
-  option("--held-stretch", options.held_stretch, CLI::Range(1.0, 100.0), "Stretch beyond which cloth the body holds "
+  option("--held-stretch", options.settle.held_stretch, CLI::Range(1.0, 100.0), "Stretch beyond which cloth the body holds "
          "counts as torn [1]");
   gp::adapt::OpeningOptions opening_options;
   option("--open-clearance", opening_options.clearance, CLI::PositiveNumber, "A proposed opening of a held pose "
@@ -111,8 +111,8 @@ int main(int argc, char** argv) {
 
   return tool.run(argc, argv, [&] {
     const auto start = std::chrono::steady_clock::now();
-    options.adapt = !no_adapt;
-    options.adaptation_lag = gp::adapt::applied_adaptation_lag(options);  // recorded as run
+    options.adaptation.enabled = !no_adapt;
+    options.schedule.adaptation_lag = gp::adapt::applied_adaptation_lag(options);  // recorded as run
     fit_options.verify = !no_verify;
     criteria.require_settled = !allow_unsettled;
     gp::adapt::apply_choices(choices, options);
@@ -142,7 +142,7 @@ int main(int argc, char** argv) {
     for (const std::string& w : gp::adapt::fit_warnings(fit, options)) tool.log().warning(w);
 
     gp::StagedOutputDir out(tool.common().out_dir, tool.common().force);
-    for (const auto& [name, mesh] : gp::adapt::fit_meshes(fit, in.mesh.F, options.adapt)) {
+    for (const auto& [name, mesh] : gp::adapt::fit_meshes(fit, in.mesh.F, options.adaptation.enabled)) {
       gp::write_mesh(out.file(name), mesh);
     }
     const gp::OrderedJson report = gp::adapt::simulate_report(
@@ -150,7 +150,7 @@ int main(int argc, char** argv) {
         gp::adapt::held_json(fit, in.motion, interpolator, in.garment, options, opening_options));
     const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     gp::write_json_file(out.file("timing.json"), gp::adapt::simulate_timing(fit, tool.common().threads,
-                                                                            options.threads, total_s));
+                                                                            options.schedule.threads, total_s));
     gp::write_json_file(out.file("report.json"), report);
     out.commit();
     tool.log().info("wrote " + tool.common().out_dir + " (" + std::to_string(fit.run.keys.size()) + " key poses, " +

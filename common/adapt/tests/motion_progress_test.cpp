@@ -6,8 +6,8 @@ using gp::adapt::MotionProgress;
 
 TEST_CASE("the progress line counts the steps left at the pace so far", "[adapt][progress]") {
   gp::adapt::MotionRunOptions options;
-  options.substeps = 1;
-  options.settle_max_steps = 400;
+  options.schedule.substeps = 1;
+  options.settle.max_steps = 400;
   gp::adapt::MotionProgressLine progress(options);
   // Three key poses, 60 frames between each: frames 0, 60, 120 are the keys.
   MotionProgress p;

@@ -50,8 +50,8 @@ inline gp::MotionSpec motion_of(const gp::PoseSet& poses, const std::vector<std:
 // settling steps, and as many Newton iterations of the static solve.
 inline MotionRunOptions run_options(int settle_max_steps) {
   MotionRunOptions o;
-  o.settle_max_steps = settle_max_steps;
-  o.statics.max_iterations = std::max(settle_max_steps, 1);
+  o.settle.max_steps = settle_max_steps;
+  o.settle.statics.max_iterations = std::max(settle_max_steps, 1);
   return o;
 }
 

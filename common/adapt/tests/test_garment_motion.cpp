@@ -44,10 +44,10 @@ TEST_CASE("two threads give exactly the outputs of one", "[adapt][body][threads]
   const gp::MotionSpec motion = hc::motion_of(l.poses, {"apose", "armsup"}, 12);
   for (int lag : {0, 2}) {
     MotionRunOptions one = hc::run_options(120);
-    one.adaptation_lag = lag;
-    one.threads = 1;
+    one.schedule.adaptation_lag = lag;
+    one.schedule.threads = 1;
     MotionRunOptions two = one;
-    two.threads = 2;
+    two.schedule.threads = 2;
     const MotionRunResult a = hc::run(l, motion, l.mesh.V, one);
     const MotionRunResult b = hc::run(l, motion, l.mesh.V, two);
     INFO("adaptation lag " << lag);
@@ -65,9 +65,9 @@ TEST_CASE("an adaptation applied two steps late gives the same fit", "[adapt][bo
   const hc::Loaded l = hc::load(hc::default_scene());
   const gp::MotionSpec motion = hc::motion_of(l.poses, {"apose", "tpose"}, 10);
   MotionRunOptions at_once = hc::run_options(400);
-  at_once.adaptation_lag = 0;
+  at_once.schedule.adaptation_lag = 0;
   MotionRunOptions late = at_once;
-  late.adaptation_lag = 2;
+  late.schedule.adaptation_lag = 2;
   const MotionRunResult a = hc::run(l, motion, l.mesh.V, at_once);
   const MotionRunResult b = hc::run(l, motion, l.mesh.V, late);
   REQUIRE(a.keys.size() == 2);
@@ -81,13 +81,13 @@ TEST_CASE("the adaptation lag is cut to the adaptation interval and must not be 
   const hc::Loaded l = hc::load(hc::default_scene());
   const gp::MotionSpec motion = hc::motion_of(l.poses, {"apose", "tpose"}, 4);
   MotionRunOptions every_step = hc::run_options(16);
-  every_step.adapt_every = 1;
-  every_step.adaptation_lag = 0;
+  every_step.adaptation.every = 1;
+  every_step.schedule.adaptation_lag = 0;
   MotionRunOptions lagging = every_step;
-  lagging.adaptation_lag = 5;  // more than adapt_every - 1 = 0: runs as 0
+  lagging.schedule.adaptation_lag = 5;  // more than adaptation.every - 1 = 0: runs as 0
   check_identical(hc::run(l, motion, l.mesh.V, every_step), hc::run(l, motion, l.mesh.V, lagging));
   MotionRunOptions negative = every_step;
-  negative.adaptation_lag = -1;
+  negative.schedule.adaptation_lag = -1;
   CHECK_THROWS_AS(hc::run(l, motion, l.mesh.V, negative), gp::UsageError);
 }
 
@@ -98,7 +98,7 @@ TEST_CASE("a rest shape that grows past the growth cap fails the run instead of 
   const hc::Loaded l = hc::load(hc::default_scene());
   const gp::MotionSpec motion = hc::motion_of(l.poses, {"apose", "armsup"}, 12);
   MotionRunOptions tight = hc::run_options(120);
-  tight.max_area_growth = 1.001;
+  tight.adaptation.max_area_growth = 1.001;
   try {
     hc::run(l, motion, l.mesh.V, tight);
     FAIL("the run went on past the growth cap");
@@ -111,10 +111,10 @@ TEST_CASE("a rest shape that grows past the growth cap fails the run instead of 
   // cap, so "below x3" could not fail: the growth is pinned near the measured
   // x1.161 instead (a runaway or a stalled adaptation fails it).
   MotionRunOptions loose = hc::run_options(120);
-  REQUIRE(loose.max_area_growth == 3.0);
+  REQUIRE(loose.adaptation.max_area_growth == 3.0);
   const MotionRunResult r = hc::run(l, motion, l.mesh.V, loose);
   CHECK(r.keys.back().rest_area_growth > 1.05);
   CHECK(r.keys.back().rest_area_growth < 1.3);
-  tight.max_area_growth = 1.0;
+  tight.adaptation.max_area_growth = 1.0;
   CHECK_THROWS_AS(hc::run(l, motion, l.mesh.V, tight), gp::UsageError);
 }

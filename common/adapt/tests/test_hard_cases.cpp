@@ -221,7 +221,7 @@ TEST_CASE("four times the default time step gives nearly the same fit", "[adapt]
   MotionRunOptions small = run_options(240);
   MotionRunOptions large = run_options(60);
   large.solver.dt = 4.0 * small.solver.dt;
-  large.fixed_point_steps = small.fixed_point_steps / 4;
+  large.settle.fixed_point_steps = small.settle.fixed_point_steps / 4;
   const MotionRunResult a = run(l, motion, l.mesh.V, small);
   const MotionRunResult b = run(l, motion, l.mesh.V, large);
   REQUIRE(a.keys.size() == 2);
@@ -250,7 +250,7 @@ TEST_CASE("settling with a hundredth of the damping reaches the same fit", "[ada
   const gp::MotionSpec motion = motion_of(l.poses, {"apose", "tpose"}, 10);
   const MotionRunOptions damped = run_options(1500);
   MotionRunOptions light = damped;
-  light.settle_damping = 0.01;
+  light.settle.damping = 0.01;
   const MotionRunResult a = run(l, motion, l.mesh.V, damped);
   const MotionRunResult b = run(l, motion, l.mesh.V, light);
   REQUIRE(a.keys.size() == 2);

@@ -26,7 +26,7 @@ TEST_CASE("a pose whose cloth the body holds is diagnosed within a bounded numbe
   const hc::Loaded l = hc::load(hc::default_scene());
   const gp::MotionSpec motion = hc::motion_of(l.poses, {"apose", "armsup"}, 12);
   MotionRunOptions o = hc::run_options(1000);
-  o.adapt = false;
+  o.adaptation.enabled = false;
   const Eigen::RowVector3d centroid = l.mesh.V.colwise().mean();
   o.initial_rest = (0.6 * (l.mesh.V.rowwise() - centroid)).rowwise() + centroid;
   const MotionRunResult r = hc::run(l, motion, l.mesh.V, o);
@@ -36,11 +36,11 @@ TEST_CASE("a pose whose cloth the body holds is diagnosed within a bounded numbe
   CHECK(r.held_key == 0);
   CHECK(k.held);
   CHECK_FALSE(k.settled);
-  CHECK(k.settle_steps >= o.held_steps);
+  CHECK(k.settle_steps >= o.settle.held_steps);
   CHECK(k.settle_steps <= 400);
   REQUIRE_FALSE(k.held_cloth.empty());
   const HeldCloth& h = k.held_cloth.front();
-  CHECK(h.max_stretch > o.held_stretch);
+  CHECK(h.max_stretch > o.settle.held_stretch);
   CHECK(h.max_stretch == Approx(k.max_stretch));
   CHECK_FALSE(h.region.empty());
   CHECK(h.body_vertex >= 0);

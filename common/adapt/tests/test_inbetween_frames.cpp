@@ -1,4 +1,4 @@
-// In-between frames (MotionRunOptions::frame_stride, FitOptions::frame_stride): solved to their
+// In-between frames (MotionRunOptions::schedule.frame_stride, FitOptions::frame_stride): solved to their
 // static equilibrium, recorded, judged by the key poses' bounds, and reported by the verification.
 #include <catch2/catch.hpp>
 
@@ -80,9 +80,9 @@ TEST_CASE("in-between frames are solved to equilibrium and recorded at the strid
   const hc::Loaded l = hc::load(hc::default_scene());
   const gp::MotionSpec motion = hc::motion_of(l.poses, {"apose", "tpose"}, 12);
   MotionRunOptions o = hc::run_options(600);
-  o.equilibrium = Equilibrium::static_solve;
-  o.adapt = false;
-  o.frame_stride = 4;
+  o.settle.equilibrium = Equilibrium::static_solve;
+  o.adaptation.enabled = false;
+  o.schedule.frame_stride = 4;
   const MotionRunResult r = hc::run(l, motion, l.mesh.V, o);
   REQUIRE(r.keys.size() == 2);
   // Frames 4 and 8; frame 12 is the key pose.
@@ -97,16 +97,16 @@ TEST_CASE("in-between frames are solved to equilibrium and recorded at the strid
     CHECK(f.t == Approx(f.frame / 12.0));
     CHECK(f.solved_static);
     CHECK(f.settled);
-    CHECK(f.force_residual < o.statics.tolerance);
+    CHECK(f.force_residual < o.settle.statics.tolerance);
     CHECK(f.deepest_penetration == 0.0);
     CHECK(f.V_draped.rows() == l.mesh.V.rows());
   }
-  const FitVerification v = judge_run(r, o.adaptation.delta);
+  const FitVerification v = judge_run(r, o.adaptation.adapter.delta);
   REQUIRE(v.transitions.size() == 1);
   CHECK(v.transitions[0].frames.size() == 2);
   // Observed frames leave the motion as it is: the key poses are the same bits without them.
   MotionRunOptions unobserved = o;
-  unobserved.frame_stride = 0;
+  unobserved.schedule.frame_stride = 0;
   const MotionRunResult u = hc::run(l, motion, l.mesh.V, unobserved);
   CHECK(u.frames.empty());
   REQUIRE(u.keys.size() == 2);
@@ -117,15 +117,15 @@ TEST_CASE("in-between frames are solved to equilibrium and recorded at the strid
 
   // An adaptation frame settles and adapts there as a key pose does.
   MotionRunOptions a = hc::run_options(600);
-  a.equilibrium = Equilibrium::static_solve;
-  a.adapt_frames = {6};
+  a.settle.equilibrium = Equilibrium::static_solve;
+  a.adaptation.frames = {6};
   const MotionRunResult ra = hc::run(l, motion, l.mesh.V, a);
   REQUIRE(ra.frames.size() == 1);
   CHECK(ra.frames[0].frame == 6);
   CHECK(ra.frames[0].settled);
   // A key pose is no adaptation frame.
-  a.adapt_frames = {12};
+  a.adaptation.frames = {12};
   CHECK_THROWS_AS(hc::run(l, motion, l.mesh.V, a), gp::UsageError);
-  o.frame_stride = -1;
+  o.schedule.frame_stride = -1;
   CHECK_THROWS_AS(hc::run(l, motion, l.mesh.V, o), gp::UsageError);
 }

@@ -227,8 +227,8 @@ gp::adapt::MotionRunResult run_shrug(const ShrugScene& s, double pin_clearance) 
   const gp::MotionSpec motion = gp::parse_motion_spec(j, "motion.json", s.poses);
   gp::PoseInterpolator interpolator(s.poses);
   gp::adapt::MotionRunOptions o;
-  o.adapt = false;
-  o.settle_max_steps = 60;
+  o.adaptation.enabled = false;
+  o.settle.max_steps = 60;
   o.contact.pin_clearance = pin_clearance;
   return gp::adapt::run_garment_motion(interpolator, motion, s.garment.V, s.garment.F, s.file, o);
 }

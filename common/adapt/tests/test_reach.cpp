@@ -33,7 +33,7 @@ TEST_CASE("the body faces kept are those within reach of the garment in the firs
   const hc::Loaded l = hc::load(scene);
   const gp::MotionSpec motion = hc::motion_of(l.poses, {"apose", "handsonthighs"}, 12);
   MotionRunOptions o = hc::run_options(0);
-  o.adapt = false;
+  o.adaptation.enabled = false;
   const MotionRunResult r = hc::run(l, motion, l.mesh.V, o);
   const gp::collision::ContactSurface& surface = r.contact_surface;
   std::vector<int> kept, first;

@@ -1,4 +1,4 @@
-// Key poses solved statically (MotionRunOptions::equilibrium static_solve) on the generated body:
+// Key poses solved statically (MotionRunOptions::settle.equilibrium static_solve) on the generated body:
 // every key pose converges to the force-residual tolerance, the cloth stays out of the body, and the
 // fit is the damped settling's within stated bounds.
 #include <catch2/catch.hpp>
@@ -18,9 +18,9 @@ TEST_CASE("key poses solved statically converge, stay clear of the body and fit 
   const hc::Loaded l = hc::load(hc::default_scene());
   const gp::MotionSpec motion = hc::motion_of(l.poses, {"apose", "tpose"}, 10);
   MotionRunOptions statics = hc::run_options(600);
-  statics.equilibrium = Equilibrium::static_solve;
+  statics.settle.equilibrium = Equilibrium::static_solve;
   MotionRunOptions dynamic = hc::run_options(600);
-  dynamic.equilibrium = Equilibrium::dynamic;
+  dynamic.settle.equilibrium = Equilibrium::dynamic;
   const MotionRunResult s = hc::run(l, motion, l.mesh.V, statics);
   const MotionRunResult d = hc::run(l, motion, l.mesh.V, dynamic);
   REQUIRE(s.keys.size() == 2);
@@ -34,7 +34,7 @@ TEST_CASE("key poses solved statically converge, stay clear of the body and fit 
                 << d.keys[k].max_stretch);
     CHECK(key.solved_static);
     CHECK(key.settled);
-    CHECK(key.force_residual < statics.statics.tolerance);
+    CHECK(key.force_residual < statics.settle.statics.tolerance);
     CHECK(key.newton_iterations == static_cast<int>(key.force_residuals.size()) - 1);
     CHECK(key.force_residuals.back() == key.force_residual);
     // No cloth vertex inside the body: the barrier's guarantee. Body edges between cloth vertices
@@ -55,19 +55,19 @@ TEST_CASE("without adaptation a static key pose is one solve to the tolerance", 
   const hc::Loaded l = hc::load(hc::default_scene());
   const gp::MotionSpec motion = hc::motion_of(l.poses, {"apose"}, 1);
   MotionRunOptions o = hc::run_options(300);
-  o.equilibrium = Equilibrium::static_solve;
-  o.adapt = false;
+  o.settle.equilibrium = Equilibrium::static_solve;
+  o.adaptation.enabled = false;
   const MotionRunResult r = hc::run(l, motion, l.mesh.V, o);
   REQUIRE(r.keys.size() == 1);
   INFO(r.keys[0].newton_iterations << " iterations, residual " << r.keys[0].force_residual);
   CHECK(r.keys[0].settled);
-  CHECK(r.keys[0].force_residual < o.statics.tolerance);
+  CHECK(r.keys[0].force_residual < o.settle.statics.tolerance);
   CHECK(r.keys[0].rest_area_growth == 1.0);
   CHECK(r.adaptations == 0);
   // A cap below what the solve needs leaves the pose unsettled, and says so.
-  o.statics.max_iterations = 2;
+  o.settle.statics.max_iterations = 2;
   const MotionRunResult capped = hc::run(l, motion, l.mesh.V, o);
   CHECK(!capped.keys[0].settled);
   CHECK(capped.keys[0].newton_iterations == 2);
-  CHECK(capped.keys[0].force_residual > o.statics.tolerance);
+  CHECK(capped.keys[0].force_residual > o.settle.statics.tolerance);
 }

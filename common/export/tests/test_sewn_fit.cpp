@@ -190,7 +190,7 @@ TEST_CASE("the sewn-fit check passes a good pattern and fails one shrunk by 5 %"
   const fs::path fit = write_fit_report(s);
   const FitSettings settings = read_fit_settings(fit);
   CHECK(settings.delta() == 0.04);
-  CHECK(!settings.run.adapt);
+  CHECK(!settings.run.adaptation.enabled);
   const std::string base = testing::tool_path("export-rest") + " --garment " + (s.dir / "garment.json").string() +
                            " -q --fit " + fit.string();
 
@@ -493,10 +493,10 @@ TEST_CASE("the fit's settings are read from its report, strictly", "[sewn_fit]")
   adapt::FitOptions fit;
   adapt::MotionRunOptions& m = fit.motion;
   m.solver.dt = 0.005;
-  m.substeps = 2;
-  m.adaptation.delta = 0.08;
-  m.settle_max_steps = 700;
-  m.settle_damping = 0.5;
+  m.schedule.substeps = 2;
+  m.adaptation.adapter.delta = 0.08;
+  m.settle.max_steps = 700;
+  m.settle.damping = 0.5;
   m.contact.continuous = false;
   m.contact.velocity_constraints = false;
   m.contact.surface.hulls = false;
@@ -523,10 +523,10 @@ TEST_CASE("the fit's settings are read from its report, strictly", "[sewn_fit]")
   CHECK(s.poses == "p.json");
   CHECK(s.motion == "m.json");
   CHECK(s.run.solver.dt == 0.005);
-  CHECK(s.run.substeps == 2);
+  CHECK(s.run.schedule.substeps == 2);
   CHECK(s.delta() == 0.08);
-  CHECK(s.run.settle_max_steps == 700);
-  CHECK(s.run.settle_damping == 0.5);
+  CHECK(s.run.settle.max_steps == 700);
+  CHECK(s.run.settle.damping == 0.5);
   CHECK(!s.run.contact.continuous);
   CHECK(!s.run.contact.velocity_constraints);
   CHECK(!s.run.contact.surface.hulls);
@@ -537,8 +537,8 @@ TEST_CASE("the fit's settings are read from its report, strictly", "[sewn_fit]")
   CHECK(s.run.solver.strategy == cloth::SolverStrategy::pcg_reused_factor);
   CHECK(s.run.solver.cg_max_iterations == 41);
   CHECK(!s.run.solver.warp_preconditioner);
-  CHECK(!s.run.adapt);  // the sewn garment is checked, never adapted
-  CHECK(s.run.threads == 1);
+  CHECK(!s.run.adaptation.enabled);  // the sewn garment is checked, never adapted
+  CHECK(s.run.schedule.threads == 1);
   CHECK(s.criteria.max_area_above == 0.02);
   CHECK(s.criteria.p99_margin == 0.03);
   CHECK(s.criteria.max_penetration == 0.004);
