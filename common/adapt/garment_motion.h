@@ -177,7 +177,7 @@ struct ArapTotals {                   // the stitchings of a run
 struct MotionRunResult {
   Eigen::MatrixXd V_rest;             // final rest shape (same connectivity as the garment)
   std::vector<KeyPoseResult> keys;    // up to the first held one (KeyPoseResult::held), where the run stops
-  // The in-between frames solved to equilibrium (MotionRunOptions::schedule.frame_stride, adapt_frames), in
+  // The in-between frames solved to equilibrium (MotionRunOptions::schedule.frame_stride, adaptation.frames), in
   // order; each KeyPoseResult's key is the transition's target key, frame its frame index.
   std::vector<KeyPoseResult> frames;
   int held_key = -1;                  // index into keys of the pose the body holds, -1: none
@@ -198,7 +198,7 @@ struct MotionRunResult {
   collision::ContactSurface contact_surface;  // the body and its hand hulls (contact_surface.h)
   bool continuous_contact = false;    // the intersection-free contact was active
   collision::ContinuousContactStats contact;
-  PinClearanceStats pins;             // pin targets moved out to their clearance (pin_clearance)
+  PinClearanceStats pins;             // pin targets moved out to their clearance (BodyContactOptions::pin_clearance)
   MotionRunTimes times;
 };
 
