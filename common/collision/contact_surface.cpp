@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <set>
 #include <string>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -13,6 +14,7 @@
 
 #include "collision/triangle_tree.h"
 #include "core/error.h"
+#include "core/union_find.h"
 #include "mesh/measures.h"
 #include "mesh/topology.h"
 
@@ -78,6 +80,14 @@ std::vector<std::vector<int>> thin_parts(const std::vector<char>& is_thin, const
 
 // The convex hull of the body vertices `ids` as triangles over those ids,
 // outward oriented; empty when the points span less than a volume.
+//
+// The hull is unique, its triangulation is not: CGAL splits a facet with
+// four or more coplanar points (common on a generated body's symmetric
+// rings) in an order that follows its storage, so heap addresses. The
+// coplanar triangles are joined into their convex polygon (exact
+// predicates) and each polygon is fanned from its smallest vertex id, so
+// that the surface, and every contact query that walks it, follows from the
+// body alone.
 std::vector<std::array<int, 3>> hull_triangles(const Eigen::MatrixXd& V, const std::vector<int>& ids) {
   std::vector<Point> points;
   std::map<std::array<double, 3>, int> id_of;
@@ -89,23 +99,66 @@ std::vector<std::array<int, 3>> hull_triangles(const Eigen::MatrixXd& V, const s
   HullMesh hull;
   CGAL::convex_hull_3(points.begin(), points.end(), hull);
   if (hull.number_of_faces() < 4) return {};  // coplanar points: a polygon, not a solid
-  std::vector<std::array<int, 3>> out;
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const auto& p : points) centroid += Eigen::Vector3d(p.x(), p.y(), p.z());
-  centroid /= static_cast<double>(points.size());
+  auto body_id = [&](HullMesh::Vertex_index v) {
+    const Point& p = hull.point(v);
+    return id_of.at({p.x(), p.y(), p.z()});
+  };
+  // The hull's faces over body ids, in CGAL's consistent orientation.
+  std::map<HullMesh::Face_index, int> face_number;
+  std::vector<std::array<int, 3>> faces;
   for (const auto f : hull.faces()) {
     std::array<int, 3> t{};
     int k = 0;
     for (const auto h : CGAL::halfedges_around_face(hull.halfedge(f), hull)) {
       if (k == 3) throw NumericalError("a convex hull face is not a triangle");
-      const Point& p = hull.point(hull.target(h));
-      t[static_cast<size_t>(k++)] = id_of.at({p.x(), p.y(), p.z()});
+      t[static_cast<size_t>(k++)] = body_id(hull.target(h));
     }
     if (k != 3) throw NumericalError("a convex hull face is not a triangle");
-    // Outward: the normal points away from the centroid (inside a convex hull).
-    const Eigen::Vector3d a = V.row(t[0]).transpose(), b = V.row(t[1]).transpose(), c = V.row(t[2]).transpose();
-    if ((b - a).cross(c - a).dot(a - centroid) < 0.0) std::swap(t[1], t[2]);
-    out.push_back(t);
+    face_number.emplace(f, static_cast<int>(faces.size()));
+    faces.push_back(t);
+  }
+  // Faces across an edge whose four points are coplanar are one polygon.
+  UnionFind polygon(faces.size());
+  for (const auto e : hull.edges()) {
+    const auto h = hull.halfedge(e), o = hull.opposite(h);
+    if (hull.is_border(h) || hull.is_border(o)) continue;
+    if (CGAL::coplanar(hull.point(hull.source(h)), hull.point(hull.target(h)),
+                       hull.point(hull.target(hull.next(h))), hull.point(hull.target(hull.next(o))))) {
+      polygon.unite(face_number.at(hull.face(h)), face_number.at(hull.face(o)));
+    }
+  }
+  // Each polygon's outline: its faces' directed edges whose reverse is not
+  // in it, one leaving each outline vertex of a convex polygon.
+  std::map<int, std::vector<int>> members;
+  for (size_t f = 0; f < faces.size(); ++f) members[polygon.find(static_cast<int>(f))].push_back(static_cast<int>(f));
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& p : points) centroid += Eigen::Vector3d(p.x(), p.y(), p.z());
+  centroid /= static_cast<double>(points.size());
+  std::vector<std::array<int, 3>> out;
+  for (const auto& [root, group] : members) {
+    std::set<std::pair<int, int>> edges;
+    for (int f : group) {
+      const std::array<int, 3>& t = faces[static_cast<size_t>(f)];
+      for (size_t k = 0; k < 3; ++k) edges.emplace(t[k], t[(k + 1) % 3]);
+    }
+    std::map<int, int> next;
+    for (const auto& [a, b] : edges) {
+      if (!edges.count({b, a}) && !next.emplace(a, b).second)
+        throw NumericalError("a convex hull facet's outline is not one loop");
+    }
+    const int first = next.begin()->first;  // the smallest outline vertex id
+    std::vector<int> loop{first};
+    for (int v = next.at(first); v != first; v = next.at(v)) {
+      if (loop.size() > next.size()) throw NumericalError("a convex hull facet's outline is not one loop");
+      loop.push_back(v);
+    }
+    for (size_t k = 1; k + 1 < loop.size(); ++k) {
+      std::array<int, 3> t{loop[0], loop[k], loop[k + 1]};
+      const Eigen::Vector3d a = V.row(t[0]).transpose(), b = V.row(t[1]).transpose(), c = V.row(t[2]).transpose();
+      // Outward: the normal points away from the centroid (inside a convex hull).
+      if ((b - a).cross(c - a).dot(a - centroid) < 0.0) std::swap(t[1], t[2]);
+      out.push_back(t);
+    }
   }
   std::sort(out.begin(), out.end());
   return out;

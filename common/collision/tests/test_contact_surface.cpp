@@ -4,6 +4,7 @@
 // follow the body in another pose; bad input is refused.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -166,6 +167,40 @@ TEST_CASE("contact surface: the hull follows the body into another pose, at any 
     }
     CHECK(signed_volume(X, s.F, s.body_face_count) ==
           Approx(0.06 * 0.12 * 0.01 * scale * scale * scale).epsilon(1e-9));
+  }
+}
+
+TEST_CASE("contact surface: the hull's faces follow from the body alone, not from the heap",
+          "[collision][contact_surface]") {
+  // A rounded thin part (a disc of a hand's thickness with a noisy rim), so that the hull has many
+  // faces in general position. Whatever the heap holds between two builds (CGAL's corner order
+  // within a face follows its storage), the surface is the same, and each hull face starts at its
+  // smallest vertex: the contact queries that walk it, and so the cloth, do not depend on the run.
+  gp::Mesh disc = gp::testing::make_icosphere(3, 0.08);
+  disc.V.col(2) *= 0.01 / 0.16;
+  for (Eigen::Index v = 0; v < disc.V.rows(); ++v) disc.V(v, 0) *= 1.0 + 0.05 * std::sin(7.0 * static_cast<double>(v));
+  const ContactSurface first = contact_surface(disc.V, disc.F);
+  REQUIRE(first.hull_count == 1);
+  REQUIRE(first.hull_faces[0] > 20);
+  for (Eigen::Index f = first.body_face_count; f < first.F.rows(); ++f) {
+    const int smallest = std::min({first.sources[first.F(f, 0) - first.body_vertex_count],
+                                   first.sources[first.F(f, 1) - first.body_vertex_count],
+                                   first.sources[first.F(f, 2) - first.body_vertex_count]});
+    CHECK(first.sources[first.F(f, 0) - first.body_vertex_count] == smallest);
+  }
+  // Coplanar hull points are fanned, not left as slivers: every face has an area.
+  const Eigen::MatrixXd X = first.positions(disc.V);
+  for (Eigen::Index f = first.body_face_count; f < first.F.rows(); ++f) {
+    const Vector3d a = X.row(first.F(f, 0)), b = X.row(first.F(f, 1)), c = X.row(first.F(f, 2));
+    CHECK((b - a).cross(c - a).norm() > 1e-12);
+  }
+  CHECK(signed_volume(X, first.F, first.body_face_count) > 0.0);
+  std::vector<std::vector<double>> clutter;
+  for (int round = 0; round < 6; ++round) {
+    clutter.emplace_back(static_cast<size_t>(17 + 301 * round), 1.0);  // a different heap each build
+    const ContactSurface again = contact_surface(disc.V, disc.F);
+    CHECK(again.F == first.F);
+    CHECK(again.sources == first.sources);
   }
 }
 
