@@ -545,9 +545,13 @@ void remove_overlapping_darts(Pattern& pattern, const PatternOptions& options, F
 namespace {
 
 // The shortest path through piece p (3D edge lengths, inner vertices only
-// between its ends) from outline vertex `from` to the outline vertex half
-// the outline's length round from it; nullopt when none runs inside.
-std::optional<SurfaceCurve> halving_cut(const PatternPiece& p, int from) {
+// between its ends) from outline vertex `from` to an outline vertex whose
+// distance round the outline from it lies within `window` of half the
+// outline's length (either way), so that the cut parts the outline into
+// two runs of about half its length each and so halves its winding;
+// nullopt when none runs inside. The path may be a single inner edge
+// between two outline vertices (a rung of a narrow strip).
+std::optional<SurfaceCurve> halving_cut(const PatternPiece& p, int from, double window) {
   const std::vector<int>& loop = p.boundary;
   const size_t nb = loop.size();
   const auto start = std::find(loop.begin(), loop.end(), from);
@@ -556,9 +560,15 @@ std::optional<SurfaceCurve> halving_cut(const PatternPiece& p, int from) {
   std::vector<double> along(nb + 1, 0.0);
   for (size_t k = 0; k < nb; ++k)
     along[k + 1] = along[k] + (p.V.row(loop[(i0 + k) % nb]) - p.V.row(loop[(i0 + k + 1) % nb])).norm();
+  const double length = along[nb];
+  // The outline vertex nearest half way round is always a target.
   size_t half = 1;
-  while (half + 1 < nb && along[half] < 0.5 * along[nb]) ++half;
-  const int to = loop[(i0 + half) % nb];
+  while (half + 1 < nb && along[half] < 0.5 * length) ++half;
+  std::vector<char> is_target(static_cast<size_t>(p.V.rows()), 0);
+  is_target[static_cast<size_t>(loop[(i0 + half) % nb])] = 1;
+  for (size_t k = 2; window > 0.0 && k + 1 < nb; ++k) {
+    if (std::abs(along[k] - 0.5 * length) <= window * length) is_target[static_cast<size_t>(loop[(i0 + k) % nb])] = 1;
+  }
   const std::vector<char> on_outline = boundary_flags(p);
   std::vector<std::vector<int>> neighbors(static_cast<size_t>(p.V.rows()));
   for (int f = 0; f < p.F.rows(); ++f)
@@ -573,24 +583,50 @@ std::optional<SurfaceCurve> halving_cut(const PatternPiece& p, int from) {
   }
   const double inf = std::numeric_limits<double>::infinity();
   GraphSearch<double> search = graph_search(neighbors.size(), inf, true);
+  int reached = -1;
   dijkstra(
       neighbors, {from},
       [&](int v, int w) {
-        // Along the outline only to reach the far end directly.
-        if (w != to && on_outline[static_cast<size_t>(w)]) return inf;
-        if (v == from && w == to && on_outline[static_cast<size_t>(v)]) {
-          // An outline edge is no cut.
+        // Onto the outline only at a far end, and never along an outline
+        // edge (no cut; the targets are not `from`'s outline neighbours).
+        if (on_outline[static_cast<size_t>(w)] && !is_target[static_cast<size_t>(w)]) return inf;
+        if (v == from && on_outline[static_cast<size_t>(w)]) {
           const size_t k = static_cast<size_t>(std::find(loop.begin(), loop.end(), w) - loop.begin());
           if (loop[(k + 1) % nb] == v || loop[(k + nb - 1) % nb] == v) return inf;
         }
         return (p.V.row(v) - p.V.row(w)).norm();
       },
-      inf, [&](int v) { return v == to; }, search);
-  if (!std::isfinite(search.dist[static_cast<size_t>(to)])) return std::nullopt;
+      inf,
+      [&](int v) {
+        if (!is_target[static_cast<size_t>(v)]) return false;
+        reached = v;
+        return true;
+      },
+      search);
+  if (reached < 0) return std::nullopt;
   SurfaceCurve cut;
-  for (int v : trace_parents(search.parent, to)) cut.push_back(CurvePoint::at_vertex(v));
+  for (int v : trace_parents(search.parent, reached)) cut.push_back(CurvePoint::at_vertex(v));
   if (cut.size() < 2) return std::nullopt;
   return cut;
+}
+
+// The shortest of the halving cuts from every outline vertex (within a
+// tenth of half way round): where no cut from the crossing runs inside, as
+// in a strip that winds past a full turn, whose crossing lies at its ends
+// and whose halving cut is a rung near its middle.
+std::optional<SurfaceCurve> shortest_halving_cut(const PatternPiece& p) {
+  std::optional<SurfaceCurve> best;
+  double best_length = std::numeric_limits<double>::infinity();
+  for (int from : p.boundary) {
+    std::optional<SurfaceCurve> cut = halving_cut(p, from, 0.1);
+    if (!cut) continue;
+    const double length = curve_length(p.V, p.F, *cut);
+    if (length < best_length) {
+      best_length = length;
+      best = std::move(cut);
+    }
+  }
+  return best;
 }
 
 }  // namespace
@@ -635,8 +671,12 @@ int split_overlapping_pieces(Pattern& pattern, const PatternOptions& options, Fl
       // path through the piece from the crossing to the outline point
       // halfway round from it, which halves the outline's winding.
       for (size_t i = 0; !curve && i < p.flat.overlap_vertex_ids.size(); ++i) {
-        curve = halving_cut(p, p.flat.overlap_vertex_ids[i]);
+        curve = halving_cut(p, p.flat.overlap_vertex_ids[i], 0.0);
         where = "the shortest path through it from the crossing to the outline point halfway round";
+      }
+      if (!curve) {
+        curve = shortest_halving_cut(p);
+        where = "the shortest cut through it that halves its outline";
       }
       if (!curve) continue;
       PatternSeam seam{"panel" + std::to_string(++panels), "panel", "", {}, false, true, {}};

@@ -50,6 +50,29 @@ Mesh winding_fan(double turns, int per_turn) {
   return m;
 }
 
+// A band one quad wide (inner radius 0.24 m, outer 0.3 m, rising 0.1 m per
+// turn) winding `turns` times: developable, and every vertex on its outline,
+// so that a cut through it can only run along one of its rungs, as in a
+// narrow side piece at a coarse resolution.
+Mesh winding_band(double turns, int per_turn) {
+  const int n = static_cast<int>(std::lround(turns * per_turn));
+  const double inner = 0.24, outer = 0.3, rise = 0.1;
+  Mesh m;
+  m.V.resize(2 * (n + 1), 3);
+  for (int k = 0; k <= n; ++k) {
+    const double t = 2.0 * M_PI * k / per_turn, y = 1.0 + rise * t / (2.0 * M_PI);
+    m.V.row(2 * k) = Eigen::RowVector3d(inner * std::cos(t), y, inner * std::sin(t));
+    m.V.row(2 * k + 1) = Eigen::RowVector3d(outer * std::cos(t), y, outer * std::sin(t));
+  }
+  m.F.resize(2 * n, 3);
+  for (int k = 0; k < n; ++k) {
+    const int a = 2 * k, b = 2 * k + 1, c = 2 * k + 2, d = 2 * k + 3;
+    m.F.row(2 * k) = Eigen::RowVector3i(a, c, b);
+    m.F.row(2 * k + 1) = Eigen::RowVector3i(b, c, d);
+  }
+  return m;
+}
+
 PatternOptions plain_options() {
   PatternOptions o;
   o.panels.mirror = false;
@@ -96,4 +119,27 @@ TEST_CASE("export-rest writes no pattern with an overlapping piece", "[cli][over
   CHECK(bad.err.find("error[numerical]") != std::string::npos);
   CHECK(bad.err.find("overlaps itself") != std::string::npos);
   CHECK(!fs::exists(dir / "bad"));  // nothing written
+}
+
+TEST_CASE("a band with no inner vertex, winding past a full turn, is split along its rungs", "[cutter][overlap]") {
+  const Mesh band = winding_band(1.5, 48);
+  PatternOptions o = plain_options();
+  o.panels.max_overlap_splits = 0;
+  const Pattern whole = make_pattern(band.V, band.F, {}, o);
+  REQUIRE(whole.pieces.size() == 1);
+  CHECK(whole.pieces[0].flat.boundary_overlaps);
+
+  const Pattern split = make_pattern(band.V, band.F, {}, plain_options());
+  CHECK(split.pieces.size() >= 2);
+  CHECK(split.pieces.size() <= 4);
+  double area = 0.0;
+  for (const PatternPiece& p : split.pieces) {
+    INFO(p.name);
+    CHECK(!p.flat.boundary_overlaps);
+    CHECK(p.flat.stats.flipped_triangles == 0);
+    area += p.stats.area_3d;
+  }
+  // The band's own area, 1.5 turns of the annulus (the rise tilts it by under 4 %):
+  // the cuts remove no cloth.
+  CHECK(area == Approx(whole.pieces[0].stats.area_3d).epsilon(1e-9));
 }
