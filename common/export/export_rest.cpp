@@ -438,6 +438,43 @@ void run_sewn_fit(const ExportRestOptions& options, const Mesh& design, ExportRe
   if (options.drape_settled && !sewn.drape.empty()) settled_drapes(options, interpolator, motion, reference, result);
 }
 
+// The pattern of the rest shape with `po`, its overlaps refused, laid out,
+// and its limit warning: result.pattern, layout, cut_options and warnings.
+void cut_pattern(const PatternOptions& po, const LayoutOptions& layout_options, const PatternContext& context,
+                 ExportRestResult& result) {
+  result.pattern = make_pattern(result.rest.V, result.rest.F, result.seams, po, context);
+  refuse_overlapping_pieces(result.pattern);
+  for (const auto& [phase, s] : result.pattern.seconds) result.timing["cut_and_flatten_" + phase] = s;
+  result.cut_options = po;
+  LayoutOptions layout = layout_options;
+  layout.title = pattern_title(result);
+  // The grain per face of the garment (a bias-cut region), as the fit simulated it.
+  const std::vector<double> no_grain;
+  const std::vector<double>& grain =
+      result.have_garment && result.garment.material.turned_grain() ? result.garment.material.grain_angles : no_grain;
+  result.layout = layout_pattern(result.pattern, layout, grain);
+  if (!result.pattern.meets_limit) result.warnings.push_back(limit_warning(result.pattern, po));
+}
+
+// The cut without what pulls a pattern within its limit: no limit
+// weighting, no relief share.
+PatternOptions plain_cut(PatternOptions po) {
+  po.flatten.limit_rounds = 0;
+  po.panels.min_relief_share = 0.0;
+  return po;
+}
+
+// 0: the sewn garment passes; 1: it fails the drape bounds only; 2: it
+// fails the stretch bounds, or its simulation failed.
+int sewn_fit_severity(const ExportRestResult& r) {
+  if (!r.sewn_fit_failed()) return 0;
+  return r.sewn_fit_error.empty() && r.sewn_fit.verification.passed() ? 1 : 2;
+}
+
+bool same_cut(const PatternOptions& a, const PatternOptions& b) {
+  return a.flatten.limit_rounds == b.flatten.limit_rounds && a.panels.min_relief_share == b.panels.min_relief_share;
+}
+
 }  // namespace
 
 ExportRestResult export_rest(const ExportRestOptions& options) {
@@ -460,19 +497,9 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
     pattern_options.panels.stretch_budget = result.fit.delta();
   }
   result.stretch_budget = pattern_options.panels.stretch_budget;
-  result.pattern = make_pattern(result.rest.V, result.rest.F, result.seams, pattern_options, context);
+  const std::vector<std::string> input_warnings = result.warnings;
+  cut_pattern(pattern_options, options.layout, context, result);
   lap("cut_and_flatten");
-  refuse_overlapping_pieces(result.pattern);
-  for (const auto& [phase, s] : result.pattern.seconds) result.timing["cut_and_flatten_" + phase] = s;
-  LayoutOptions layout = options.layout;
-  layout.title = pattern_title(result);
-  // The grain per face of the garment (a bias-cut region), as the fit simulated it.
-  const std::vector<double> no_grain;
-  const std::vector<double>& grain =
-      result.have_garment && result.garment.material.turned_grain() ? result.garment.material.grain_angles : no_grain;
-  result.layout = layout_pattern(result.pattern, layout, grain);
-  lap("layout");
-  if (!result.pattern.meets_limit) result.warnings.push_back(limit_warning(result.pattern, pattern_options));
 
   result.rest_shape = OrderedJson::object();
   if (have_design) rest_shape_figures(options, design, result);
@@ -484,12 +511,41 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
                           (fs::path(options.garment).parent_path() / result.garment.mesh_file).string());
     run_sewn_fit(options, design, result);
     lap("sewn_fit");
+    // The fit comes before the pattern's own limit: where the pattern cut within it (the limit
+    // weighting and the relief share pull its pieces towards compression and more seams) sews into
+    // a garment that fails the fit, the plain cut is tried and kept where its garment fails less: a
+    // garment that fails the stretch bounds cannot be worn, one that only drapes farther from the
+    // fit than the drape bounds can.
+    const PatternOptions plain = plain_cut(pattern_options);
+    if (result.sewn_fit_failed() && !same_cut(plain, pattern_options)) {
+      const std::string because =
+          result.sewn_fit_error.empty() ? sewn_fit_failure(result.sewn_fit, result.pattern) : result.sewn_fit_error;
+      ExportRestResult weighted = result;
+      result.sewn_fit = SewnFitResult{};
+      result.sewn_fit_error.clear();
+      result.sewn_fit_done = false;
+      result.warnings = input_warnings;
+      cut_pattern(plain, options.layout, context, result);
+      lap("cut_and_flatten_plain");
+      run_sewn_fit(options, design, result);
+      lap("sewn_fit_plain");
+      if (sewn_fit_severity(result) < sewn_fit_severity(weighted)) {
+        result.plain_cut_because = "the pattern cut within its limit sewed into a garment that failed the fit (" +
+                                   because + "); the plain cut's garment " +
+                                   (result.sewn_fit_failed() ? "fails less" : "passes");
+        result.warnings.push_back(result.plain_cut_because);
+      } else {
+        const OrderedJson timing = result.timing;
+        result = std::move(weighted);
+        result.timing = timing;
+      }
+    }
   }
   return result;
 }
 
 OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestOptions& options) {
-  const PatternOptions& po = options.pattern;
+  const PatternOptions& po = result.cut_options;
   OrderedJson report;
   report["schema"] = schema_tag("export-rest-report", 1);
   report["input"] = {{"rest", options.rest},
@@ -501,8 +557,9 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
   if (result.have_garment) report["input"]["fabric"] = result.garment.material.fabric;
   // The cutter's options with the stretch budget it used (the fit's delta
   // with --fit).
-  PatternOptions used = options.pattern;
-  used.panels.stretch_budget = result.stretch_budget;
+  // The options the pattern was cut with (the fit's stretch budget with --fit; the plain cut's where
+  // the sewn garment of the pattern within its limit failed the fit).
+  const PatternOptions& used = result.cut_options;
   report["options"] = {{"pattern", write_options(used, PatternOptionFields{})},
                        {"layout", write_options(options.layout, LayoutOptionFields{})},
                        {"seam_mismatch_tolerance", write_options(options.tolerance, SeamToleranceFields{})},
@@ -512,6 +569,9 @@ OrderedJson export_rest_report(const ExportRestResult& result, const ExportRestO
                                 {"creation_date", options.dxf.date}}},
                        {"threads", options.threads},
                        {"seam_spec", options.seams.empty() ? OrderedJson() : to_json(result.spec)}};
+  report["cut"] = {{"plain_after_sewn_fit", !result.plain_cut_because.empty()},
+                   {"because", result.plain_cut_because.empty() ? OrderedJson(nullptr)
+                                                                : OrderedJson(result.plain_cut_because)}};
   report["sewn_fit"] = sewn_fit_report(result, options);
   report["rest_shape"] = result.rest_shape;
   OrderedJson sheets = OrderedJson::array();

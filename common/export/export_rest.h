@@ -59,6 +59,11 @@ struct ExportRestResult {
   std::string sewn_fit_error;    // a simulation that failed for good (the check then fails)
   FitSettings fit;               // the fit's settings the check used
   double stretch_budget = 0.0;   // PanelOptions::stretch_budget the cutter used (the fit's delta with --fit)
+  // The options the pattern was cut with: the stage's, with the fit's stretch budget, or, where the
+  // pattern cut within its limit sewed into a garment that failed the fit and the plain cut's passed,
+  // the plain cut's (no limit weighting, no relief share); plain_cut_because then says why.
+  PatternOptions cut_options;
+  std::string plain_cut_because;
   SewnFitResult sewn_fit;
   // Whether the pattern fails the sewn-fit check (the stage then exits 8).
   bool sewn_fit_failed() const { return sewn_fit_done && (!sewn_fit_error.empty() || !sewn_fit.passed()); }

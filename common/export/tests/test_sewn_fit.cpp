@@ -216,6 +216,23 @@ TEST_CASE("the sewn-fit check passes a good pattern and fails one shrunk by 5 %"
   }
   CHECK(sewn["key_poses"][0]["pose"] == "a");
   CHECK(sewn["key_poses"][1]["pose"] == "b");
+  // The pattern cut within its limit by default (the limit weighting) sews
+  // into a garment that fails pose b at this fit's tight delta (4 %): the
+  // stage keeps the plain cut, whose garment passes, and says why.
+  CHECK(report["cut"]["plain_after_sewn_fit"] == true);
+  CHECK(report["cut"]["because"].get<std::string>().find("key pose 1 (b)") != std::string::npos);
+  CHECK(report["cut"]["because"].get<std::string>().find("the plain cut's garment passes") != std::string::npos);
+  CHECK(report["options"]["pattern"]["flatten"]["limit_rounds"] == 0);
+  {
+    const auto plain_only = testing::run_command(base + " " + (s.dir / "garment.ply").string() +
+                                                    " --out " + (s.dir / "plain-cut").string() +
+                                                    " --limit-rounds 0 --min-relief-share 0");
+    INFO(plain_only.err);
+    CHECK(plain_only.exit_code == 0);
+    const Json plain_cut = read_json_file(s.dir / "plain-cut" / "report.json");
+    CHECK(plain_cut["cut"]["plain_after_sewn_fit"] == false);
+    CHECK(plain_cut["summary"] == report["summary"]);  // the same cut the fallback made
+  }
   // The sewn drape against the fit's drape of the same rest shape (the
   // design here): both measured, and the pattern of an undistorted cap
   // drapes within a few millimetres of it.
@@ -410,6 +427,10 @@ TEST_CASE("a pattern eased by 10 % drapes away from its rest shape's own drape",
   PoseInterpolator interpolator(poses, interp);
   PatternOptions cut;
   cut.panels.stretch_budget = settings.delta();  // as export-rest cuts with --fit
+  // The plain cut, which export-rest keeps for this cap (the pattern within
+  // its limit sews into a garment that fails pose b at delta 0.04).
+  cut.flatten.limit_rounds = 0;
+  cut.panels.min_relief_share = 0.0;
   const Pattern pattern = make_pattern(s.cap.V, s.cap.F, {}, cut);
   const Layout layout = layout_pattern(pattern, LayoutOptions{});
   const adapt::FitVerification reference = rest_shape_drapes(interpolator, motion, s.cap.V, s.cap.V, s.cap.F, s.garment,

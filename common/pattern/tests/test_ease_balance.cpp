@@ -35,6 +35,9 @@ PatternOptions one_piece() {
   // The cap's rim free: held at its 3D length, the rim is shorter than the
   // flat disc's and compresses the cap radially whatever ease costs.
   o.flatten.boundary_weight = 0.0;
+  // The ease trade alone, on the plain flattening (the limit weighting
+  // would move the same figures by its own rounds).
+  o.flatten.limit_rounds = 0;
   return o;
 }
 

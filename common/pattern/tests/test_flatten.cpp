@@ -339,8 +339,9 @@ TEST_CASE("the limit weighting compresses no triangle beyond the budget", "[flat
   CHECK(ratio(u.stats) <= 1.0);
   CHECK(u_moved > 0.1);
   CHECK(u_worst > 0.025);
-  // The cutter's default: off (pattern README, "The limit weighting").
-  CHECK(PatternOptions{}.flatten.limit_rounds == 0);
+  // The cutter's default: on, with its budget (pattern README, "The limit weighting").
+  CHECK(PatternOptions{}.flatten.limit_rounds == 20);
+  CHECK(PatternOptions{}.panels.weighting_budget_share == 0.5);
 }
 
 TEST_CASE("Anderson-accelerated iterations reach plain local/global's minimum", "[flatten]") {

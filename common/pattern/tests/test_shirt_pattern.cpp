@@ -9,6 +9,7 @@
 #include <map>
 #include <random>
 #include <sstream>
+#include <utility>
 
 #include "io/mesh_io.h"
 #include "pattern/piece_names.h"
@@ -153,55 +154,65 @@ TEST_CASE("noise of 1e-7 m on the rest shape changes no cut", "[cli][shirt][repr
   const Shirt& s = shirt();
   INFO(s.error);
   REQUIRE(s.ok);
-  const auto base = s.cut(s.dir / "garment" / "garment.ply", "noise0");
-  REQUIRE(base.exit_code == 0);
-  const Json reference = read_json_file(s.dir / "noise0" / "report.json");
-  const auto seams0 = read_seams(s.dir / "noise0" / "seams.obj");
-  const Mesh flat0 = read_mesh(s.dir / "noise0" / "pieces_flat.ply").mesh;
   const Mesh rest = read_mesh(s.dir / "garment" / "garment.ply").mesh;
-  for (unsigned seed : {1u, 2u, 3u}) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> noise(-1e-7, 1e-7);
-    Mesh moved = rest;
-    for (int i = 0; i < moved.V.size(); ++i) moved.V.data()[i] += noise(rng);
-    const fs::path file = s.dir / ("noisy" + std::to_string(seed) + ".ply");
-    write_mesh(file, moved);
-    const std::string out = "noise" + std::to_string(seed);
-    const auto r = s.cut(file, out);
-    INFO("seed " << seed << ": " << r.err);
-    REQUIRE(r.exit_code == 0);
-    const Json report = read_json_file(s.dir / out / "report.json");
-    // The same pieces...
-    REQUIRE(report["pieces"].size() == reference["pieces"].size());
-    for (size_t i = 0; i < report["pieces"].size(); ++i) {
-      CHECK(report["pieces"][i]["name"] == reference["pieces"][i]["name"]);
-      CHECK(report["pieces"][i]["darts"] == reference["pieces"][i]["darts"]);
-      CHECK(report["pieces"][i]["area_3d"].get<double>() ==
-            Approx(reference["pieces"][i]["area_3d"].get<double>()).margin(1e-6));
+  // The plain flattening's pieces stay within 0.1 mm: they are converged,
+  // not stopped where the last bits say. The limit weighting (the default)
+  // weighs a triangle by its excess over 80 % of the limit, and the rounds
+  // before the kept one carry those weights: 1e-7 m of noise moves its
+  // printed pieces by 0.26-0.64 mm (the same pieces and cuts), under a
+  // cutter's millimetre, and that is what it is held to.
+  for (const auto& [flags, flat_tolerance] :
+       {std::pair<std::string, double>{"--limit-rounds 0 --min-relief-share 0", 1e-4}, {"", 1e-3}}) {
+    INFO("flags '" << flags << "'");
+    const std::string tag = flags.empty() ? "d" : "p";
+    const auto base = s.cut(s.dir / "garment" / "garment.ply", "noise0" + tag, flags);
+    REQUIRE(base.exit_code == 0);
+    const Json reference = read_json_file(s.dir / ("noise0" + tag) / "report.json");
+    const auto seams0 = read_seams(s.dir / ("noise0" + tag) / "seams.obj");
+    const Mesh flat0 = read_mesh(s.dir / ("noise0" + tag) / "pieces_flat.ply").mesh;
+    for (unsigned seed : {1u, 2u, 3u}) {
+      std::mt19937 rng(seed);
+      std::uniform_real_distribution<double> noise(-1e-7, 1e-7);
+      Mesh moved = rest;
+      for (int i = 0; i < moved.V.size(); ++i) moved.V.data()[i] += noise(rng);
+      const fs::path file = s.dir / ("noisy" + std::to_string(seed) + ".ply");
+      write_mesh(file, moved);
+      const std::string out = "noise" + std::to_string(seed) + tag;
+      const auto r = s.cut(file, out, flags);
+      INFO("seed " << seed << ": " << r.err);
+      REQUIRE(r.exit_code == 0);
+      const Json report = read_json_file(s.dir / out / "report.json");
+      // The same pieces...
+      REQUIRE(report["pieces"].size() == reference["pieces"].size());
+      for (size_t i = 0; i < report["pieces"].size(); ++i) {
+        CHECK(report["pieces"][i]["name"] == reference["pieces"][i]["name"]);
+        CHECK(report["pieces"][i]["darts"] == reference["pieces"][i]["darts"]);
+        CHECK(report["pieces"][i]["area_3d"].get<double>() ==
+              Approx(reference["pieces"][i]["area_3d"].get<double>()).margin(1e-6));
+      }
+      // ... the same cuts, running within 0.1 mm of where they ran, their
+      // lengths within 0.1 mm.
+      REQUIRE(report["seams"].size() == reference["seams"].size());
+      const auto seams = read_seams(s.dir / out / "seams.obj");
+      for (size_t i = 0; i < report["seams"].size(); ++i) {
+        const std::string name = reference["seams"][i]["name"];
+        INFO("seed " << seed << ", seam " << name);
+        CHECK(report["seams"][i]["name"] == name);
+        CHECK(report["seams"][i]["kind"] == reference["seams"][i]["kind"]);
+        CHECK(std::abs(report["seams"][i]["length_3d"].get<double>() -
+                       reference["seams"][i]["length_3d"].get<double>()) < 1e-4);
+        REQUIRE(seams.count(name) == 1);
+        const Eigen::MatrixXd& a = seams.at(name);
+        const Eigen::MatrixXd& b = seams0.at(name);
+        CHECK(std::max(one_sided_hausdorff(a, b), one_sided_hausdorff(b, a)) < 1e-4);
+      }
+      // ... and the printed pieces, laid out, within the tolerance of where they were.
+      const Mesh flat = read_mesh(s.dir / out / "pieces_flat.ply").mesh;
+      REQUIRE(flat.V.rows() == flat0.V.rows());
+      REQUIRE(flat.F == flat0.F);
+      INFO("seed " << seed);
+      CHECK((flat.V - flat0.V).rowwise().norm().maxCoeff() < flat_tolerance);
     }
-    // ... the same cuts, running within 0.1 mm of where they ran, their
-    // lengths within 0.1 mm.
-    REQUIRE(report["seams"].size() == reference["seams"].size());
-    const auto seams = read_seams(s.dir / out / "seams.obj");
-    for (size_t i = 0; i < report["seams"].size(); ++i) {
-      const std::string name = reference["seams"][i]["name"];
-      INFO("seed " << seed << ", seam " << name);
-      CHECK(report["seams"][i]["name"] == name);
-      CHECK(report["seams"][i]["kind"] == reference["seams"][i]["kind"]);
-      CHECK(std::abs(report["seams"][i]["length_3d"].get<double>() - reference["seams"][i]["length_3d"].get<double>()) <
-            1e-4);
-      REQUIRE(seams.count(name) == 1);
-      const Eigen::MatrixXd& a = seams.at(name);
-      const Eigen::MatrixXd& b = seams0.at(name);
-      CHECK(std::max(one_sided_hausdorff(a, b), one_sided_hausdorff(b, a)) < 1e-4);
-    }
-    // ... and the printed pieces, laid out, within 0.1 mm of where they were:
-    // the flattenings are converged, not stopped where the last bits say.
-    const Mesh flat = read_mesh(s.dir / out / "pieces_flat.ply").mesh;
-    REQUIRE(flat.V.rows() == flat0.V.rows());
-    REQUIRE(flat.F == flat0.F);
-    INFO("seed " << seed);
-    CHECK((flat.V - flat0.V).rowwise().norm().maxCoeff() < 1e-4);
   }
 }
 
@@ -256,10 +267,14 @@ TEST_CASE("panel seams that relieve too little are taken out again", "[cli][shir
   // the same as without them: the seams moved the excess from one piece to
   // the other. Kept only when they relieve their length's worth (default),
   // against any relief at all (0).
-  const auto a = s.cut(s.dir / "garment" / "garment.ply", "relief");
+  // The relief bound alone: no relief share (which keeps a seam that
+  // relieves half of its piece's excess, whatever its length) and the plain
+  // flattening.
+  const std::string plain = "--min-relief-share 0 --limit-rounds 0";
+  const auto a = s.cut(s.dir / "garment" / "garment.ply", "relief", plain);
   INFO(a.err);
   REQUIRE(a.exit_code == 0);
-  const auto b = s.cut(s.dir / "garment" / "garment.ply", "relief0", "--min-panel-relief 0");
+  const auto b = s.cut(s.dir / "garment" / "garment.ply", "relief0", plain + " --min-panel-relief 0");
   INFO(b.err);
   REQUIRE(b.exit_code == 0);
   const Json ra = read_json_file(s.dir / "relief" / "report.json");
