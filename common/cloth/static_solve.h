@@ -37,12 +37,13 @@
 // vertex, l_i its comfort offset (at most half the room in a pinch), the level the damped steps'
 // hard offset holds. A vertex at its level (within 1 micrometre), or held in the last iteration and
 // within the band of it, is held: the Newton step prescribes its displacement along the body's
-// outward normal n (n . dx = l - d, at most max_displacement outwards; the same filtered system the
+// outward normal n (n . dx = max(l - d, 0), at most max_displacement; the same filtered system the
 // time steps solve, cloth/contact_set.h, with sol = dx / tau), and leaves it free along the body. A
-// vertex in a crease is held along a second normal, to the body feature most inclined to the first.
-// The step's Lagrange force on a held normal, lambda n with tau lambda = n . (A sol - b), is the
-// body's push; where it pulls the vertex towards the body by more than `release_force` the vertex is
-// released for the next iteration (the time steps' release rule). The line search takes the trial
+// vertex in a crease is held along a second normal, to the body feature at its level most inclined
+// to the first (down to 0.6 degrees apart). The Lagrange force on a held normal at the iterate,
+// lambda = n . grad E, is the body's push; where it would have to pull the vertex towards the body
+// by more than `release_force`, that normal is let go before the step (the vertex, or only its
+// crease's second side). The line search takes the trial
 // points x + alpha dx with every vertex that ended below its level moved out to it along the body's
 // normal (a projected search), under the same safe-step limit as the barrier's, with the wall at the
 // level: no step passes through the body. The force residual at an active-set iterate leaves out, at
@@ -108,9 +109,9 @@ struct StaticSolveOptions {
   double initial_step = 0.05;        // pseudo time step tau at the first iteration [s]
   double max_step = 10.0;            // [s]
   double min_step = 1e-3;            // the solve gives up below it [s]
-  // active_set: a held vertex whose Lagrange force pulls it towards the body by more than this is
-  // released [mean vertex weights m g, the residual's unit]: at most the tolerance, so that a vertex
-  // held against its pull does not keep the residual above it on its own.
+  // active_set: a held vertex that the body would have to pull towards it by more than this is
+  // released [mean vertex weights m g, the residual's unit]: at most the tolerance, since a vertex
+  // held against its pull keeps its pull in the residual.
   double release_force = 0.01;
 };
 
@@ -121,7 +122,7 @@ struct StaticSolveReport {
   std::vector<double> residuals;   // at each iterate, the first at the start
   long line_search_trials = 0;     // energy evaluations of trial points
   int contacts = 0;                // vertices within the barrier's band (active_set: held) at the end
-  long released = 0;               // active_set: releases over the iterations (a vertex may count often)
+  long released = 0;               // active_set: vertices released over the iterations (a vertex may count often)
   double energy = 0.0;             // E at the returned positions [J]
 };
 
