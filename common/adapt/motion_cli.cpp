@@ -11,7 +11,7 @@ void add_solver_and_contact_options(CLI::App& app, MotionRunOptions& options, Mo
   };
   option("--solver", c.equilibrium, CLI::IsMember({"static", "dynamic"}), "How a key pose reaches its rest state: "
          "dynamic (damped time steps until the cloth is slow, the --settle options) or static (its equilibrium "
-         "solved by Newton's method with contact as a barrier, to --static-tolerance, the rest shape adapted every "
+         "solved by Newton's method with contact as a barrier or an active set, --static-contact, to --static-tolerance, the rest shape adapted every "
          "--adapt-every iterations; it keeps every cloth vertex out of the body but not yet every body edge out of "
          "the cloth, see adapt/README.md). The transitions are time-stepped either way");
   option("--static-tolerance", options.settle.statics.tolerance, CLI::PositiveNumber, "Static solve: force residual of an "
