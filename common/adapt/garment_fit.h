@@ -77,6 +77,12 @@ struct FitOptionFields {
     f.number("barrier_pressure_pa", m.settle.statics.barrier_pressure, Range::positive());
     f.number("barrier_band_m", m.settle.statics.barrier_band, Range::positive());
     f.number("static_max_displacement_m", m.settle.statics.max_displacement, Range::positive());
+    // Recorded only where it is not the barrier, so that reports from before the choice read alike.
+    f.optional_choice("static_contact", m.settle.statics.contact, cloth::static_contact_names(),
+                      cloth::StaticContact::barrier);
+    if (m.settle.statics.contact == cloth::StaticContact::active_set) {
+      f.number("static_release_force", m.settle.statics.release_force, Range::non_negative());
+    }
     f.number("settle_speed_m_per_s", m.settle.speed, Range::positive());
     f.number("settle_stretch_change", m.settle.stretch_change, Range::non_negative());
     f.integer("settle_max_steps", m.settle.max_steps, Range::between(0, 1e7));

@@ -11,7 +11,7 @@ void add_solver_and_contact_options(CLI::App& app, MotionRunOptions& options, Mo
   };
   option("--solver", c.equilibrium, CLI::IsMember({"static", "dynamic"}), "How a key pose reaches its rest state: "
          "dynamic (damped time steps until the cloth is slow, the --settle options) or static (its equilibrium "
-         "solved by Newton's method with contact as a barrier, to --static-tolerance, the rest shape adapted every "
+         "solved by Newton's method with contact as a barrier or an active set, --static-contact, to --static-tolerance, the rest shape adapted every "
          "--adapt-every iterations; it keeps every cloth vertex out of the body but not yet every body edge out of "
          "the cloth, see adapt/README.md). The transitions are time-stepped either way");
   option("--static-tolerance", options.settle.statics.tolerance, CLI::PositiveNumber, "Static solve: force residual of an "
@@ -30,6 +30,14 @@ void add_solver_and_contact_options(CLI::App& app, MotionRunOptions& options, Mo
          "centred on the comfort offset, where the contact barrier acts [m]");
   option("--static-max-displacement", options.settle.statics.max_displacement, CLI::PositiveNumber, "Static solve: largest "
          "move of a vertex near the body in one iteration, so that no step passes through a body part [m]");
+  option("--static-contact", c.static_contact, CLI::IsMember({"barrier", "active_set"}), "Static solve: how the cloth "
+         "meets the body: barrier (a barrier on the distance to the body, --barrier-pressure and --barrier-band) or "
+         "active_set (a vertex at its comfort offset is held there along the body's normal in the Newton step, "
+         "free along the body, and released when its contact force pulls it towards the body by more than "
+         "--static-release-force)");
+  option("--static-release-force", options.settle.statics.release_force, CLI::NonNegativeNumber, "Static solve with "
+         "--static-contact active_set: a held vertex is released when the body would have to pull it by more than "
+         "this [mean vertex weights]");
   option("--reach", options.contact.reach, CLI::NonNegativeNumber, "Body faces farther than this from the garment are culled "
          "[m]");
   option("--linear-solver", c.linear_solver, CLI::IsMember({"pcg", "refactor"}), "Linear solver of the time steps (and of the static solve, which always factors afresh): refactor (a CHOLMOD factor every "
@@ -70,6 +78,8 @@ void add_solver_and_contact_options(CLI::App& app, MotionRunOptions& options, Mo
 
 void apply_choices(const MotionChoices& c, MotionRunOptions& options) {
   options.settle.equilibrium = c.equilibrium == "dynamic" ? Equilibrium::dynamic : Equilibrium::static_solve;
+  options.settle.statics.contact =
+      c.static_contact == "active_set" ? cloth::StaticContact::active_set : cloth::StaticContact::barrier;
   options.contact.velocity_constraints = c.contact == "velocity";
   options.contact.continuous = c.continuous == "on";
   options.contact.facing_gaps = c.pinch_gaps == "facing";

@@ -13,6 +13,7 @@ namespace gp::adapt {
 struct MotionChoices {
   std::string equilibrium = "dynamic";  // --solver: static or dynamic (MotionRunOptions::settle.equilibrium)
   std::string linear_solver = "refactor";  // --linear-solver: refactor or pcg (SimulatorOptions::strategy)
+  std::string static_contact = "barrier";  // --static-contact: barrier or active_set (StaticSolveOptions::contact)
   std::string contact = "velocity", pinch_gaps = "ray", continuous = "on", hand_hulls = "on";
   CLI::Option* thickness = nullptr;     // --contact-thickness, to tell whether it was given
   bool thickness_given() const { return thickness && thickness->count() > 0; }

@@ -22,6 +22,16 @@ constexpr int kMaxTrials = 40;
 // A vertex that starts at or inside its comfort offset gets its wall this fraction of the band
 // below where it is, so that the barrier is finite there and pushes it out.
 constexpr double kStartBelowWall = 0.1;
+// active_set: a vertex within this distance [m] above its level touches it (the line search's
+// projection leaves vertices at the level up to rounding).
+constexpr double kTouchTolerance = 1e-6;
+// active_set: a second normal of a vertex in a crease is added when it is at least this far (the
+// sine of the angle) from the first, from a body feature within this fraction of the band of the
+// level. The time steps' 0.3 (ContactSet) is far too coarse here: on the demo's T-pose a vertex pressed
+// with 1,150 vertex weights into a crease of 8 degrees (sine 0.15) met the second side at first
+// order wherever it slid, and the line search found no descent for 500 iterations.
+constexpr double kCreaseSine = 0.01;
+constexpr double kCreaseBand = 0.1;
 
 // The body at one vertex of the current iterate.
 struct VertexContact {
@@ -30,6 +40,7 @@ struct VertexContact {
   double wall = -std::numeric_limits<double>::infinity();     // w [m]
   bool has_wall = false;  // the wall of the last iterate applies (the vertex was near the body)
   bool outside = false;   // outside the body at the iterate: a barrier per body triangle (StaticBody)
+  double level = -std::numeric_limits<double>::infinity();  // active_set: the offset held [m]
 };
 
 // The barrier of one vertex at p against the walls of `c`: adds its energy and, with `derivatives`,
@@ -48,6 +59,12 @@ Eigen::Matrix3d project_psd(const Eigen::Matrix3d& H) {
 }
 
 }  // namespace
+
+const std::vector<std::pair<StaticContact, const char*>>& static_contact_names() {
+  static const std::vector<std::pair<StaticContact, const char*>> names = {{StaticContact::barrier, "barrier"},
+                                                                           {StaticContact::active_set, "active_set"}};
+  return names;
+}
 
 double barrier_phi(double s) {
   if (s >= 1.0) return 0.0;
@@ -71,7 +88,10 @@ struct StaticSolver::Impl {
   std::optional<SystemSolver> solver;
   std::vector<int> pattern_pins;
   long pattern_vertices = -1;
-  ContactSet no_constraints;  // contact is the barrier here, not a constraint
+  ContactSet no_constraints;  // the barrier's solves: contact is no constraint there
+  ContactSet held;            // active_set: the held vertices' constraints and their history
+  std::vector<VelocityConstraint> candidates;  // work buffer of gather_held
+  bool pushing = false;  // active_set: a held vertex below its level is pushed out in this iteration
   SolverCounters counters;
   PhaseTimes times;
   double tau = -1.0;  // the pseudo time step the last solve ended with [s]
@@ -144,6 +164,7 @@ struct StaticSolver::Impl {
       // (s about 1/2), loose cloth lies on it, as the damped steps' hard offset holds them.
       double target = offsets(v);
       if (std::isfinite(q.room)) target = std::min(target, 0.5 * q.room);
+      c.level = target;
       target -= 0.5 * band;
       c.distance = q.signed_distance;
       c.outward = q.outward;
@@ -169,7 +190,8 @@ struct StaticSolver::Impl {
       const double length = step_lengths(v);
       if (free_id(v) < 0 || length == 0.0) continue;
       const VertexContact& c = contact[static_cast<size_t>(v)];
-      const double room = body.distance ? c.distance - c.wall : std::numeric_limits<double>::infinity();
+      const double floor = options.contact == StaticContact::active_set ? c.level : c.wall;
+      const double room = body.distance ? std::max(c.distance - floor, 0.0) : std::numeric_limits<double>::infinity();
       const double cap = std::max(0.9 * room, options.max_displacement);
       if (length > cap) alpha = std::min(alpha, cap / length);
     }
@@ -195,15 +217,235 @@ struct StaticSolver::Impl {
     }
     return e;
   }
+
+  // The barrier's terms at the iterate X added to the system of pseudo time step `step` (Hessian
+  // step^2 H, force step f); returns the barrier's energy [J] and sets `in_band`, the vertices within the band.
+  double add_barrier(const StaticBody& body, const Eigen::MatrixXd& X, const Eigen::VectorXi& free_id,
+                     const std::vector<VertexContact>& contact, const Eigen::VectorXd& areas, double step,
+                     int& in_band) {
+    double energy = 0.0;
+    in_band = 0;
+    for (Eigen::Index v = 0; v < X.rows() && body.distance; ++v) {
+      const VertexContact& c = contact[static_cast<size_t>(v)];
+      if (free_id(v) < 0 || !(c.distance - c.wall < options.barrier_band)) continue;
+      VertexBarrier b;
+      if (!vertex_barrier(body, static_cast<int>(v), X.row(v).transpose(), c, areas(v), true, b)) {
+        throw NumericalError("static solve: vertex " + std::to_string(v) + " is behind its wall at the iterate");
+      }
+      if (b.terms == 0) continue;
+      ++in_band;
+      energy += b.energy;
+      system.add_vertex_terms(static_cast<int>(v), step * step * b.hessian, -step * b.gradient);
+    }
+    return energy;
+  }
+
+  // The line search along dx from X at energy E (static_solve.h): from the largest safe step
+  // `alpha_max`, halved until Armijo's decrease holds (active_set: at the projected trial points; a
+  // step that pushes vertices out to their level is taken at once, since it is no descent). On
+  // success X is the accepted trial point and `alpha` its fraction of dx.
+  bool line_search(const StaticBody& body, const Eigen::MatrixXi& F, const ClothRestState& rest,
+                   const ClothParameters& params, const Eigen::VectorXi& free_id,
+                   const std::vector<VertexContact>& contact, const Eigen::VectorXd& areas,
+                   const Eigen::MatrixXd& grad, const Eigen::MatrixXd& dx, double energy, Eigen::MatrixXd& X,
+                   double& alpha, double& alpha_max, long& trials) const {
+    const bool active_set = options.contact == StaticContact::active_set && static_cast<bool>(body.distance);
+    const double slope = (grad.array() * dx.array()).sum();  // < 0 without pushes: the matrix is SPD
+    const Eigen::VectorXd step_lengths = dx.rowwise().norm();
+    alpha_max = largest_safe_step(body, step_lengths, free_id, contact);
+    alpha = alpha_max;
+    Eigen::MatrixXd X_trial;
+    for (int trial = 0; trial < kMaxTrials; ++trial) {
+      X_trial = X + alpha * dx;
+      const Eigen::VectorXd moved = alpha * step_lengths;
+      ++trials;
+      double e_trial = std::numeric_limits<double>::infinity();
+      if (active_set) {
+        project_trial(body, X_trial, free_id, contact, moved);
+        e_trial = cloth_energies(X_trial, F, rest, params).total();
+      } else {
+        const double e_barrier = barrier_energy(X_trial, areas, contact, moved, body);
+        if (std::isfinite(e_barrier)) e_trial = cloth_energies(X_trial, F, rest, params).total() + e_barrier;
+      }
+      if (std::isfinite(e_trial)) {
+        if (active_set && pushing) {
+          X = std::move(X_trial);
+          return true;
+        }
+        // Near the equilibrium the decrease is below the energy's rounding: a step the model
+        // predicts to change E by less than that is taken as it is.
+        const bool rounding = std::abs(slope) * alpha < 1e-13 * std::max(1.0, std::abs(energy));
+        if (e_trial <= energy + kArmijo * alpha * slope || (rounding && e_trial <= energy + 1e-12 * std::abs(energy))) {
+          X = std::move(X_trial);
+          return true;
+        }
+      }
+      alpha *= 0.5;
+    }
+    return false;
+  }
+
+  // active_set: the system's b without its components along the held normals.
+  void take_held_normals_out_of_rhs() {
+    for (size_t k = 0; k < held.size(); ++k) {
+      const VelocityConstraint& c = held.constraint(k);
+      const Eigen::Vector3d along = system.rhs().segment<3>(3 * held.free_index(k));
+      system.add_vertex_terms(c.vertex, Eigen::Matrix3d::Zero(), -c.normal * c.normal.dot(along));
+    }
+  }
+
+  // active_set: the vertices held (one or two constraints each, listed together).
+  int held_vertices() const {
+    int n = 0;
+    for (size_t k = 0; k < held.size(); ++k) {
+      if (k == 0 || held.constraint(k).vertex != held.constraint(k - 1).vertex) ++n;
+    }
+    return n;
+  }
+
+  // active_set: the held vertices' constraints at the iterate (static_solve.h) in `held`, from the
+  // candidates at or near their level, the contact history deciding (ContactSet::gather). The
+  // prescribed normal "velocity" is the displacement over the pseudo time step: sol = dx / step.
+  void gather_held(const StaticBody& body, const Eigen::MatrixXd& X, const Eigen::VectorXi& free_id,
+                   const std::vector<VertexContact>& contact, double step) {
+    candidates.clear();
+    for (Eigen::Index v = 0; v < X.rows() && body.distance; ++v) {
+      const VertexContact& c = contact[static_cast<size_t>(v)];
+      if (free_id(v) < 0 || !(c.distance - c.level < options.barrier_band)) continue;
+      const auto candidate = [&](const Eigen::Vector3d& n, double d) {
+        VelocityConstraint k;
+        k.vertex = static_cast<int>(v);
+        k.normal = n;
+        // Out to the level, at most max_displacement at a time (a vertex that starts inside its
+        // offset is pushed out gradually, as the barrier's rising wall does). A held vertex above
+        // its level is never pulled towards the body: such a step is no descent where the cloth
+        // pulls away, and the line search then found none (the demo's A-pose stalled at once).
+        k.normal_velocity = std::clamp(c.level - d, 0.0, options.max_displacement) / step;
+        k.touching = d <= c.level + kTouchTolerance;
+        candidates.push_back(k);
+      };
+      candidate(c.outward, c.distance);
+      if (!body.features || !(c.distance > 0.0)) continue;
+      // In a crease the closest point's normal turns by a jump from one side to the other; the
+      // feature most inclined to it at the level holds the vertex along the second side.
+      const Eigen::Vector3d p = X.row(v).transpose();
+      features.clear();
+      body.features(p, c.level + options.barrier_band, features);
+      double best_cos = 1.0, best_d = 0.0;
+      Eigen::Vector3d best = Eigen::Vector3d::Zero();
+      for (const BodyFeature& f : features) {
+        const double d = (p - f.point).norm();
+        if (!(d > 0.0) || !(d - c.level < kCreaseBand * options.barrier_band)) continue;
+        const Eigen::Vector3d u = (p - f.point) / d;
+        const double cosine = std::abs(u.dot(c.outward));
+        if (cosine < best_cos) {
+          best_cos = cosine;
+          best = u;
+          best_d = d;
+        }
+      }
+      const double sine = std::sqrt(std::max(0.0, 1.0 - best_cos * best_cos));
+      if (!(sine > kCreaseSine)) continue;
+      // Made orthogonal to the first here (as ContactSet::gather would, which drops a second normal
+      // within its own coarser angle): n2' = (n2 - d n1) / s, its displacement (l - d2 - d a1) / s.
+      const VelocityConstraint first = candidates.back();
+      const double along = best.dot(c.outward);
+      candidate((best - along * c.outward) / sine, best_d);
+      VelocityConstraint& second = candidates.back();
+      second.normal_velocity = (second.normal_velocity - along * first.normal_velocity) / sine;
+    }
+    gather(static_cast<int>(X.rows()), free_id, step);
+  }
+
+  // The held set from the candidates, the contact history deciding; whether one is pushed out.
+  void gather(int vertex_count, const Eigen::VectorXi& free_id, double step) {
+    held.gather(candidates, vertex_count, free_id);
+    pushing = false;
+    for (size_t k = 0; k < held.size(); ++k) pushing = pushing || held.constraint(k).normal_velocity * step > kTouchTolerance;
+  }
+
+  // The release rule at the iterate: a held normal along which the vertex's force grad E pulls it
+  // away from the body by more than `threshold` [N] is let go, and the set gathered again: the
+  // vertex is released where that is the closest point's normal, only the crease's second normal
+  // where that is the one (a vertex pressed into one side of a crease and pulled off the other).
+  // Returns how many vertices were released. The multiplier estimate at the iterate, not the
+  // step's Lagrange force: on the demo's A-pose the step's, from a solve to 1e-4, released vertices
+  // that their force pressed onto the body with 10 vertex weights, every other iteration, and the
+  // set never settled.
+  long release_pulling(const Eigen::MatrixXd& grad, const Eigen::VectorXi& free_id, double threshold, double step) {
+    std::vector<char> drop_all(static_cast<size_t>(grad.rows()), 0), drop_second(drop_all);
+    long count = 0;
+    bool any = false;
+    for (size_t k = 0; k < held.size(); ++k) {
+      const VelocityConstraint& c = held.constraint(k);
+      if (!(grad.row(c.vertex).dot(c.normal.transpose()) < -threshold)) continue;
+      const bool first = k == 0 || held.constraint(k - 1).vertex != c.vertex;
+      char& flag = first ? drop_all[static_cast<size_t>(c.vertex)] : drop_second[static_cast<size_t>(c.vertex)];
+      if (first && !flag) ++count;
+      flag = 1;
+      any = true;
+    }
+    if (!any) return 0;
+    std::vector<VelocityConstraint> kept;
+    kept.reserve(candidates.size());
+    for (size_t q = 0; q < candidates.size(); ++q) {
+      const int v = candidates[q].vertex;
+      const bool second = q > 0 && candidates[q - 1].vertex == v;
+      if (drop_all[static_cast<size_t>(v)] || (second && drop_second[static_cast<size_t>(v)])) continue;
+      kept.push_back(candidates[q]);
+    }
+    candidates.swap(kept);
+    gather(static_cast<int>(grad.rows()), free_id, step);
+    return count;
+  }
+
+  // After the step: the vertices held in it are in contact for the next iteration; none is released
+  // ahead (release_pulling decides at each iterate).
+  void remember_held(int vertex_count) {
+    ContactSet::History h;
+    h.released.assign(static_cast<size_t>(vertex_count), 0);
+    h.in_contact.assign(static_cast<size_t>(vertex_count), 0);
+    for (size_t k = 0; k < held.size(); ++k) h.in_contact[static_cast<size_t>(held.constraint(k).vertex)] = 1;
+    held.restore(std::move(h));
+  }
+
+  // active_set: moves every free vertex of the trial X that ended below its level (or, for one that
+  // started inside it, below where its push this iteration takes it) out along the body's normal
+  // there; `moved` bounds how far each moved from where `contact` was measured.
+  void project_trial(const StaticBody& body, Eigen::MatrixXd& X, const Eigen::VectorXi& free_id,
+                     const std::vector<VertexContact>& contact, const Eigen::VectorXd& moved) const {
+    for (Eigen::Index v = 0; v < X.rows() && body.distance; ++v) {
+      const VertexContact& c = contact[static_cast<size_t>(v)];
+      if (free_id(v) < 0 || !(c.distance - c.level < moved(v) + kTouchTolerance)) continue;
+      const double floor = std::min(c.level, c.distance + options.max_displacement);
+      const BodyDistance q = body.distance(static_cast<int>(v), X.row(v).transpose(), false);
+      if (q.signed_distance < floor) X.row(v) += (floor - q.signed_distance) * q.outward.transpose();
+    }
+  }
+
+  // The force residual's gradient: grad E with, at each held vertex, the part pressing it onto the
+  // body left out (the body bears it).
+  void leave_out_borne(Eigen::MatrixXd& G, const Eigen::VectorXi& free_id) const {
+    std::vector<int> vertex_of(static_cast<size_t>(free_id.maxCoeff() + 1), -1);
+    for (Eigen::Index v = 0; v < free_id.size(); ++v) {
+      if (free_id(v) >= 0) vertex_of[static_cast<size_t>(free_id(v))] = static_cast<int>(v);
+    }
+    for (size_t k = 0; k < held.size(); ++k) {
+      const int v = vertex_of[static_cast<size_t>(held.free_index(k))];
+      const Eigen::Vector3d& n = held.constraint(k).normal;
+      const double pressing = G.row(v).dot(n.transpose());  // grad E along n > 0: the force is into the body
+      if (pressing > 0.0) G.row(v) -= pressing * n.transpose();
+    }
+  }
 };
 
 StaticSolver::StaticSolver(const StaticSolveOptions& options) : impl_(std::make_unique<Impl>()) {
   const StaticSolveOptions& o = options;
   if (!(o.tolerance > 0.0) || o.max_iterations < 0 || !(o.barrier_pressure > 0.0) || !(o.barrier_band > 0.0) ||
       !(o.max_displacement > 0.0) || !(o.min_step > 0.0) || !(o.initial_step >= o.min_step) ||
-      !(o.max_step >= o.initial_step) || !std::isfinite(o.max_step)) {
+      !(o.max_step >= o.initial_step) || !std::isfinite(o.max_step) || !(o.release_force >= 0.0)) {
     throw UsageError("static solve options: tolerance, pressure, band, displacement and steps must be positive, "
-                     "min_step <= initial_step <= max_step (finite)");
+                     "min_step <= initial_step <= max_step (finite), the release force non-negative");
   }
   impl_->options = options;
 }
@@ -222,7 +464,10 @@ StaticSolveReport StaticSolver::solve(const ClothSimulator& sim, const StaticBod
   return resume(sim, body, offsets, X, impl_->options.max_iterations);
 }
 
-void StaticSolver::restart() { impl_->tau = impl_->options.initial_step; }
+void StaticSolver::restart() {
+  impl_->tau = impl_->options.initial_step;
+  impl_->held.clear_history();
+}
 
 StaticSolveReport StaticSolver::resume(const ClothSimulator& sim, const StaticBody& body,
                                        const Eigen::VectorXd& offsets, Eigen::MatrixXd& X, int max_iterations) {
@@ -241,6 +486,7 @@ StaticSolveReport StaticSolver::resume(const ClothSimulator& sim, const StaticBo
   s.build_pattern(sim);
   s.system.invalidate_constant_part();  // the rest state may have changed since the last solve
   const Eigen::VectorXi& free_id = s.system.free_ids();
+  const bool active_set = o.contact == StaticContact::active_set && static_cast<bool>(body.distance);
 
   // Units of the residual: the mean weight of a free vertex.
   double mass_sum = 0.0;
@@ -248,53 +494,43 @@ StaticSolveReport StaticSolver::resume(const ClothSimulator& sim, const StaticBo
     if (free_id(v) >= 0) mass_sum += rest.masses(v);
   }
   const double g_norm = params.gravity.norm() > 0.0 ? params.gravity.norm() : 9.81;
-  const double weight = s.system.free_count() ? mass_sum / s.system.free_count() * g_norm : 1.0;
+  const int free_count = s.system.free_count();
+  const double weight = free_count ? mass_sum / free_count * g_norm : 1.0;
   const Eigen::VectorXd areas = rest.masses / params.density;
-  const double band = o.barrier_band;
 
   StaticSolveReport report;
   std::vector<VertexContact> contact(static_cast<size_t>(nv));
   const Eigen::MatrixXd zero = Eigen::MatrixXd::Zero(nv, 3);
-  Eigen::VectorXd sol, moved;
+  Eigen::VectorXd sol;
   Eigen::MatrixXd dx(nv, 3), grad(nv, 3);
 
   for (int iteration = 0;; ++iteration) {
     auto t0 = Clock::now();
     s.update_walls(body, X, offsets, free_id, contact);
+    if (active_set) s.gather_held(body, X, free_id, contact, tau);
     s.times.collisions += seconds_since(t0);
     t0 = Clock::now();
     s.system.assemble(X, zero, zero, F, rest, params, 0.0, tau);  // b = tau f
     s.times.forces_assembly += seconds_since(t0);
     t0 = Clock::now();
-    double barrier = 0.0;
-    int in_band = 0;
-    for (Eigen::Index v = 0; v < nv && body.distance; ++v) {
-      const VertexContact& c = contact[static_cast<size_t>(v)];
-      if (free_id(v) < 0 || !(c.distance - c.wall < band)) continue;
-      VertexBarrier b;
-      if (!s.vertex_barrier(body, static_cast<int>(v), X.row(v).transpose(), c, areas(v), true, b)) {
-        throw NumericalError("static solve: vertex " + std::to_string(v) + " is behind its wall at the iterate");
-      }
-      if (b.terms == 0) continue;
-      ++in_band;
-      barrier += b.energy;
-      s.system.add_vertex_terms(static_cast<int>(v), tau * tau * b.hessian, -tau * b.gradient);
-    }
-    report.contacts = in_band;
+    const double barrier = active_set ? 0.0 : s.add_barrier(body, X, free_id, contact, areas, tau, report.contacts);
     s.times.collisions += seconds_since(t0);
     t0 = Clock::now();
 
     // grad E of the free vertices: -b / tau.
     const Eigen::VectorXd& b = s.system.rhs();
-    double sum_squares = 0.0;
     grad.setZero();
     for (Eigen::Index v = 0; v < nv; ++v) {
       const int fi = free_id(v);
-      if (fi < 0) continue;
-      grad.row(v) = -b.segment<3>(3 * fi).transpose() / tau;
-      sum_squares += grad.row(v).squaredNorm();
+      if (fi >= 0) grad.row(v) = -b.segment<3>(3 * fi).transpose() / tau;
     }
-    const double residual = s.system.free_count() ? std::sqrt(sum_squares / s.system.free_count()) / weight : 0.0;
+    if (active_set) report.released += s.release_pulling(grad, free_id, o.release_force * weight, tau);
+    if (active_set) report.contacts = s.held_vertices();
+    Eigen::MatrixXd unbalanced = grad;
+    if (active_set) s.leave_out_borne(unbalanced, free_id);
+    double sum_squares = 0.0;
+    for (Eigen::Index v = 0; v < nv; ++v) sum_squares += unbalanced.row(v).squaredNorm();
+    const double residual = free_count ? std::sqrt(sum_squares / free_count) / weight : 0.0;
     report.residuals.push_back(residual);
     report.residual = residual;
     report.iterations = iteration;
@@ -303,51 +539,41 @@ StaticSolveReport StaticSolver::resume(const ClothSimulator& sim, const StaticBo
     const double energy = cloth_energies(X, F, rest, params).total() + barrier;
     report.energy = energy;
     s.times.forces_assembly += seconds_since(t0);
-    if (residual < o.tolerance) {
+    // A vertex still below its level is not at rest yet, whatever the forces.
+    if (residual < o.tolerance && !(active_set && s.pushing)) {
       report.converged = true;
       break;
     }
     if (iteration >= max_iterations) break;
 
-    sol.setZero(3 * s.system.free_count());
-    s.solver->solve(s.system, s.no_constraints, X, F, sol, s.counters, s.times);
+    sol.setZero(3 * free_count);
+    const ContactSet& constraints = active_set ? s.held : s.no_constraints;
+    // The body's push on the held normals stays in b while the free forces vanish towards the
+    // equilibrium; CG measures its tolerance relative to |b|, so those components, which the
+    // filtered solve never reads, are taken out of it (else it stops at once, at sol = 0, with the
+    // free forces below 1e-4 of the push).
+    if (active_set) s.take_held_normals_out_of_rhs();
+    s.solver->solve(s.system, constraints, X, F, sol, s.counters, s.times);
+    ContactSet::History history_before;
+    if (active_set) {
+      history_before = s.held.history();
+      s.remember_held(static_cast<int>(nv));
+    }
     dx.setZero();
     for (Eigen::Index v = 0; v < nv; ++v) {
       if (free_id(v) >= 0) dx.row(v) = tau * sol.segment<3>(3 * free_id(v)).transpose();
     }
-    const double slope = (grad.array() * dx.array()).sum();  // < 0: the matrix is SPD
-    const Eigen::VectorXd step_lengths = dx.rowwise().norm();
-
-    const double alpha_max = s.largest_safe_step(body, step_lengths, free_id, contact);
-    double alpha = alpha_max;
-
     t0 = Clock::now();
-    bool accepted = false;
-    Eigen::MatrixXd X_trial;
-    for (int trial = 0; trial < kMaxTrials; ++trial) {
-      X_trial = X + alpha * dx;
-      moved = alpha * step_lengths;
-      ++report.line_search_trials;
-      const double e_barrier = s.barrier_energy(X_trial, areas, contact, moved, body);
-      if (std::isfinite(e_barrier)) {
-        const double e_trial = cloth_energies(X_trial, F, rest, params).total() + e_barrier;
-        // Near the equilibrium the decrease is below the energy's rounding: a step the model
-        // predicts to change E by less than that is taken as it is.
-        const bool rounding = std::abs(slope) * alpha < 1e-13 * std::max(1.0, std::abs(energy));
-        if (e_trial <= energy + kArmijo * alpha * slope || (rounding && e_trial <= energy + 1e-12 * std::abs(energy))) {
-          accepted = true;
-          break;
-        }
-      }
-      alpha *= 0.5;
-    }
+    double alpha = 0.0, alpha_max = 0.0;
+    const bool accepted = s.line_search(body, F, rest, params, free_id, contact, areas, grad, dx, energy, X, alpha,
+                                        alpha_max, report.line_search_trials);
     s.times.checks += seconds_since(t0);
     if (!accepted) {
+      if (active_set) s.held.restore(std::move(history_before));
       if (tau <= o.min_step) break;
       tau = std::max(0.25 * tau, o.min_step);
       continue;
     }
-    X = std::move(X_trial);
     if (alpha == 1.0 && alpha_max == 1.0) {
       tau = std::min(2.0 * tau, o.max_step);
     } else if (alpha < 0.1 * alpha_max) {

@@ -31,8 +31,27 @@
 // Converged: the force residual, the root mean square of grad E over the free vertices in units of
 // their mean weight m g, is below `tolerance`. No damping, no velocities: the result is where the
 // cloth comes to rest, not how.
+//
+// Contact as an active set (StaticSolveOptions::contact active_set) instead of the barrier: the
+// potential is the cloth's alone, and the body is the constraint d_i(x_i) >= l_i on each free
+// vertex, l_i its comfort offset (at most half the room in a pinch), the level the damped steps'
+// hard offset holds. A vertex at its level (within 1 micrometre), or held in the last iteration and
+// within the band of it, is held: the Newton step prescribes its displacement along the body's
+// outward normal n (n . dx = max(l - d, 0), at most max_displacement; the same filtered system the
+// time steps solve, cloth/contact_set.h, with sol = dx / tau), and leaves it free along the body. A
+// vertex in a crease is held along a second normal, to the body feature at its level most inclined
+// to the first (down to 0.6 degrees apart). The Lagrange force on a held normal at the iterate,
+// lambda = n . grad E, is the body's push; where it would have to pull the vertex towards the body
+// by more than `release_force`, that normal is let go before the step (the vertex, or only its
+// crease's second side). The line search takes the trial
+// points x + alpha dx with every vertex that ended below its level moved out to it along the body's
+// normal (a projected search), under the same safe-step limit as the barrier's, with the wall at the
+// level: no step passes through the body. The force residual at an active-set iterate leaves out, at
+// a held vertex, the part of grad E that presses it onto the body (the body bears it); a pull away
+// from the body counts in full.
 #include <functional>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -74,8 +93,14 @@ struct StaticBody {
   BodyDistanceQuery distance;  // empty: no body
   BodyFeatureQuery features;
 };
+// How the static solve meets the body (see the top of this header).
+enum class StaticContact { barrier, active_set };
+// Each way with its name in options and reports ("barrier", "active_set").
+const std::vector<std::pair<StaticContact, const char*>>& static_contact_names();
+
 // Defaults measured in common/cloth/README.md ("The static solve").
 struct StaticSolveOptions {
+  StaticContact contact = StaticContact::barrier;
   double tolerance = 0.01;      // force residual of an equilibrium [mean vertex weights, RMS]
   int max_iterations = 300;     // Newton iterations of solve()
   double barrier_pressure = 1000.0;  // kappa [Pa]
@@ -84,6 +109,10 @@ struct StaticSolveOptions {
   double initial_step = 0.05;        // pseudo time step tau at the first iteration [s]
   double max_step = 10.0;            // [s]
   double min_step = 1e-3;            // the solve gives up below it [s]
+  // active_set: a held vertex that the body would have to pull towards it by more than this is
+  // released [mean vertex weights m g, the residual's unit]: at most the tolerance, since a vertex
+  // held against its pull keeps its pull in the residual.
+  double release_force = 0.01;
 };
 
 struct StaticSolveReport {
@@ -92,7 +121,8 @@ struct StaticSolveReport {
   double residual = 0.0;           // force residual at the returned positions [mean vertex weights]
   std::vector<double> residuals;   // at each iterate, the first at the start
   long line_search_trials = 0;     // energy evaluations of trial points
-  int contacts = 0;                // vertices within the barrier's band at the end
+  int contacts = 0;                // vertices within the barrier's band (active_set: held) at the end
+  long released = 0;               // active_set: vertices released over the iterations (a vertex may count often)
   double energy = 0.0;             // E at the returned positions [J]
 };
 

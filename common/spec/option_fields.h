@@ -5,6 +5,8 @@
 //   f.flag(key, bool&)                  f.names(key, bool&, "if true", "if false")
 //   f.text(key, std::string&)
 //   f.choice(key, Enum&, {{Enum::a, "a"}, ...})
+//   f.optional_choice(key, Enum&, names, Enum absent)   written only when not `absent`, which a
+//                                       missing key means (reports from before the key stay readable)
 //   f.group(key, Sub&, SubFields{})     a nested options struct, as an object
 // and the generic writer and strict reader below serialise it: a report
 // records the options under the same keys, in the same order, that a reader
@@ -53,6 +55,10 @@ class OptionsWriter {
     }
     out_[key] = nullptr;  // not reached while every enumerator is named
   }
+  template <class Enum>
+  void optional_choice(const char* key, Enum v, const ChoiceNames<Enum>& names, Enum absent) {
+    if (v != absent) choice(key, v, names);
+  }
   template <class Sub, class SubFields>
   void group(const char* key, const Sub& v, SubFields fields) {
     out_[key] = write_options(v, fields);
@@ -96,6 +102,16 @@ class OptionsReader {
     const std::string name = in_.choice(key, all.front(), all);
     for (const auto& [value, n] : names) {
       if (name == n) v = value;
+    }
+  }
+  // Missing: `absent` where every field is required (a report that omitted it at that value), the
+  // value it had otherwise.
+  template <class Enum>
+  void optional_choice(const char* key, Enum& v, const ChoiceNames<Enum>& names, Enum absent) {
+    if (in_.has(key)) {
+      choice(key, v, names);
+    } else if (required_) {
+      v = absent;
     }
   }
   template <class Sub, class SubFields>

@@ -47,6 +47,33 @@ BodyDistanceQuery cylinder(double radius) {
   };
 }
 
+// The cylinder of cylinder() at radius R as the damped steps meet it (cloth_simulator.h): a
+// velocity constraint at the radius, and the projection out to it.
+void cylinder_contact(gp::cloth::testing::FunctionContact& body, double R) {
+  body.on_project = [R](Eigen::MatrixXd& Y, Eigen::MatrixXd& Vel) {
+    for (int v = 0; v < Y.rows(); ++v) {
+      const Eigen::Vector2d p(Y(v, 0), Y(v, 1));
+      if (p.norm() >= R) continue;
+      const Eigen::Vector3d n(p.x() / p.norm(), p.y() / p.norm(), 0.0);
+      Y.row(v).head<2>() = (R * p.normalized()).transpose();
+      const double vn = Vel.row(v).dot(n.transpose());
+      if (vn < 0.0) Vel.row(v) -= vn * n.transpose();
+    }
+  };
+  body.on_constraints = [R](const Eigen::MatrixXd& Y, double h, std::vector<VelocityConstraint>& out) {
+    for (int v = 0; v < Y.rows(); ++v) {
+      const Eigen::Vector2d p(Y(v, 0), Y(v, 1));
+      if (p.norm() > R + 1e-4) continue;
+      VelocityConstraint c;
+      c.vertex = v;
+      c.normal = Eigen::Vector3d(p.x() / p.norm(), p.y() / p.norm(), 0.0);
+      c.normal_velocity = std::max(R - p.norm(), 0.0) / h;
+      c.touching = p.norm() <= R + 1e-6;
+      out.push_back(c);
+    }
+  };
+}
+
 // grad E recomputed from the model and the barrier's formula (static_solve.h), RMS over the free
 // vertices in mean vertex weights: what the solve calls its residual, computed independently.
 double force_residual(const ClothSimulator& sim, const Eigen::MatrixXd& X, const BodyDistanceQuery& body,
@@ -64,6 +91,57 @@ double force_residual(const ClothSimulator& sim, const Eigen::MatrixXd& X, const
       const double s = (d.signed_distance - walls(v)) / o.barrier_band;
       G.row(v) += o.barrier_pressure * areas(v) * barrier_phi_d1(s) * d.outward.transpose();
     }
+    sum += G.row(v).squaredNorm();
+    mass += sim.rest_state().masses(v);
+    ++n;
+  }
+  return std::sqrt(sum / n) / (mass / n * sim.parameters().gravity.norm());
+}
+
+// A strip 0.6 m long and 0.1 m wide (30 by 5 quads) lying flat 1 cm above the cylinder of
+// cylinder(0.1), across it, its short edges pinned and lowered beside the cylinder to (+-0.28 m,
+// 0.02 m): the strip drapes over the top with about 3 % slack between the pins and the body.
+struct DrapedStrip {
+  gp::Mesh mesh;
+  std::vector<int> pins;
+  Eigen::MatrixXd start;  // the pins lowered
+};
+DrapedStrip draped_strip() {
+  DrapedStrip d;
+  d.mesh = gp::testing::make_grid(30, 5, 0.6, 0.1);
+  Eigen::MatrixXd& V = d.mesh.V;
+  V.col(0).array() -= 0.3;
+  V.col(1).setConstant(0.11);
+  V.col(2).array() -= 0.05;
+  d.start = V;
+  for (int v = 0; v < V.rows(); ++v) {
+    if (std::abs(V(v, 0)) < 0.3 - 1e-9) continue;
+    d.pins.push_back(v);
+    d.start(v, 0) = V(v, 0) > 0.0 ? 0.28 : -0.28;
+    d.start(v, 1) = 0.02;
+  }
+  return d;
+}
+
+// The force residual of an active-set equilibrium on cylinder(R) with the comfort offset `offset`,
+// recomputed from the model: grad E with, at each free vertex at its level (radius R + offset, to
+// 10 micrometres), the radial part pressing it onto the body left out; RMS over the free vertices in
+// mean vertex weights. Also the smallest radius of a free vertex.
+double held_residual(const ClothSimulator& sim, const Eigen::MatrixXd& X, double R, double offset,
+                     double& min_radius) {
+  Eigen::MatrixXd G = cloth_gradient(X, sim.faces(), sim.rest_state(), sim.parameters());
+  std::vector<char> pinned(X.rows(), 0);
+  for (int v : sim.pinned()) pinned[v] = 1;
+  double sum = 0.0, mass = 0.0;
+  int n = 0;
+  min_radius = std::numeric_limits<double>::infinity();
+  for (int v = 0; v < X.rows(); ++v) {
+    if (pinned[v]) continue;
+    const Eigen::Vector3d r(X(v, 0), X(v, 1), 0.0);
+    min_radius = std::min(min_radius, r.norm());
+    const Eigen::Vector3d normal = r.normalized();
+    const double pressing = G.row(v).dot(normal.transpose());
+    if (r.norm() < R + offset + 1e-5 && pressing > 0.0) G.row(v) -= pressing * normal.transpose();
     sum += G.row(v).squaredNorm();
     mass += sim.rest_state().masses(v);
     ++n;
@@ -174,28 +252,7 @@ TEST_CASE("a strip pressed onto a cylinder rests outside it at equilibrium, as t
   // The damped run with velocity constraints at the radius (cloth_simulator.h) ends within 1 mm.
   gp::cloth::testing::FunctionContact step_body;
   sim.set_contact(&step_body);
-  step_body.on_project = [R](Eigen::MatrixXd& Y, Eigen::MatrixXd& Vel) {
-    for (int v = 0; v < Y.rows(); ++v) {
-      const Eigen::Vector2d p(Y(v, 0), Y(v, 1));
-      if (p.norm() >= R) continue;
-      const Eigen::Vector3d n(p.x() / p.norm(), p.y() / p.norm(), 0.0);
-      Y.row(v).head<2>() = (R * p.normalized()).transpose();
-      const double vn = Vel.row(v).dot(n.transpose());
-      if (vn < 0.0) Vel.row(v) -= vn * n.transpose();
-    }
-  };
-  step_body.on_constraints = [R](const Eigen::MatrixXd& Y, double h, std::vector<VelocityConstraint>& out) {
-    for (int v = 0; v < Y.rows(); ++v) {
-      const Eigen::Vector2d p(Y(v, 0), Y(v, 1));
-      if (p.norm() > R + 1e-4) continue;
-      VelocityConstraint c;
-      c.vertex = v;
-      c.normal = Eigen::Vector3d(p.x() / p.norm(), p.y() / p.norm(), 0.0);
-      c.normal_velocity = std::max(R - p.norm(), 0.0) / h;
-      c.touching = p.norm() <= R + 1e-6;
-      out.push_back(c);
-    }
-  };
+  cylinder_contact(step_body, R);
   for (int s = 0; s < 1200; ++s) sim.step();
   const double apart = (sim.positions() - X).rowwise().norm().maxCoeff();
   INFO("largest distance to the damped contact run " << apart << " m, its speed " << sim.max_speed() << " m/s");
@@ -234,6 +291,118 @@ TEST_CASE("a sheet falling onto a small ball drapes over it and no step passes t
   CHECK(X(n / 2 * (n + 1) + n / 2, 1) > radius);
 }
 
+TEST_CASE("contact as an active set: a strip draped over a cylinder rests where the barrier's and a long "
+          "damped settle's do, its residual below the tolerance",
+          "[static]") {
+  const double R = 0.1, offset = 0.005;
+  const DrapedStrip strip = draped_strip();
+  SimulatorOptions so;
+  so.dt = 0.0025;
+  ClothSimulator sim(strip.mesh.V, strip.mesh.F, ClothParameters{}, so);
+  sim.set_pinned(strip.pins);
+  const Eigen::VectorXd offsets = Eigen::VectorXd::Constant(strip.mesh.V.rows(), offset);
+  const StaticBody body{cylinder(R), {}};
+
+  StaticSolveOptions held_options;
+  held_options.contact = StaticContact::active_set;
+  StaticSolver held(held_options);
+  Eigen::MatrixXd X = strip.start;
+  const StaticSolveReport a = held.solve(sim, body, offsets, X);
+  INFO("active set: " << a.iterations << " iterations, residual " << a.residual << ", " << a.contacts
+                      << " vertices held, " << a.released << " releases");
+  REQUIRE(a.converged);
+  CHECK(a.residual < held_options.tolerance);
+  CHECK(a.contacts > 10);  // the strip lies over the cylinder's top
+  double min_radius = 0.0;
+  const double recomputed = held_residual(sim, X, R, offset, min_radius);
+  CHECK(recomputed < held_options.tolerance);
+  CHECK(recomputed == Approx(a.residual).epsilon(1e-3));
+  // Held at the offset, no vertex within it.
+  CHECK(min_radius > R + offset - 1e-6);
+  CHECK(min_radius < R + offset + 1e-5);
+
+  // The barrier with a narrow band (it rests within a quarter millimetre of the offset).
+  StaticSolveOptions barrier_options;
+  barrier_options.barrier_band = 5e-4;
+  StaticSolver barrier(barrier_options);
+  Eigen::MatrixXd Y = strip.start;
+  const StaticSolveReport b = barrier.solve(sim, body, offsets, Y);
+  INFO("barrier: " << b.iterations << " iterations, residual " << b.residual);
+  REQUIRE(b.converged);
+  const double to_barrier = (X - Y).rowwise().norm().maxCoeff();
+  INFO("largest distance between the two equilibria " << to_barrier << " m");
+  CHECK(to_barrier < 1e-3);
+
+  // Eight seconds of damped steps with velocity constraints at the offset end within 1 mm of it.
+  gp::cloth::testing::FunctionContact step_body;
+  cylinder_contact(step_body, R + offset);
+  sim.set_contact(&step_body);
+  sim.set_positions(strip.start);
+  for (int s = 0; s < 3200; ++s) sim.step();
+  const double to_dynamic = (sim.positions() - X).rowwise().norm().maxCoeff();
+  INFO("largest distance to the damped settle " << to_dynamic << " m, its speed " << sim.max_speed() << " m/s");
+  CHECK(sim.max_speed() < 1e-3);
+  CHECK(to_dynamic < 1e-3);
+}
+
+TEST_CASE("contact as an active set: a strip pulled off the cylinder is released from it", "[static]") {
+  const double R = 0.1, offset = 0.005;
+  const DrapedStrip strip = draped_strip();
+  ClothSimulator sim(strip.mesh.V, strip.mesh.F);
+  sim.set_pinned(strip.pins);
+  const Eigen::VectorXd offsets = Eigen::VectorXd::Constant(strip.mesh.V.rows(), offset);
+  const StaticBody body{cylinder(R), {}};
+  StaticSolveOptions o;
+  o.contact = StaticContact::active_set;
+  StaticSolver solver(o);
+  Eigen::MatrixXd X = strip.start;
+  const StaticSolveReport on = solver.solve(sim, body, offsets, X);
+  REQUIRE(on.converged);
+  REQUIRE(on.contacts > 10);
+  // The pins lifted 28 cm: the strip, 0.6 m between pins 0.56 m apart, sags about 10 cm below them,
+  // clear of the cylinder's top (0.105 m) by more than 8 cm, if its held vertices let go.
+  for (int v : strip.pins) X(v, 1) = 0.3;
+  const StaticSolveReport off = solver.solve(sim, body, offsets, X);
+  INFO(off.iterations << " iterations, residual " << off.residual << ", " << off.released << " releases, "
+                      << off.contacts << " vertices held at the end");
+  REQUIRE(off.converged);
+  CHECK(off.released >= on.contacts);
+  CHECK(off.contacts == 0);
+  double min_radius = 0.0;
+  CHECK(held_residual(sim, X, R, offset, min_radius) < o.tolerance);
+  CHECK(min_radius > R + offset + 0.05);
+}
+
+TEST_CASE("contact as an active set: a sheet falling onto a small ball drapes over it and no step passes through",
+          "[static]") {
+  // The scene of the barrier's test above: the first Newton steps would carry the sheet through the
+  // ball (radius 3 cm) without the step limit.
+  gp::Mesh m = gp::testing::make_grid(16, 16, 0.3, 0.3);
+  m.V.col(0).array() -= 0.15;
+  m.V.col(2).array() -= 0.15;
+  m.V.col(1).setConstant(0.05);
+  const Eigen::Vector3d center(0.0, 0.0, 0.0);
+  const double radius = 0.03, offset = 0.004;
+  ClothSimulator sim(m.V, m.F);
+  const int n = 16;
+  sim.set_pinned({0, n, n * (n + 1), n * (n + 1) + n});
+  Eigen::MatrixXd X = m.V;
+  for (int v : sim.pinned()) X(v, 1) = -0.07;
+  StaticSolveOptions o;
+  o.contact = StaticContact::active_set;
+  StaticSolver solver(o);
+  const Eigen::VectorXd offsets = Eigen::VectorXd::Constant(m.V.rows(), offset);
+  const StaticSolveReport r = solver.solve(sim, StaticBody{sphere(center, radius), {}}, offsets, X);
+  INFO(r.iterations << " iterations, residual " << r.residual << ", " << r.contacts << " vertices held");
+  REQUIRE(r.converged);
+  CHECK(r.contacts > 0);
+  double closest = 1e9;
+  for (int v = 0; v < X.rows(); ++v) closest = std::min(closest, (X.row(v).transpose() - center).norm() - radius);
+  INFO("closest vertex " << closest << " m from the ball");
+  CHECK(closest > offset - 1e-6);
+  CHECK(X(n / 2 * (n + 1) + n / 2, 1) > radius);
+}
+
 TEST_CASE("the static solve refuses bad input", "[static]") {
   const gp::Mesh m = hanging_square();
   ClothSimulator sim(m.V, m.F);
@@ -250,5 +419,8 @@ TEST_CASE("the static solve refuses bad input", "[static]") {
   CHECK_THROWS_AS(StaticSolver(bad), gp::UsageError);
   bad = StaticSolveOptions{};
   bad.min_step = 1.0;
+  CHECK_THROWS_AS(StaticSolver(bad), gp::UsageError);
+  bad = StaticSolveOptions{};
+  bad.release_force = -1.0;
   CHECK_THROWS_AS(StaticSolver(bad), gp::UsageError);
 }

@@ -167,3 +167,55 @@ TEST_CASE("a nested options struct is written as an object and read back strictl
   gp::read_options(gp::SpecObject(none, "box.json"), false, d, BoxFields{});
   CHECK(d.inner.count == 3);
 }
+
+namespace {
+
+// A choice written only away from its usual value, and a number that only that choice has.
+struct Rare {
+  Shape shape = Shape::round;
+  double depth = 0.1;  // m, with Shape::flat only
+};
+
+struct RareFields {
+  template <class Fields>
+  void operator()(Rare& r, Fields& f) const {
+    f.optional_choice("shape", r.shape,
+                      gp::ChoiceNames<Shape>{{Shape::round, "round"}, {Shape::square, "square"}, {Shape::flat, "flat"}},
+                      Shape::round);
+    if (r.shape == Shape::flat) f.number("depth_m", r.depth, gp::Range::positive());
+  }
+};
+
+}  // namespace
+
+TEST_CASE("an optional choice is written only away from its absent value, which a missing key reads as",
+          "[spec]") {
+  Rare usual;
+  CHECK(gp::write_options(usual, RareFields{}).dump() == "{}");
+  Rare rare;
+  rare.shape = Shape::flat;
+  rare.depth = 0.25;
+  const gp::OrderedJson j = gp::write_options(rare, RareFields{});
+  CHECK(j.dump() == R"({"shape":"flat","depth_m":0.25})");
+
+  const gp::Json parsed = gp::Json::parse(j.dump());
+  Rare back;
+  gp::read_options(gp::SpecObject(parsed, "rare.json"), true, back, RareFields{});
+  CHECK(back.shape == Shape::flat);
+  CHECK(back.depth == 0.25);
+
+  // Required: a missing key is the absent value, not the one the struct had.
+  const gp::Json empty = gp::Json::object();
+  Rare was_flat = rare;
+  gp::read_options(gp::SpecObject(empty, "rare.json"), true, was_flat, RareFields{});
+  CHECK(was_flat.shape == Shape::round);
+  // Not required (a spec): the value it had.
+  Rare kept = rare;
+  const gp::Json only_depth = gp::Json::parse(R"({"depth_m":0.5})");
+  gp::read_options(gp::SpecObject(only_depth, "rare.json"), false, kept, RareFields{});
+  CHECK(kept.shape == Shape::flat);
+  CHECK(kept.depth == 0.5);
+  // The choice's names are checked as a plain choice's.
+  const gp::Json bad = gp::Json::parse(R"({"shape":"oval"})");
+  CHECK_THROWS_AS(gp::read_options(gp::SpecObject(bad, "rare.json"), true, back, RareFields{}), gp::SpecError);
+}
