@@ -1,54 +1,14 @@
 #pragma once
-// The cloth's static equilibrium against a still body, solved directly: the minimum of the
-// potential
-//   E(x) = E_membrane(x) + E_bend(x) + E_gravity(x) + sum_i B_i(d_i(x_i))
-// over the free vertices (pinned ones held where they are), by Newton's method with a line search.
-//
-// Contact is a barrier on the distances d of each vertex to the body's triangles (the incremental
-// potential contact of Li et al. 2020, "Incremental Potential Contact", sec. 4, point against
-// triangle; see StaticBody):
-//   B_i = sum_d kappa a_i g phi(s),  s = (d - w_i) / g,  phi(s) = -(s - 1)^2 ln s  for s < 1, else 0,
-// with a_i the vertex's rest area [m^2], kappa a pressure [Pa] (kappa |phi'(s)| is the contact
-// pressure at s; |phi'(1/2)| = 1.19), g the band where the barrier acts and w_i its wall, half the
-// band below the vertex's comfort offset (lower where the vertex starts below that): cloth pressed
-// onto the body rests near the offset, as the damped steps' hard offset holds it. The Hessian keeps
-// B'' n n^T + B' Hess(d), Hess(d) the curvature of the distance to a feature ((I - n n^T) / d at a
-// vertex, less the edge direction's part at an edge, 0 at an interior), projected to PSD per vertex
-// as the membrane's Hessian is per triangle: the curvature term (negative where the barrier pushes)
-// lets a vertex slide around a body edge it is pressed onto in one step instead of many.
-//
-// Each iteration solves, like an implicit Euler step from rest with pseudo time step tau [s],
-//   (M / tau^2 + H_psd + k_bend Q + sum_i Hess(B_i)_psd) dx = -grad E(x)
-// M / tau^2 is a proximal term towards the current iterate in the mass metric: it makes the
-// directions only bending holds (a free hem that can buckle) well posed and the iterates
-// deterministic, and fades against the membrane stiffness as tau grows (towards Newton's method):
-// tau doubles after a full step and shrinks to a quarter after a step the line search cut below
-// 1/10. The line search backtracks (Armijo) from the largest step that keeps every vertex outside
-// its wall and moves no vertex near the body by more than `max_displacement` (a vertex whose
-// displacement stays below its distance to the wall cannot reach it, whatever the path), so no
-// step passes through the body.
-//
-// Converged: the force residual, the root mean square of grad E over the free vertices in units of
-// their mean weight m g, is below `tolerance`. No damping, no velocities: the result is where the
-// cloth comes to rest, not how.
-//
-// Contact as an active set (StaticSolveOptions::contact active_set) instead of the barrier: the
-// potential is the cloth's alone, and the body is the constraint d_i(x_i) >= l_i on each free
-// vertex, l_i its comfort offset (at most half the room in a pinch), the level the damped steps'
-// hard offset holds. A vertex at its level (within 1 micrometre), or held in the last iteration and
-// within the band of it, is held: the Newton step prescribes its displacement along the body's
-// outward normal n (n . dx = max(l - d, 0), at most max_displacement; the same filtered system the
-// time steps solve, cloth/contact_set.h, with sol = dx / tau), and leaves it free along the body. A
-// vertex in a crease is held along a second normal, to the body feature at its level most inclined
-// to the first (down to 0.6 degrees apart). The Lagrange force on a held normal at the iterate,
-// lambda = n . grad E, is the body's push; where it would have to pull the vertex towards the body
-// by more than `release_force`, that normal is let go before the step (the vertex, or only its
-// crease's second side). The line search takes the trial
-// points x + alpha dx with every vertex that ended below its level moved out to it along the body's
-// normal (a projected search), under the same safe-step limit as the barrier's, with the wall at the
-// level: no step passes through the body. The force residual at an active-set iterate leaves out, at
-// a held vertex, the part of grad E that presses it onto the body (the body bears it); a pull away
-// from the body counts in full.
+// The cloth's static equilibrium against a still body, solved directly: the minimum of
+//   E(x) = E_membrane(x) + E_bend(x) + E_gravity(x) + contact
+// over the free vertices by Newton's method with a line search, each iteration an implicit Euler
+// step from rest with pseudo time step tau, so that M / tau^2 regularises the directions only
+// bending holds (a free hem that can buckle). Contact is a barrier (Li et al. 2020, "Incremental
+// Potential Contact", sec. 4) or an active set of vertices held along the body's normal (Baraff &
+// Witkin 1998, sec. 5.3); either way the line search keeps every vertex outside its wall, so no step
+// passes through the body. Converged: the force residual (RMS of grad E over the free vertices, in
+// their mean weight m g) is below the tolerance. The method in full: cloth/README.md, "The static
+// solve".
 #include <functional>
 #include <limits>
 #include <utility>
