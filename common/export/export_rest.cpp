@@ -464,15 +464,15 @@ PatternOptions plain_cut(PatternOptions po) {
   return po;
 }
 
+bool pulled_within_limit(const PatternOptions& po) {
+  return po.flatten.limit_rounds > 0 || po.panels.min_relief_share > 0.0;
+}
+
 // 0: the sewn garment passes; 1: it fails the drape bounds only; 2: it
 // fails the stretch bounds, or its simulation failed.
 int sewn_fit_severity(const ExportRestResult& r) {
   if (!r.sewn_fit_failed()) return 0;
   return r.sewn_fit_error.empty() && r.sewn_fit.verification.passed() ? 1 : 2;
-}
-
-bool same_cut(const PatternOptions& a, const PatternOptions& b) {
-  return a.flatten.limit_rounds == b.flatten.limit_rounds && a.panels.min_relief_share == b.panels.min_relief_share;
 }
 
 }  // namespace
@@ -516,8 +516,7 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
     // a garment that fails the fit, the plain cut is tried and kept where its garment fails less: a
     // garment that fails the stretch bounds cannot be worn, one that only drapes farther from the
     // fit than the drape bounds can.
-    const PatternOptions plain = plain_cut(pattern_options);
-    if (result.sewn_fit_failed() && !same_cut(plain, pattern_options)) {
+    if (result.sewn_fit_failed() && pulled_within_limit(pattern_options)) {
       const std::string because =
           result.sewn_fit_error.empty() ? sewn_fit_failure(result.sewn_fit, result.pattern) : result.sewn_fit_error;
       ExportRestResult weighted = result;
@@ -525,7 +524,7 @@ ExportRestResult export_rest(const ExportRestOptions& options) {
       result.sewn_fit_error.clear();
       result.sewn_fit_done = false;
       result.warnings = input_warnings;
-      cut_pattern(plain, options.layout, context, result);
+      cut_pattern(plain_cut(pattern_options), options.layout, context, result);
       lap("cut_and_flatten_plain");
       run_sewn_fit(options, design, result);
       lap("sewn_fit_plain");

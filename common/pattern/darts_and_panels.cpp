@@ -551,7 +551,18 @@ namespace {
 // two runs of about half its length each and so halves its winding;
 // nullopt when none runs inside. The path may be a single inner edge
 // between two outline vertices (a rung of a narrow strip).
-std::optional<SurfaceCurve> halving_cut(const PatternPiece& p, int from, double window) {
+// A piece's vertex graph for its halving cuts: one ring per vertex, and
+// which vertices lie on its outline.
+struct PieceGraph {
+  std::vector<std::vector<int>> neighbors;
+  std::vector<char> on_outline;
+};
+
+PieceGraph piece_graph(const PatternPiece& p) {
+  return {vertex_neighbors(p.F, static_cast<int>(p.V.rows())), boundary_flags(p)};
+}
+
+std::optional<SurfaceCurve> halving_cut(const PatternPiece& p, const PieceGraph& graph, int from, double window) {
   const std::vector<int>& loop = p.boundary;
   const size_t nb = loop.size();
   const auto start = std::find(loop.begin(), loop.end(), from);
@@ -569,18 +580,8 @@ std::optional<SurfaceCurve> halving_cut(const PatternPiece& p, int from, double 
   for (size_t k = 2; window > 0.0 && k + 1 < nb; ++k) {
     if (std::abs(along[k] - 0.5 * length) <= window * length) is_target[static_cast<size_t>(loop[(i0 + k) % nb])] = 1;
   }
-  const std::vector<char> on_outline = boundary_flags(p);
-  std::vector<std::vector<int>> neighbors(static_cast<size_t>(p.V.rows()));
-  for (int f = 0; f < p.F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a = p.F(f, k), b = p.F(f, (k + 1) % 3);
-      neighbors[static_cast<size_t>(a)].push_back(b);
-      neighbors[static_cast<size_t>(b)].push_back(a);
-    }
-  for (auto& n : neighbors) {
-    std::sort(n.begin(), n.end());
-    n.erase(std::unique(n.begin(), n.end()), n.end());
-  }
+  const std::vector<std::vector<int>>& neighbors = graph.neighbors;
+  const std::vector<char>& on_outline = graph.on_outline;
   const double inf = std::numeric_limits<double>::infinity();
   GraphSearch<double> search = graph_search(neighbors.size(), inf, true);
   int reached = -1;
@@ -614,11 +615,11 @@ std::optional<SurfaceCurve> halving_cut(const PatternPiece& p, int from, double 
 // tenth of half way round): where no cut from the crossing runs inside, as
 // in a strip that winds past a full turn, whose crossing lies at its ends
 // and whose halving cut is a rung near its middle.
-std::optional<SurfaceCurve> shortest_halving_cut(const PatternPiece& p) {
+std::optional<SurfaceCurve> shortest_halving_cut(const PatternPiece& p, const PieceGraph& graph) {
   std::optional<SurfaceCurve> best;
   double best_length = std::numeric_limits<double>::infinity();
   for (int from : p.boundary) {
-    std::optional<SurfaceCurve> cut = halving_cut(p, from, 0.1);
+    std::optional<SurfaceCurve> cut = halving_cut(p, graph, from, 0.1);
     if (!cut) continue;
     const double length = curve_length(p.V, p.F, *cut);
     if (length < best_length) {
@@ -670,12 +671,13 @@ int split_overlapping_pieces(Pattern& pattern, const PatternOptions& options, Fl
       // piece that winds past a full turn overlaps too: else the shortest
       // path through the piece from the crossing to the outline point
       // halfway round from it, which halves the outline's winding.
+      const PieceGraph graph = curve ? PieceGraph{} : piece_graph(p);
       for (size_t i = 0; !curve && i < p.flat.overlap_vertex_ids.size(); ++i) {
-        curve = halving_cut(p, p.flat.overlap_vertex_ids[i], 0.0);
+        curve = halving_cut(p, graph, p.flat.overlap_vertex_ids[i], 0.0);
         where = "the shortest path through it from the crossing to the outline point halfway round";
       }
       if (!curve) {
-        curve = shortest_halving_cut(p);
+        curve = shortest_halving_cut(p, graph);
         where = "the shortest cut through it that halves its outline";
       }
       if (!curve) continue;

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "cloth/cloth_model.h"
 #include "cloth/cloth_simulator.h"
@@ -149,6 +150,34 @@ double held_residual(const ClothSimulator& sim, const Eigen::MatrixXd& X, double
   return std::sqrt(sum / n) / (mass / n * sim.parameters().gravity.norm());
 }
 
+// A 30 cm sheet 5 cm above a ball (radius 3 cm, at the origin), pinned at its four corners 7 cm
+// below the ball's centre: it falls 10 cm and more, so the first Newton steps would carry a vertex
+// into or beyond the ball without the step limit.
+struct BallScene {
+  static constexpr int n = 16;
+  static constexpr double radius = 0.03, offset = 0.004;
+  gp::Mesh mesh;
+  std::vector<int> pins{0, n, n * (n + 1), n * (n + 1) + n};
+  Eigen::MatrixXd start;
+  int middle = n / 2 * (n + 1) + n / 2;
+};
+
+BallScene ball_scene() {
+  BallScene b;
+  b.mesh = gp::testing::make_grid(BallScene::n, BallScene::n, 0.3, 0.3);
+  b.mesh.V.col(0).array() -= 0.15;
+  b.mesh.V.col(2).array() -= 0.15;
+  b.mesh.V.col(1).setConstant(0.05);
+  b.start = b.mesh.V;
+  for (int v : b.pins) b.start(v, 1) = -0.07;
+  return b;
+}
+
+// The distance of the vertex of X (#V by 3) nearest the ball to its surface [m].
+double closest_to_ball(const Eigen::MatrixXd& X) {
+  return X.rowwise().norm().minCoeff() - BallScene::radius;
+}
+
 }  // namespace
 
 TEST_CASE("the barrier's derivatives match finite differences", "[static]") {
@@ -261,34 +290,22 @@ TEST_CASE("a strip pressed onto a cylinder rests outside it at equilibrium, as t
 }
 
 TEST_CASE("a sheet falling onto a small ball drapes over it and no step passes through", "[static]") {
-  // The ball (radius 3 cm) is smaller than the first Newton steps would move the sheet (it falls
-  // 10 cm and more): without the step limit a vertex would land inside or beyond it.
-  gp::Mesh m = gp::testing::make_grid(16, 16, 0.3, 0.3);
-  m.V.col(0).array() -= 0.15;
-  m.V.col(2).array() -= 0.15;
-  m.V.col(1).setConstant(0.05);
-  const Eigen::Vector3d center(0.0, 0.0, 0.0);
-  const double radius = 0.03, offset = 0.004;
-  SimulatorOptions so;
-  ClothSimulator sim(m.V, m.F, ClothParameters{}, so);
-  // Pinned at its four corners, 10 cm below the ball's top.
-  const int n = 16;
-  sim.set_pinned({0, n, n * (n + 1), n * (n + 1) + n});
-  Eigen::MatrixXd X = m.V;
-  for (int v : sim.pinned()) X(v, 1) = -0.07;
+  const BallScene b = ball_scene();
+  ClothSimulator sim(b.mesh.V, b.mesh.F);
+  sim.set_pinned(b.pins);
+  Eigen::MatrixXd X = b.start;
   StaticSolver solver;
-  const Eigen::VectorXd offsets = Eigen::VectorXd::Constant(m.V.rows(), offset);
-  const StaticSolveReport r = solver.solve(sim, StaticBody{sphere(center, radius), {}}, offsets, X);
+  const Eigen::VectorXd offsets = Eigen::VectorXd::Constant(b.mesh.V.rows(), b.offset);
+  const StaticSolveReport r = solver.solve(sim, StaticBody{sphere(Eigen::Vector3d::Zero(), b.radius), {}}, offsets, X);
   INFO(r.iterations << " iterations, residual " << r.residual << ", " << r.contacts << " vertices in the band");
   REQUIRE(r.converged);
   CHECK(r.contacts > 0);
-  double closest = 1e9;
-  for (int v = 0; v < X.rows(); ++v) closest = std::min(closest, (X.row(v).transpose() - center).norm() - radius);
+  const double closest = closest_to_ball(X);
   INFO("closest vertex " << closest << " m from the ball");
-  CHECK(closest > offset - 0.5 * solver.options().barrier_band);
-  CHECK(closest < offset + 0.5 * solver.options().barrier_band);
+  CHECK(closest > b.offset - 0.5 * solver.options().barrier_band);
+  CHECK(closest < b.offset + 0.5 * solver.options().barrier_band);
   // The middle of the sheet rests on top of the ball, not below it.
-  CHECK(X(n / 2 * (n + 1) + n / 2, 1) > radius);
+  CHECK(X(b.middle, 1) > b.radius);
 }
 
 TEST_CASE("contact as an active set: a strip draped over a cylinder rests where the barrier's and a long "
@@ -375,32 +392,22 @@ TEST_CASE("contact as an active set: a strip pulled off the cylinder is released
 
 TEST_CASE("contact as an active set: a sheet falling onto a small ball drapes over it and no step passes through",
           "[static]") {
-  // The scene of the barrier's test above: the first Newton steps would carry the sheet through the
-  // ball (radius 3 cm) without the step limit.
-  gp::Mesh m = gp::testing::make_grid(16, 16, 0.3, 0.3);
-  m.V.col(0).array() -= 0.15;
-  m.V.col(2).array() -= 0.15;
-  m.V.col(1).setConstant(0.05);
-  const Eigen::Vector3d center(0.0, 0.0, 0.0);
-  const double radius = 0.03, offset = 0.004;
-  ClothSimulator sim(m.V, m.F);
-  const int n = 16;
-  sim.set_pinned({0, n, n * (n + 1), n * (n + 1) + n});
-  Eigen::MatrixXd X = m.V;
-  for (int v : sim.pinned()) X(v, 1) = -0.07;
+  const BallScene b = ball_scene();
+  ClothSimulator sim(b.mesh.V, b.mesh.F);
+  sim.set_pinned(b.pins);
+  Eigen::MatrixXd X = b.start;
   StaticSolveOptions o;
   o.contact = StaticContact::active_set;
   StaticSolver solver(o);
-  const Eigen::VectorXd offsets = Eigen::VectorXd::Constant(m.V.rows(), offset);
-  const StaticSolveReport r = solver.solve(sim, StaticBody{sphere(center, radius), {}}, offsets, X);
+  const Eigen::VectorXd offsets = Eigen::VectorXd::Constant(b.mesh.V.rows(), b.offset);
+  const StaticSolveReport r = solver.solve(sim, StaticBody{sphere(Eigen::Vector3d::Zero(), b.radius), {}}, offsets, X);
   INFO(r.iterations << " iterations, residual " << r.residual << ", " << r.contacts << " vertices held");
   REQUIRE(r.converged);
   CHECK(r.contacts > 0);
-  double closest = 1e9;
-  for (int v = 0; v < X.rows(); ++v) closest = std::min(closest, (X.row(v).transpose() - center).norm() - radius);
+  const double closest = closest_to_ball(X);
   INFO("closest vertex " << closest << " m from the ball");
-  CHECK(closest > offset - 1e-6);
-  CHECK(X(n / 2 * (n + 1) + n / 2, 1) > radius);
+  CHECK(closest > b.offset - 1e-6);
+  CHECK(X(b.middle, 1) > b.radius);
 }
 
 TEST_CASE("the static solve refuses bad input", "[static]") {

@@ -80,13 +80,18 @@ PatternOptions plain_options() {
   return o;
 }
 
+// The mesh cut as one piece, its overlap left in place.
+Pattern unsplit(const Mesh& m) {
+  PatternOptions o = plain_options();
+  o.panels.max_overlap_splits = 0;
+  return make_pattern(m.V, m.F, {}, o);
+}
+
 }  // namespace
 
 TEST_CASE("a fan winding past a full turn is split until no piece overlaps itself", "[cutter][overlap]") {
   const Mesh fan = winding_fan(1.5, 36);
-  PatternOptions o = plain_options();
-  o.panels.max_overlap_splits = 0;
-  const Pattern whole = make_pattern(fan.V, fan.F, {}, o);
+  const Pattern whole = unsplit(fan);
   REQUIRE(whole.pieces.size() == 1);
   CHECK(whole.pieces[0].flat.boundary_overlaps);  // 540 degrees cannot lie flat without overlapping
   CHECK(whole.pieces[0].stats.worst1_compression < 0.01);  // developable: no distortion, only the overlap
@@ -123,9 +128,7 @@ TEST_CASE("export-rest writes no pattern with an overlapping piece", "[cli][over
 
 TEST_CASE("a band with no inner vertex, winding past a full turn, is split along its rungs", "[cutter][overlap]") {
   const Mesh band = winding_band(1.5, 48);
-  PatternOptions o = plain_options();
-  o.panels.max_overlap_splits = 0;
-  const Pattern whole = make_pattern(band.V, band.F, {}, o);
+  const Pattern whole = unsplit(band);
   REQUIRE(whole.pieces.size() == 1);
   CHECK(whole.pieces[0].flat.boundary_overlaps);
 
