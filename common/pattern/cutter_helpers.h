@@ -33,4 +33,8 @@ std::vector<char> boundary_flags(const PatternPiece& p);
 // The rest faces piece c covers, sorted.
 std::vector<int> piece_rest_faces(const Pattern& pattern, size_t c);
 
+// The limb (sleeve) piece c belongs to: the one holding more than half of
+// its area (cut_armholes), or -1 (the body's, or no limbs found).
+int piece_limb(const Pattern& pattern, size_t c);
+
 }  // namespace gp

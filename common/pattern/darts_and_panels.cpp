@@ -97,20 +97,8 @@ class DartPanelPlacer {
   // many pieces each limb has.
   void count_limb_pieces() {
     limb_of_piece_.assign(pattern_.pieces.size(), -1);
-    if (pattern_.limb_of_rest_face.empty()) return;
     for (size_t c = 0; c < pattern_.pieces.size(); ++c) {
-      const PatternPiece& p = pattern_.pieces[c];
-      std::map<int, double> on_limb;
-      double area = 0.0;
-      for (size_t i = 0; i < p.face_ids.size(); ++i) {
-        const Eigen::Vector3d a = p.V.row(p.F(static_cast<int>(i), 0)), b = p.V.row(p.F(static_cast<int>(i), 1)),
-                              e = p.V.row(p.F(static_cast<int>(i), 2));
-        const double w = 0.5 * (b - a).cross(e - a).norm();
-        on_limb[pattern_.limb_of_rest_face[static_cast<size_t>(pattern_.mesh.rest_face[static_cast<size_t>(p.face_ids[i])])]] += w;
-        area += w;
-      }
-      for (const auto& [limb, w] : on_limb)
-        if (limb >= 0 && w > 0.5 * area) limb_of_piece_[c] = limb;
+      limb_of_piece_[c] = piece_limb(pattern_, c);
       if (limb_of_piece_[c] >= 0) ++limb_pieces_[limb_of_piece_[c]];
     }
   }

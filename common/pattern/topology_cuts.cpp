@@ -32,7 +32,8 @@ void cut_to_disks(Pattern& pattern, const PatternOptions& options, const Pattern
   for (int round = 0; round < 1000; ++round) {
     std::vector<PatternSeam> seams;
     std::vector<SurfaceCurve> curves;
-    for (const PatternPiece& p : pattern.pieces) {
+    for (size_t piece = 0; piece < pattern.pieces.size(); ++piece) {
+      const PatternPiece& p = pattern.pieces[piece];
       const auto loops = boundary_loops(p.F);
       const int euler = euler_characteristic(p.F);
       if (loops.size() == 1 && euler == 1) continue;
@@ -84,9 +85,27 @@ void cut_to_disks(Pattern& pattern, const PatternOptions& options, const Pattern
         std::vector<int> loop_of(static_cast<size_t>(n), -1);
         for (size_t l = 0; l < loops.size(); ++l)
           for (int v : loops[l]) loop_of[static_cast<size_t>(v)] = static_cast<int>(l);
+        // A tailor's sleeve seam runs under the arm, from the cuff to the
+        // armpit, where it splits the armpit's saddle between its two sides:
+        // from the lowest point of a sleeve's outline (the underside of the
+        // cuff or the armpit, in a design pose with the arms down or out).
+        // Joined anywhere along a loop instead, one sleeve of the generated
+        // shirt was opened over the shoulder, its armpit in the middle of the
+        // piece (pattern README, "Sleeves opened under the arm").
+        int from_loop = 0;
+        std::vector<int> sources = loops.front();
+        const bool sleeve = piece_limb(pattern, piece) >= 0;
+        if (sleeve) {
+          std::vector<int> all;
+          for (const auto& loop : loops) all.insert(all.end(), loop.begin(), loop.end());
+          const int lowest =
+              *std::min_element(all.begin(), all.end(), [&](int a, int b) { return p.V(a, 1) < p.V(b, 1); });
+          from_loop = loop_of[static_cast<size_t>(lowest)];
+          sources = {lowest};
+        }
         int reached = -1;
-        const GraphSearch<double> search = search_from(loops.front(), [&](int v) {
-          if (loop_of[static_cast<size_t>(v)] > 0) {
+        const GraphSearch<double> search = search_from(sources, [&](int v) {
+          if (loop_of[static_cast<size_t>(v)] >= 0 && loop_of[static_cast<size_t>(v)] != from_loop) {
             reached = v;
             return true;
           }
@@ -95,9 +114,10 @@ void cut_to_disks(Pattern& pattern, const PatternOptions& options, const Pattern
         if (reached < 0) throw GeometryError("piece " + p.name + " has boundary loops that no path joins");
         path = trace_parents(search.parent, reached);
         reason = "piece " + p.name + " has " + std::to_string(loops.size()) +
-                 " boundary loops and must be a disk to be flattened: joins the boundary " + loop_name(loops.front()) +
+                 " boundary loops and must be a disk to be flattened: joins the boundary " + loop_name(loops[static_cast<size_t>(from_loop)]) +
                  " to the boundary " + loop_name(loops[static_cast<size_t>(loop_of[static_cast<size_t>(reached)])]) +
-                 " along the shortest path that keeps off the front and back";
+                 (sleeve ? " along the shortest path from its lowest point (under the arm)"
+                         : " along the shortest path that keeps off the front and back");
       }
       PatternSeam seam{"join" + std::to_string(++count), "topology", reason, {}, false, false, {}};
       SurfaceCurve c;

@@ -346,3 +346,58 @@ TEST_CASE("a generated rest shape without seams is cut with no overlap, and a pi
   }
   if (sum["meets_distortion_limit"] == false) CHECK(r.err.find("its worst") != std::string::npos);
 }
+
+TEST_CASE("a sleeve cut without seams is opened under the arm", "[cli][shirt]") {
+  // The generated shirt at twice the test's resolution, cut with neither
+  // seams nor a garment file: each sleeve, a tube between its cuff and its
+  // armhole, needs a cut to flatten. A tailor's runs under the arm; joined
+  // anywhere along the loop, this shirt's right sleeve was opened over the
+  // shoulder (its join 1.6 cm above its armhole's centre, the armpit's saddle
+  // in the middle of the piece, eased by 14.3 % over its worst 5 %) and the
+  // left one under the arm (6 cm below, 9.4 %); now both under the arm (the
+  // right one 10.8 %).
+  const Shirt& s = shirt();
+  INFO(s.error);
+  REQUIRE(s.ok);
+  const fs::path customer = testing::source_dir() / "testdata" / "customers" / "small-shirt";
+  Json spec = read_json_file(customer / "garment-spec.json");
+  spec["resolution"]["vertex_count"] = 2200;
+  std::ofstream(s.dir / "spec-2200.json") << spec.dump(2);
+  auto r = testing::run_command(testing::tool_path("make-garment") + " " + (s.dir / "spec-2200.json").string() +
+                                " --poses " + (s.dir / "body" / "poses.json").string() + " -q --out " +
+                                (s.dir / "garment-2200").string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  r = testing::run_command(testing::tool_path("export-rest") + " " + (s.dir / "garment-2200" / "garment.ply").string() +
+                           " -q --out " + (s.dir / "sleeves-2200").string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const Json report = read_json_file(s.dir / "sleeves-2200" / "report.json");
+  CHECK(report["summary"]["overlapping_pieces"] == 0);
+  const auto seams = read_seams(s.dir / "sleeves-2200" / "seams.obj");
+  std::vector<Eigen::Vector3d> armholes;
+  for (const auto& c : report["added_cuts"])
+    if (c["kind"] == "armhole") armholes.push_back(seams.at(c["name"].get<std::string>()).colwise().mean().transpose());
+  REQUIRE(armholes.size() == 2);
+  int sleeve_joins = 0;
+  for (const auto& c : report["added_cuts"]) {
+    const std::string reason = c["reason"];
+    if (c["kind"] != "topology" || reason.find("sleeve") == std::string::npos) continue;
+    ++sleeve_joins;
+    INFO(reason);
+    const Eigen::Vector3d join = seams.at(c["name"].get<std::string>()).colwise().mean().transpose();
+    const Eigen::Vector3d& armhole =
+        (join - armholes[0]).norm() < (join - armholes[1]).norm() ? armholes[0] : armholes[1];
+    // Under the arm: well below the armhole's centre (the arm's radius is
+    // about 5 cm here), on the side of the body it faces.
+    CHECK(join.y() < armhole.y() - 0.03);
+    CHECK(std::abs(join.x()) < std::abs(armhole.x()));
+    CHECK(reason.find("under the arm") != std::string::npos);
+  }
+  CHECK(sleeve_joins == 2);
+  for (const auto& p : report["pieces"]) {
+    if (p["name"].get<std::string>().find("sleeve") == std::string::npos) continue;
+    INFO(p["name"]);
+    CHECK(p["distortion"]["ease_worst5"].get<double>() < 0.12);
+  }
+}
