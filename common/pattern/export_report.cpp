@@ -166,6 +166,7 @@ namespace {
 OrderedJson pattern_summary(const Pattern& pattern, const Layout& layout, const std::vector<SeamMeasure>& seams) {
   double area_3d = 0.0, area_2d = 0.0, worst_p95 = 0.0, worst_max = 0.0, seam_length = 0.0, added_length = 0.0;
   double worst_compression_p99 = 0.0, worst_compression = 0.0, worst_ease_p95 = 0.0, worst_ease = 0.0;
+  double worst_median_ease = 0.0;
   double worst1_compression = 0.0, worst5_ease = 0.0;
   double smallest = std::numeric_limits<double>::infinity();
   int flipped = 0, overlapping = 0, seams_ok = 0, most_darts = 0;
@@ -180,6 +181,7 @@ OrderedJson pattern_summary(const Pattern& pattern, const Layout& layout, const 
     worst5_ease = std::max(worst5_ease, st.worst5_ease);
     worst_compression = std::max(worst_compression, st.max_compression);
     worst_ease_p95 = std::max(worst_ease_p95, st.p95_stretch);
+    worst_median_ease = std::max(worst_median_ease, st.median_ease);
     worst_ease = std::max(worst_ease, st.max_stretch);
     smallest = std::min(smallest, st.area_3d);
     flipped += p.flat.stats.flipped_triangles;
@@ -218,6 +220,7 @@ OrderedJson pattern_summary(const Pattern& pattern, const Layout& layout, const 
           {"worst_compression_max", worst_compression},
           {"worst_ease_p95", worst_ease_p95},
           {"worst_ease_max", worst_ease},
+          {"worst_median_ease", worst_median_ease},
           {"worst_p95_error", worst_p95},
           {"worst_max_error", worst_max},
           {"meets_distortion_limit", pattern.meets_limit},
@@ -298,7 +301,9 @@ OrderedJson piece_json(const Pattern& pattern, const Layout& layout, const Patte
             {"p95_error", s.p95_error},
             {"max_error", s.max_error},
             {"mean_error", s.mean_error},
-            {"p95_compression", s.p95_compression}}},
+            {"p95_compression", s.p95_compression},
+            {"median_ease", s.median_ease},
+            {"median_compression", s.median_compression}}},
           {"meets_limit", p.meets_limit},
           {"over_limit", bounds_exceeded(p, options)},
           {"worst_at", worst_at},

@@ -94,6 +94,8 @@ DistortionStats distortion_stats(const Eigen::MatrixXd& S, const Eigen::VectorXd
   st.p95_stretch = percentile(str, 0.95);
   st.p95_compression = percentile(com, 0.95);
   st.p99_compression = percentile(com, 0.99);
+  st.median_ease = percentile(str, 0.5);
+  st.median_compression = percentile(com, 0.5);
   return st;
 }
 

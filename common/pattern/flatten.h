@@ -106,6 +106,12 @@ struct DistortionStats {
   double worst1_compression = 0.0;
   double worst5_ease = 0.0;
   double mean_error = 0.0;       // area-weighted mean of max(|s1-1|, |s2-1|)
+  // The bulk of the piece (the median by area, not its tail): the one-sided
+  // energy eases most of a curved piece a little rather than compress any,
+  // and that ease is cloth the sewn garment carries (pattern README,
+  // "Ease in the bulk").
+  double median_ease = 0.0;         // median (by area) of s1 - 1
+  double median_compression = 0.0;  // median (by area) of 1 - s2
   double area_3d = 0.0;          // m^2
   double area_2d = 0.0;          // m^2 (signed sum of the flat triangles)
   int flipped_triangles = 0;     // flat triangles with area <= 0
