@@ -329,6 +329,10 @@ void pattern_figures_section(std::string& h, const StageReport& pattern, const s
             figure(pattern, "/summary/seams", "integer") + " (" + optional_figure(pattern, "/summary/worst_seam_mismatch", "mm2") +
             ")</td></tr>\n";
   h += "<tr><th>within the limit</th><td>" + figure(pattern, "/summary/meets_distortion_limit", "yesno") + "</td></tr>\n";
+  // The bulk's ease, which the sewn garment carries and the limit's tails do not show (pattern README,
+  // "Ease in the bulk"); absent from reports before it.
+  h += "<tr><th>ease of the median triangle, the most eased piece</th><td>" +
+       optional_figure(pattern, "/summary/worst_median_ease", "percent2") + "</td></tr>\n";
   h += "<tr><th>sheet</th><td>" + optional_figure(pattern, "/summary/sheet_width", "metres2") + " &times; " +
        optional_figure(pattern, "/summary/sheet_height", "metres2") + "</td></tr>\n";
   const std::string sewn = sewn_fit_pointer(pattern);
