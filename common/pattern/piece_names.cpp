@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "mesh/measures.h"
+#include "pattern/cutter_helpers.h"
 
 namespace gp {
 namespace {
@@ -83,7 +84,6 @@ void name_pieces(Pattern& pattern, const PieceMirror& mirror) {
     const PatternPiece& p = pattern.pieces[c];
     PieceFrame& fr = frames[c];
     double area = 0.0;
-    std::map<int, double> on_limb;
     for (size_t i = 0; i < p.face_ids.size(); ++i) {
       const Eigen::Vector3d a = p.V.row(p.F(static_cast<int>(i), 0)), b = p.V.row(p.F(static_cast<int>(i), 1)),
                             d = p.V.row(p.F(static_cast<int>(i), 2));
@@ -93,16 +93,12 @@ void name_pieces(Pattern& pattern, const PieceMirror& mirror) {
       fr.left_share += (a.x() + b.x() + d.x()) / 3.0 > axis.x() ? w : 0.0;
       fr.normal += n;
       area += w;
-      const int rest = mesh.rest_face[static_cast<size_t>(p.face_ids[i])];
-      const int limb = pattern.limb_of_rest_face.empty() ? -1 : pattern.limb_of_rest_face[static_cast<size_t>(rest)];
-      on_limb[limb] += w;
     }
     if (area > 0.0) {
       fr.centroid /= area;
       fr.left_share /= area;
     }
-    for (const auto& [limb, w] : on_limb)
-      if (limb >= 0 && w > 0.5 * area) fr.limb = limb;
+    fr.limb = piece_limb(pattern, c);
   }
   // A mirrored pair is seen as the average of the two, each the other's
   // mirror image across the mirror's plane.
