@@ -323,8 +323,8 @@ UnitsAndUp units_and_up(const Mesh& reference, const std::string& name, const Re
   return u;
 }
 
-// Every usable pose in metres, y up, and its edge lengths against the
-// reference's (a fail beyond max_edge_ratio).
+// Every usable pose in metres, y up, its edge lengths against the
+// reference's (a fail beyond max_edge_ratio) and its surface's growth.
 void compare_edge_lengths(const std::vector<PoseInput>& inputs, const std::vector<bool>& usable,
                           const std::vector<Eigen::MatrixXd>& V_ordered, const RegisterCheckOptions& o,
                           RegisterCheckResult& r) {
@@ -338,6 +338,7 @@ void compare_edge_lengths(const std::vector<PoseInput>& inputs, const std::vecto
   for (int i = 0; i < n; ++i) {
     if (i == ref || r.poses[i].V.rows() == 0 || r.poses[ref].V.rows() == 0) continue;
     r.poses[i].edge_ratios = edge_ratio_stats(r.poses[ref].V, r.poses[i].V, E, o.worst_edges);
+    r.poses[i].surface_growth = surface_growth(r.poses[ref].V, r.poses[i].V, r.F, o.surface_radius);
     const EdgeRatioStats& s = *r.poses[i].edge_ratios;
     if (s.worst_factor > o.max_edge_ratio) {
       const EdgeRatioEdge& w = s.worst.front();
@@ -517,6 +518,19 @@ OrderedJson register_check_report(const RegisterCheckResult& r, const RegisterCh
       pj["edge_ratio"] = e;
     } else {
       pj["edge_ratio"] = nullptr;
+    }
+    if (p.surface_growth) {
+      const SurfaceGrowth& g = *p.surface_growth;
+      auto patch = [](const SurfacePatch& q) {
+        return OrderedJson{{"factor", q.factor}, {"vertex", q.vertex}, {"at_m", {q.at.x(), q.at.y(), q.at.z()}}};
+      };
+      pj["surface_growth"] = {{"radius_m", g.radius},
+                              {"largest", patch(g.largest)},
+                              {"smallest", patch(g.smallest)},
+                              {"p99", g.p99},
+                              {"share_above_1_25", g.share_above_1_25}};
+    } else {
+      pj["surface_growth"] = nullptr;
     }
     poses.push_back(pj);
   }

@@ -15,6 +15,7 @@
 #include "geometry/self_intersections.h"
 #include "registration/correspondence.h"
 #include "registration/edge_ratios.h"
+#include "registration/surface_growth.h"
 #include "registration/mesh_checks.h"
 #include "registration/units.h"
 #include "spec/json_file.h"
@@ -39,6 +40,10 @@ struct RegisterCheckOptions {
   bool self_intersections = true;  // run the (slower) self-intersection test
   int threads = 1;                 // poses checked in parallel
   int worst_edges = 10;            // worst edges named per pose in the report
+  // The neighbourhoods over which each pose's surface growth against the
+  // reference is measured (surface_growth.h) [m]: a hand's breadth, the
+  // scale of a collar or an armpit.
+  double surface_radius = 0.05;
   MeshCheckOptions mesh;
 };
 
@@ -57,6 +62,7 @@ struct RegisterCheckOptionFields {
     f.flag("self_intersections", o.self_intersections);
     f.integer("threads", o.threads, Range::between(1, 1024));
     f.integer("worst_edges", o.worst_edges, Range::between(0, 1e6));
+    f.number("surface_radius_m", o.surface_radius, Range::positive());
     f.group("mesh", o.mesh, MeshCheckOptionFields{});
   }
 };
@@ -85,6 +91,7 @@ struct PoseCheck {
   bool reordered = false;  // vertices re-indexed into the reference order
   std::string reorder_note;
   std::optional<EdgeRatioStats> edge_ratios;  // against the reference pose
+  std::optional<SurfaceGrowth> surface_growth;  // against the reference pose
   Eigen::MatrixXd V;  // normalized (metres, +y up, reference vertex order) once valid
 };
 

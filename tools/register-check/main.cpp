@@ -1,6 +1,8 @@
 // register-check: validates a customer's registered poses and writes the
 // normalized pose set (poses.json + one binary PLY per pose) for later stages.
 
+#include <cstdio>
+
 #include "cli/tool.h"
 #include "core/atomic_file.h"
 #include "core/sha256.h"
@@ -45,6 +47,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 60.0));
   app.add_option("--worst-edges", o.worst_edges, "Worst edges listed per pose in the report [count]")
       ->check(CLI::Range(0, 1000));
+  app.add_option("--surface-radius", o.surface_radius,
+                 "Radius of the neighbourhoods whose area growth against the reference each pose reports: where "
+                 "the registration stretches the skin, a garment fitted there grows [m]")
+      ->check(CLI::Range(0.001, 10.0));
   height->excludes(units);
   tool.add_common_options();
 
@@ -101,6 +107,18 @@ int main(int argc, char** argv) {
     for (const gp::PoseCheck& p : result.poses)
       if (p.edge_ratios) worst = std::max(worst, p.edge_ratios->worst_factor);
     if (result.poses.size() > 1) summary += ", worst edge-length factor " + std::to_string(worst);
+    // Where the skin stretches most: a garment resting there grows with it.
+    const gp::PoseCheck* most = nullptr;
+    for (const gp::PoseCheck& p : result.poses)
+      if (p.surface_growth && (!most || p.surface_growth->largest.factor > most->surface_growth->largest.factor))
+        most = &p;
+    if (most) {
+      const gp::SurfacePatch& q = most->surface_growth->largest;
+      char where[160];
+      std::snprintf(where, sizeof(where), ", surface grown most x%.2f within %.0f mm of (%.3f, %.3f, %.3f) m in '%s'",
+                    q.factor, 1000.0 * most->surface_growth->radius, q.at.x(), q.at.y(), q.at.z(), most->name.c_str());
+      summary += where;
+    }
     log.info(result.verdict() + ": " + summary + "; report in " + report_path);
     return static_cast<int>(code);
   });
