@@ -114,7 +114,8 @@ void cut_to_disks(Pattern& pattern, const PatternOptions& options, const Pattern
         if (reached < 0) throw GeometryError("piece " + p.name + " has boundary loops that no path joins");
         path = trace_parents(search.parent, reached);
         reason = "piece " + p.name + " has " + std::to_string(loops.size()) +
-                 " boundary loops and must be a disk to be flattened: joins the boundary " + loop_name(loops[static_cast<size_t>(from_loop)]) +
+                 " boundary loops and must be a disk to be flattened: joins the boundary " +
+                 loop_name(loops[static_cast<size_t>(from_loop)]) +
                  " to the boundary " + loop_name(loops[static_cast<size_t>(loop_of[static_cast<size_t>(reached)])]) +
                  (sleeve ? " along the shortest path from its lowest point (under the arm)"
                          : " along the shortest path that keeps off the front and back");
