@@ -297,6 +297,26 @@ void rest_shape_section(std::string& h, const FitRun& run, const ReportFiles& fi
   h += "<tr><th>sum of |angle defect| [rad] (design)</th><td>" +
        optional_figure(pattern, "/rest_shape/abs_angle_defect_sum_rad", "fixed2") + " (" +
        optional_figure(pattern, "/rest_shape/abs_angle_defect_sum_design_rad", "fixed2") + ")</td></tr>\n";
+  // Where the registration stretches the body's skin most (register-check's surface growth): a
+  // garment resting there grows with it, and cloth grown next to a loop is a frill no pattern
+  // flattens within its limit (BENCHMARKS.md, "The bulk's ease, and sleeves opened under the arm").
+  std::string grown;
+  double most = 0.0;
+  if (const Json* poses = lookup(run.poses, "/poses"); poses && poses->is_array())
+    for (size_t i = 0; i < poses->size(); ++i) {
+      const std::string p = "/poses/" + std::to_string(i);
+      const Json* f = lookup(run.poses, p + "/surface_growth/largest/factor");
+      if (f && f->is_number() && f->get<double>() > most) {
+        most = f->get<double>();
+        grown = p;
+      }
+    }
+  h += "<tr><th>the body's skin grown most between its poses by the registration (neighbourhood radius; pose)</th><td>" +
+       (grown.empty() ? std::string("&ndash;")
+                      : figure(run.poses, grown + "/surface_growth/largest/factor", "times3") + " (" +
+                            figure(run.poses, grown + "/surface_growth/radius_m", "metres2") + "; " +
+                            figure(run.poses, grown + "/name", "text") + ")") +
+       "</td></tr>\n";
   h += "</table>\n<img class=\"sheet\" src=\"" + escape_xml(files.rest_sheet) + "\" alt=\"the design and the adapted rest shape\">\n";
   h += "<p>3D: <a href=\"" + escape_xml(files.rest_glb) + "\" download>" + escape_xml(files.rest_glb) + "</a>, <a href=\"" +
        escape_xml(files.design_glb) + "\" download>" + escape_xml(files.design_glb) + "</a></p>\n</section>\n";
