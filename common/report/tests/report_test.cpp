@@ -434,3 +434,25 @@ TEST_CASE("the sewn drape is drawn beside its reference, coloured by their dista
   fs::remove(dir / "fit" / "verified_00_apose.ply");
   CHECK_THROWS_AS(write_sewn_sheets(run, poses, sphere.F, font, options, dir / "out"), gp::InputError);
 }
+
+TEST_CASE("the page names where the registration grows the body's skin most, and a dash without it", "[report]") {
+  FitRun run = small_run();
+  ReportFiles files;
+  files.poses.resize(run.keys.size());
+  const std::string row = "the body's skin grown most between its poses";
+  auto row_of = [&](const std::string& page) {
+    const size_t at = page.find(row);
+    REQUIRE(at != std::string::npos);
+    return page.substr(at, page.find("</tr>", at) - at);
+  };
+  CHECK(row_of(html_report(run, files, {}, "t")).find("&ndash;") != std::string::npos);
+  run.poses.json = Json::parse(R"({"schema": "register-check-report/1", "verdict": "pass", "poses": [
+    {"name": "apose", "surface_growth": null},
+    {"name": "tpose", "surface_growth": {"radius_m": 0.05, "largest": {"factor": 1.25, "vertex": 3, "at_m": [0, 1, 0]}}},
+    {"name": "armsup", "surface_growth": {"radius_m": 0.05, "largest": {"factor": 1.99, "vertex": 7, "at_m": [0, 1, 0]}}}]})");
+  const std::string grown = row_of(html_report(run, files, {}, "t"));
+  INFO(grown);
+  CHECK(grown.find("1.990") != std::string::npos);
+  CHECK(grown.find("armsup") != std::string::npos);
+  CHECK(grown.find("tpose") == std::string::npos);
+}
