@@ -10,9 +10,9 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 
-#include "core/math.h"
 #include "mesh/barycentric.h"
 #include "mesh/laplacian.h"
+#include "mesh/measures.h"
 #include "mesh/point_triangle.h"
 #include "mesh/topology.h"
 #include "pattern/flatten.h"
@@ -26,15 +26,10 @@ double kernel(double d, double r) {
   return s < 1.0 ? (1.0 - s * s) * (1.0 - s * s) : 0.0;
 }
 
-// Angle defect 2 pi - sum of corner angles per vertex, 0 on the boundary.
-std::vector<double> angle_defects(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
-  std::vector<double> defect(static_cast<size_t>(V.rows()), 2.0 * M_PI);
-  for (int f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d a = V.row(F(f, (k + 1) % 3)) - V.row(F(f, k));
-      const Eigen::Vector3d b = V.row(F(f, (k + 2) % 3)) - V.row(F(f, k));
-      defect[static_cast<size_t>(F(f, k))] -= gp::math::atan2(a.cross(b).norm(), a.dot(b));
-    }
+// Angle defect 2 pi - sum of corner angles per vertex (mesh/measures.h), 0 on the boundary.
+std::vector<double> inner_defects(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  const Eigen::VectorXd all = angle_defects(V, F);
+  std::vector<double> defect(all.data(), all.data() + all.size());
   for (const auto& loop : boundary_loops(F))
     for (int v : loop) defect[static_cast<size_t>(v)] = 0.0;
   return defect;
@@ -183,7 +178,7 @@ void curvature_samples(const Pattern& pattern, size_t c, const PatternOptions& o
   for (int v : p.boundary) boundary[static_cast<size_t>(v)] = 1;
   // The piece's angle defects: the rest shape's at its own vertices, zero at
   // points a cut added on an edge or in a face (their angles sum to 2 pi).
-  const std::vector<double> K = angle_defects(p.V, p.F);
+  const std::vector<double> K = inner_defects(p.V, p.F);
   if (options.darts.dart_placement == PatternOptions::DartPlacement::conformal) {
     const std::vector<double> u = log_conformal_factor(p, K);
     const Eigen::VectorXd mass = lumped_mass(p.V, p.F);
@@ -340,7 +335,7 @@ std::optional<Eigen::Vector3d> panel_centre(const PatternPiece& p, const Pattern
   // where u > 0, per unit area). A linear solve, so that the seam moves
   // continuously with the shape; and a centroid, not the highest mode, which
   // would jump between two about equal blobs (a left and a right one).
-  const std::vector<double> K = angle_defects(p.V, p.F);
+  const std::vector<double> K = inner_defects(p.V, p.F);
   const std::vector<double> u = log_conformal_factor(p, K);
   const Eigen::VectorXd mass = lumped_mass(p.V, p.F);
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
