@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 
+#include "mesh/measures.h"
 #include "mesh/topology.h"
 
 namespace gp {
@@ -103,18 +104,14 @@ std::vector<int> piece_rest_faces(const Pattern& pattern, size_t c) {
 int piece_limb(const Pattern& pattern, size_t c) {
   if (pattern.limb_of_rest_face.empty()) return -1;
   const PatternPiece& p = pattern.pieces[c];
+  const Eigen::VectorXd w = face_areas(p.V, p.F);
   std::map<int, double> on_limb;
-  double area = 0.0;
   for (size_t i = 0; i < p.face_ids.size(); ++i) {
-    const Eigen::Vector3d a = p.V.row(p.F(static_cast<int>(i), 0)), b = p.V.row(p.F(static_cast<int>(i), 1)),
-                          e = p.V.row(p.F(static_cast<int>(i), 2));
-    const double w = 0.5 * (b - a).cross(e - a).norm();
     const int rest = pattern.mesh.rest_face[static_cast<size_t>(p.face_ids[i])];
-    on_limb[pattern.limb_of_rest_face[static_cast<size_t>(rest)]] += w;
-    area += w;
+    on_limb[pattern.limb_of_rest_face[static_cast<size_t>(rest)]] += w(static_cast<Eigen::Index>(i));
   }
-  for (const auto& [limb, w] : on_limb)
-    if (limb >= 0 && w > 0.5 * area) return limb;
+  for (const auto& [limb, area] : on_limb)
+    if (limb >= 0 && area > 0.5 * w.sum()) return limb;
   return -1;
 }
 

@@ -325,7 +325,7 @@ UnitsAndUp units_and_up(const Mesh& reference, const std::string& name, const Re
 
 // Every usable pose in metres, y up, its edge lengths against the
 // reference's (a fail beyond max_edge_ratio) and its surface's growth.
-void compare_edge_lengths(const std::vector<PoseInput>& inputs, const std::vector<bool>& usable,
+void compare_with_reference(const std::vector<PoseInput>& inputs, const std::vector<bool>& usable,
                           const std::vector<Eigen::MatrixXd>& V_ordered, const RegisterCheckOptions& o,
                           RegisterCheckResult& r) {
   const int n = static_cast<int>(inputs.size());
@@ -419,7 +419,7 @@ RegisterCheckResult register_check(const std::vector<PoseInput>& inputs,
 
   if (usable[ref]) r.units = units_and_up(meshes[ref], inputs[ref].name, o, r);
   // Normalize and compare edge lengths against the reference.
-  if (r.units && all_correspond) compare_edge_lengths(inputs, usable, V_ordered, o, r);
+  if (r.units && all_correspond) compare_with_reference(inputs, usable, V_ordered, o, r);
 
   t0 = Clock::now();
   if (o.self_intersections) self_intersection_warnings(meshes, usable, o, r);
